@@ -1,0 +1,38 @@
+# sph_kernel.h - build the tests, examples, docs and the installable header.
+#   make test       all tests: gcc/clang x double/float, sanitizers, OpenMP,
+#                   C++/nvcc/CMake compile checks; ends with "N passed, N failed"
+#   make demo       builds and runs the main example
+#   make plots      redraws the PNG plots in docs/ (needs gnuplot)
+#   make install PREFIX=/usr/local   header + pkg-config file
+CC      ?= cc
+CFLAGS  ?= -O2 -std=c99 -Wall -Wextra -pedantic -Werror
+LDLIBS  ?= -lm
+PREFIX  ?= /usr/local
+VERSION := $(shell sed -n 's/^\#define SPH_KERNEL_VERSION_STRING "\(.*\)"/\1/p' sph_kernel.h)
+BUILD   := build
+
+.PHONY: all test demo plots install uninstall clean
+
+all: $(BUILD)/kernel_table
+
+test:
+	@sh tests/run.sh
+
+$(BUILD)/%: examples/%.c sph_kernel.h
+	@mkdir -p $(BUILD)
+	$(CC) $(CFLAGS) -I. $< -o $@ $(LDLIBS)
+
+demo: $(BUILD)/kernel_table
+	./$(BUILD)/kernel_table
+
+install:
+	install -d $(DESTDIR)$(PREFIX)/include $(DESTDIR)$(PREFIX)/lib/pkgconfig
+	install -m 644 sph_kernel.h $(DESTDIR)$(PREFIX)/include/sph_kernel.h
+	sed -e 's|@PREFIX@|$(PREFIX)|' -e 's|@VERSION@|$(VERSION)|' sph_kernel.pc.in \
+	    > $(DESTDIR)$(PREFIX)/lib/pkgconfig/sph_kernel.pc
+
+uninstall:
+	rm -f $(DESTDIR)$(PREFIX)/include/sph_kernel.h $(DESTDIR)$(PREFIX)/lib/pkgconfig/sph_kernel.pc
+
+clean:
+	rm -rf $(BUILD)

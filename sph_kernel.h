@@ -1,0 +1,788 @@
+/* sph_kernel.h - Smoothed Particle Hydrodynamics kernels and kernel-sum operators
+ * in one C99 header. MIT licence (see the end of this file and LICENSE).
+ *
+ * ==== USAGE ================================================================
+ *
+ *   #include "sph_kernel.h"            (every function is static inline)
+ *
+ *   sph_real W, F;
+ *   sph_kernel_wf(SPH_KERNEL_CUBIC, 3, r, h, &W, &F);   W and F = (1/r) dW/dr
+ *   grad_i W_ij = F * (x_i - x_j)                       (design sign convention)
+ *
+ * Conventions (docs/kernels.md, docs/operators.md): x_ij = x_i - x_j,
+ * r = |x_ij|, q = r/h, W(r,h) = alpha_d h^-d w(q), w = 0 for q >= kappa,
+ * grad_i W_ij = F x_ij with F = (1/r) dW/dr = alpha_d h^-(d+2) w'(q)/q, which
+ * is finite at r = 0 for every kernel here: no division by r anywhere.
+ *
+ * Scalar kernel functions never fail loudly: for an unknown kernel, a
+ * dimension the kernel is not defined in, r < 0, r or h not finite, h <= 0
+ * (or h so small that 1/h overflows) they return 0 (and write zeros).
+ * Use sph_kernel_check(k, dim) to validate once, outside hot loops.
+ *
+ * ==== CONFIGURATION (define before including) ==============================
+ *
+ *   SPH_REAL    floating type of every real number: double (default) or float.
+ *   SPH_API     storage of every function; default `static inline`, plus
+ *               `__host__ __device__` when compiled by nvcc.
+ *
+ * The version is SPH_KERNEL_VERSION (major*10000 + minor*100 + patch) and
+ * SPH_KERNEL_VERSION_STRING.
+ *
+ * ==== SECTIONS =============================================================
+ *   1. configuration   2. status codes   3. kernels   4. particle data (views,
+ *   neighbour lists, box)   5. pair terms   6. array operators   7. neighbour search
+ */
+#ifndef SPH_KERNEL_H
+#define SPH_KERNEL_H
+
+/* ======================================================================== */
+/* 1. Configuration                                                          */
+/* ======================================================================== */
+
+#define SPH_KERNEL_VERSION_MAJOR 0
+#define SPH_KERNEL_VERSION_MINOR 1
+#define SPH_KERNEL_VERSION_PATCH 0
+#define SPH_KERNEL_VERSION \
+    (SPH_KERNEL_VERSION_MAJOR * 10000 + SPH_KERNEL_VERSION_MINOR * 100 + SPH_KERNEL_VERSION_PATCH)
+#define SPH_KERNEL_VERSION_STRING "0.1.0"
+
+#include <float.h>
+#include <math.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#ifndef SPH_REAL
+#define SPH_REAL double
+#endif
+typedef SPH_REAL sph_real;
+
+#if defined(__CUDACC__)
+#define SPH_HOSTDEV __host__ __device__
+#else
+#define SPH_HOSTDEV
+#endif
+
+#ifndef SPH_API
+#define SPH_API static inline SPH_HOSTDEV
+#endif
+
+/* Tables are read by host and device code alike: under nvcc the device pass
+ * keeps its own copy in device memory. */
+#if defined(__CUDACC__) && defined(__CUDA_ARCH__)
+#define SPH__TABLE static __device__ const
+#else
+#define SPH__TABLE static const
+#endif
+
+/* An exact rational (or decimal) constant, rounded once to sph_real. */
+#define SPH__Q(n, d) ((sph_real)((double)(n) / (double)(d)))
+#define SPH__C(x) ((sph_real)(x))
+
+/* Largest finite sph_real, whatever SPH_REAL is. */
+#define SPH__REAL_MAX (sizeof(sph_real) == sizeof(float) ? (sph_real)FLT_MAX : (sph_real)DBL_MAX)
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* ======================================================================== */
+/* 2. Status codes                                                           */
+/* ======================================================================== */
+
+enum {
+    SPH_OK = 0,          /* success */
+    SPH_EKERNEL = -1,    /* unknown kernel */
+    SPH_EDIM = -2,       /* dimension outside 1..3, or not defined for the kernel */
+    SPH_EH = -3,         /* smoothing length not positive and finite */
+    SPH_ENULL = -4,      /* NULL where data is required */
+    SPH_EINDEX = -5,     /* neighbour index out of range */
+    SPH_ESIZE = -6,      /* negative count or workspace too small */
+    SPH_ENONFINITE = -7, /* NaN or Inf in an input array */
+    SPH_EINVAL = -8      /* any other invalid argument */
+};
+
+/* A sentence for a status code; never NULL. */
+SPH_API const char *sph_strerror(int status)
+{
+    switch (status) {
+    case SPH_OK: return "success";
+    case SPH_EKERNEL: return "unknown kernel";
+    case SPH_EDIM: return "dimension outside 1..3 or not defined for this kernel";
+    case SPH_EH: return "smoothing length is not positive and finite";
+    case SPH_ENULL: return "NULL pointer where data is required";
+    case SPH_EINDEX: return "neighbour index out of range";
+    case SPH_ESIZE: return "negative count or workspace too small";
+    case SPH_ENONFINITE: return "NaN or Inf in an input array";
+    case SPH_EINVAL: return "invalid argument";
+    default: return "unknown status code";
+    }
+}
+
+/* ======================================================================== */
+/* 3. Kernels                                                                */
+/* ======================================================================== */
+
+typedef enum {
+    SPH_KERNEL_CUBIC,       /* cubic B-spline M4, kappa = 2, C2          */
+    SPH_KERNEL_LUCY,        /* Lucy quartic, kappa = 1, C2               */
+    SPH_KERNEL_NEW_QUARTIC, /* Liu & Liu new quartic, kappa = 2, C2       */
+    SPH_KERNEL_QUINTIC,     /* quintic B-spline M6, kappa = 3, C4        */
+    SPH_KERNEL_WENDLAND_C2, /* Wendland C2, kappa = 2                    */
+    SPH_KERNEL_WENDLAND_C4, /* Wendland C4, kappa = 2                    */
+    SPH_KERNEL_WENDLAND_C6, /* Wendland C6, kappa = 2                    */
+    SPH_KERNEL_COUNT
+} sph_kernel;
+
+/* One dimensionless shape w(q), cut into pieces of equal width. */
+typedef struct {
+    sph_real kappa;     /* support in units of h */
+    sph_real inv_width; /* 1 / piece width: the piece of q is (int)(q * inv_width) */
+    int npiece;         /* pieces before the zero row */
+    int degree;         /* polynomial degree of every piece (zero-padded) */
+    int offset;         /* first coefficient in sph__coef */
+} sph__shape;
+
+/* A kernel in one dimension: which shape, its normalisation, its width. */
+typedef struct {
+    int shape;      /* index into sph__shapes */
+    sph_real alpha; /* alpha_d: W = alpha_d h^-d w(q) */
+    sph_real sigma; /* standard deviation per coordinate, in units of h */
+} sph__kdim;
+
+enum { SPH__SHAPE_COUNT = 10 };
+
+/* ---- GENERATED by tools/gen_kernel_tables.py: do not edit by hand ---- */
+/* Per piece [a, b): c, den0, den1, then w, g, w2 as deg+1 coefficients each
+   (lowest power first) in u = q - c; F = alpha h^-(d+2) g(u) / (den0 + den1 q),
+   W = alpha h^-d w(u), d2W/dr2 = alpha h^-(d+2) w2(u). The last row of each
+   shape is the zero row used for q >= kappa (and for NaN q).            */
+SPH__TABLE sph_real sph__coef[] = {
+    /* cubic spline (M4), Monaghan & Lattanzio 1985, kappa = 2, degree 3 */
+    /*   w = (3*q**3 - 6*q**2 + 4)/6  on [0, 1) */
+    /*   w = -(q - 2)**3/6  on [1, 2) */
+    /* [0, 1/2) c = 0 */ 0, 1, 0,
+        /* w   */ SPH__Q(2, 3), 0, SPH__Q(-1, 1), SPH__Q(1, 2),
+        /* g   */ SPH__Q(-2, 1), SPH__Q(3, 2), 0, 0,
+        /* w2  */ SPH__Q(-2, 1), SPH__Q(3, 1), 0, 0,
+    /* [1/2, 1) c = 1 */ SPH__Q(1, 1), 0, 1,
+        /* w   */ SPH__Q(1, 6), SPH__Q(-1, 2), SPH__Q(1, 2), SPH__Q(1, 2),
+        /* g   */ SPH__Q(-1, 2), SPH__Q(1, 1), SPH__Q(3, 2), 0,
+        /* w2  */ SPH__Q(1, 1), SPH__Q(3, 1), 0, 0,
+    /* [1, 3/2) c = 3/2 */ SPH__Q(3, 2), 0, 1,
+        /* w   */ SPH__Q(1, 48), SPH__Q(-1, 8), SPH__Q(1, 4), SPH__Q(-1, 6),
+        /* g   */ SPH__Q(-1, 8), SPH__Q(1, 2), SPH__Q(-1, 2), 0,
+        /* w2  */ SPH__Q(1, 2), SPH__Q(-1, 1), 0, 0,
+    /* [3/2, 2) c = 2 */ SPH__Q(2, 1), 0, 1,
+        /* w   */ 0, 0, 0, SPH__Q(-1, 6),
+        /* g   */ 0, 0, SPH__Q(-1, 2), 0,
+        /* w2  */ 0, SPH__Q(-1, 1), 0, 0,
+    /* zero row */ 0, 1, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0,
+    /* Lucy quartic, Lucy 1977, kappa = 1, degree 4 */
+    /*   w = -(q - 1)**3*(3*q + 1)  on [0, 1) */
+    /* [0, 1/2) c = 0 */ 0, 1, 0,
+        /* w   */ SPH__Q(1, 1), 0, SPH__Q(-6, 1), SPH__Q(8, 1), SPH__Q(-3, 1),
+        /* g   */ SPH__Q(-12, 1), SPH__Q(24, 1), SPH__Q(-12, 1), 0, 0,
+        /* w2  */ SPH__Q(-12, 1), SPH__Q(48, 1), SPH__Q(-36, 1), 0, 0,
+    /* [1/2, 1) c = 1 */ SPH__Q(1, 1), 0, 1,
+        /* w   */ 0, 0, 0, SPH__Q(-4, 1), SPH__Q(-3, 1),
+        /* g   */ 0, 0, SPH__Q(-12, 1), SPH__Q(-12, 1), 0,
+        /* w2  */ 0, SPH__Q(-24, 1), SPH__Q(-36, 1), 0, 0,
+    /* zero row */ 0, 1, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0,
+    /* new quartic, Liu & Liu 2003, kappa = 2, degree 4 */
+    /*   w = -(q - 2)**2*(15*q**2 - 16*q - 16)/96  on [0, 2) */
+    /* [0, 1/2) c = 0 */ 0, 1, 0,
+        /* w   */ SPH__Q(2, 3), 0, SPH__Q(-9, 8), SPH__Q(19, 24), SPH__Q(-5, 32),
+        /* g   */ SPH__Q(-9, 4), SPH__Q(19, 8), SPH__Q(-5, 8), 0, 0,
+        /* w2  */ SPH__Q(-9, 4), SPH__Q(19, 4), SPH__Q(-15, 8), 0, 0,
+    /* [1/2, 1) c = 1 */ SPH__Q(1, 1), 0, 1,
+        /* w   */ SPH__Q(17, 96), SPH__Q(-1, 2), SPH__Q(5, 16), SPH__Q(1, 6), SPH__Q(-5, 32),
+        /* g   */ SPH__Q(-1, 2), SPH__Q(5, 8), SPH__Q(1, 2), SPH__Q(-5, 8), 0,
+        /* w2  */ SPH__Q(5, 8), SPH__Q(1, 1), SPH__Q(-15, 8), 0, 0,
+    /* [1, 3/2) c = 3/2 */ SPH__Q(3, 2), 0, 1,
+        /* w   */ SPH__Q(25, 1536), SPH__Q(-9, 64), SPH__Q(21, 64), SPH__Q(-7, 48), SPH__Q(-5, 32),
+        /* g   */ SPH__Q(-9, 64), SPH__Q(21, 32), SPH__Q(-7, 16), SPH__Q(-5, 8), 0,
+        /* w2  */ SPH__Q(21, 32), SPH__Q(-7, 8), SPH__Q(-15, 8), 0, 0,
+    /* [3/2, 2) c = 2 */ SPH__Q(2, 1), 0, 1,
+        /* w   */ 0, 0, SPH__Q(-1, 8), SPH__Q(-11, 24), SPH__Q(-5, 32),
+        /* g   */ 0, SPH__Q(-1, 4), SPH__Q(-11, 8), SPH__Q(-5, 8), 0,
+        /* w2  */ SPH__Q(-1, 4), SPH__Q(-11, 4), SPH__Q(-15, 8), 0, 0,
+    /* zero row */ 0, 1, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0,
+    /* quintic spline (M6), Morris 1996, kappa = 3, degree 5 */
+    /*   w = -2*(5*q**5 - 15*q**4 + 30*q**2 - 33)  on [0, 1) */
+    /*   w = 5*q**5 - 45*q**4 + 150*q**3 - 210*q**2 + 75*q + 51  on [1, 2) */
+    /*   w = -(q - 3)**5  on [2, 3) */
+    /* [0, 1/2) c = 0 */ 0, 1, 0,
+        /* w   */ SPH__Q(66, 1), 0, SPH__Q(-60, 1), 0, SPH__Q(30, 1), SPH__Q(-10, 1),
+        /* g   */ SPH__Q(-120, 1), 0, SPH__Q(120, 1), SPH__Q(-50, 1), 0, 0,
+        /* w2  */ SPH__Q(-120, 1), 0, SPH__Q(360, 1), SPH__Q(-200, 1), 0, 0,
+    /* [1/2, 1) c = 1 */ SPH__Q(1, 1), 0, 1,
+        /* w   */ SPH__Q(26, 1), SPH__Q(-50, 1), SPH__Q(20, 1), SPH__Q(20, 1), SPH__Q(-20, 1), SPH__Q(-10, 1),
+        /* g   */ SPH__Q(-50, 1), SPH__Q(40, 1), SPH__Q(60, 1), SPH__Q(-80, 1), SPH__Q(-50, 1), 0,
+        /* w2  */ SPH__Q(40, 1), SPH__Q(120, 1), SPH__Q(-240, 1), SPH__Q(-200, 1), 0, 0,
+    /* [1, 3/2) c = 3/2 */ SPH__Q(3, 2), 0, 1,
+        /* w   */ SPH__Q(237, 32), SPH__Q(-375, 16), SPH__Q(105, 4), SPH__Q(-15, 2), SPH__Q(-15, 2), SPH__Q(5, 1),
+        /* g   */ SPH__Q(-375, 16), SPH__Q(105, 2), SPH__Q(-45, 2), SPH__Q(-30, 1), SPH__Q(25, 1), 0,
+        /* w2  */ SPH__Q(105, 2), SPH__Q(-45, 1), SPH__Q(-90, 1), SPH__Q(100, 1), 0, 0,
+    /* [3/2, 2) c = 2 */ SPH__Q(2, 1), 0, 1,
+        /* w   */ SPH__Q(1, 1), SPH__Q(-5, 1), SPH__Q(10, 1), SPH__Q(-10, 1), SPH__Q(5, 1), SPH__Q(5, 1),
+        /* g   */ SPH__Q(-5, 1), SPH__Q(20, 1), SPH__Q(-30, 1), SPH__Q(20, 1), SPH__Q(25, 1), 0,
+        /* w2  */ SPH__Q(20, 1), SPH__Q(-60, 1), SPH__Q(60, 1), SPH__Q(100, 1), 0, 0,
+    /* [2, 5/2) c = 5/2 */ SPH__Q(5, 2), 0, 1,
+        /* w   */ SPH__Q(1, 32), SPH__Q(-5, 16), SPH__Q(5, 4), SPH__Q(-5, 2), SPH__Q(5, 2), SPH__Q(-1, 1),
+        /* g   */ SPH__Q(-5, 16), SPH__Q(5, 2), SPH__Q(-15, 2), SPH__Q(10, 1), SPH__Q(-5, 1), 0,
+        /* w2  */ SPH__Q(5, 2), SPH__Q(-15, 1), SPH__Q(30, 1), SPH__Q(-20, 1), 0, 0,
+    /* [5/2, 3) c = 3 */ SPH__Q(3, 1), 0, 1,
+        /* w   */ 0, 0, 0, 0, 0, SPH__Q(-1, 1),
+        /* g   */ 0, 0, 0, 0, SPH__Q(-5, 1), 0,
+        /* w2  */ 0, 0, 0, SPH__Q(-20, 1), 0, 0,
+    /* zero row */ 0, 1, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0,
+    /* Wendland C2 (2-D/3-D), Wendland 1995, kappa = 2, degree 5 */
+    /*   w = (q - 2)**4*(2*q + 1)/16  on [0, 2) */
+    /* [0, 1/2) c = 0 */ 0, 1, 0,
+        /* w   */ SPH__Q(1, 1), 0, SPH__Q(-5, 2), SPH__Q(5, 2), SPH__Q(-15, 16), SPH__Q(1, 8),
+        /* g   */ SPH__Q(-5, 1), SPH__Q(15, 2), SPH__Q(-15, 4), SPH__Q(5, 8), 0, 0,
+        /* w2  */ SPH__Q(-5, 1), SPH__Q(15, 1), SPH__Q(-45, 4), SPH__Q(5, 2), 0, 0,
+    /* [1/2, 1) c = 1 */ SPH__Q(1, 1), 0, 1,
+        /* w   */ SPH__Q(3, 16), SPH__Q(-5, 8), SPH__Q(5, 8), 0, SPH__Q(-5, 16), SPH__Q(1, 8),
+        /* g   */ SPH__Q(-5, 8), SPH__Q(5, 4), 0, SPH__Q(-5, 4), SPH__Q(5, 8), 0,
+        /* w2  */ SPH__Q(5, 4), 0, SPH__Q(-15, 4), SPH__Q(5, 2), 0, 0,
+    /* [1, 3/2) c = 3/2 */ SPH__Q(3, 2), 0, 1,
+        /* w   */ SPH__Q(1, 64), SPH__Q(-15, 128), SPH__Q(5, 16), SPH__Q(-5, 16), 0, SPH__Q(1, 8),
+        /* g   */ SPH__Q(-15, 128), SPH__Q(5, 8), SPH__Q(-15, 16), 0, SPH__Q(5, 8), 0,
+        /* w2  */ SPH__Q(5, 8), SPH__Q(-15, 8), 0, SPH__Q(5, 2), 0, 0,
+    /* [3/2, 2) c = 2 */ SPH__Q(2, 1), 0, 1,
+        /* w   */ 0, 0, 0, 0, SPH__Q(5, 16), SPH__Q(1, 8),
+        /* g   */ 0, 0, 0, SPH__Q(5, 4), SPH__Q(5, 8), 0,
+        /* w2  */ 0, 0, SPH__Q(15, 4), SPH__Q(5, 2), 0, 0,
+    /* zero row */ 0, 1, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0,
+    /* Wendland C4 (2-D/3-D), Wendland 1995, kappa = 2, degree 8 */
+    /*   w = (q - 2)**6*(35*q**2 + 36*q + 12)/768  on [0, 2) */
+    /* [0, 1/2) c = 0 */ 0, 1, 0,
+        /* w   */ SPH__Q(1, 1), 0, SPH__Q(-7, 3), 0, SPH__Q(35, 8), SPH__Q(-14, 3), SPH__Q(35, 16), SPH__Q(-1, 2), SPH__Q(35, 768),
+        /* g   */ SPH__Q(-14, 3), 0, SPH__Q(35, 2), SPH__Q(-70, 3), SPH__Q(105, 8), SPH__Q(-7, 2), SPH__Q(35, 96), 0, 0,
+        /* w2  */ SPH__Q(-14, 3), 0, SPH__Q(105, 2), SPH__Q(-280, 3), SPH__Q(525, 8), SPH__Q(-21, 1), SPH__Q(245, 96), 0, 0,
+    /* [1/2, 1) c = 1 */ SPH__Q(1, 1), 0, 1,
+        /* w   */ SPH__Q(83, 768), SPH__Q(-49, 96), SPH__Q(161, 192), SPH__Q(-35, 96), SPH__Q(-175, 384), SPH__Q(49, 96), SPH__Q(-7, 192), SPH__Q(-13, 96), SPH__Q(35, 768),
+        /* g   */ SPH__Q(-49, 96), SPH__Q(161, 96), SPH__Q(-35, 32), SPH__Q(-175, 96), SPH__Q(245, 96), SPH__Q(-7, 32), SPH__Q(-91, 96), SPH__Q(35, 96), 0,
+        /* w2  */ SPH__Q(161, 96), SPH__Q(-35, 16), SPH__Q(-175, 32), SPH__Q(245, 24), SPH__Q(-35, 32), SPH__Q(-91, 16), SPH__Q(245, 96), 0, 0,
+    /* [1, 3/2) c = 3/2 */ SPH__Q(3, 2), 0, 1,
+        /* w   */ SPH__Q(193, 65536), SPH__Q(-133, 4096), SPH__Q(1757, 12288), SPH__Q(-315, 1024), SPH__Q(595, 2048), SPH__Q(7, 768), SPH__Q(-49, 256), SPH__Q(3, 64), SPH__Q(35, 768),
+        /* g   */ SPH__Q(-133, 4096), SPH__Q(1757, 6144), SPH__Q(-945, 1024), SPH__Q(595, 512), SPH__Q(35, 768), SPH__Q(-147, 128), SPH__Q(21, 64), SPH__Q(35, 96), 0,
+        /* w2  */ SPH__Q(1757, 6144), SPH__Q(-945, 512), SPH__Q(1785, 512), SPH__Q(35, 192), SPH__Q(-735, 128), SPH__Q(63, 32), SPH__Q(245, 96), 0, 0,
+    /* [3/2, 2) c = 2 */ SPH__Q(2, 1), 0, 1,
+        /* w   */ 0, 0, 0, 0, 0, 0, SPH__Q(7, 24), SPH__Q(11, 48), SPH__Q(35, 768),
+        /* g   */ 0, 0, 0, 0, 0, SPH__Q(7, 4), SPH__Q(77, 48), SPH__Q(35, 96), 0,
+        /* w2  */ 0, 0, 0, 0, SPH__Q(35, 4), SPH__Q(77, 8), SPH__Q(245, 96), 0, 0,
+    /* zero row */ 0, 1, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0,
+    /* Wendland C6 (2-D/3-D), Wendland 1995, kappa = 2, degree 11 */
+    /*   w = (q - 2)**8*(16*q**3 + 25*q**2 + 16*q + 4)/1024  on [0, 2) */
+    /* [0, 1/2) c = 0 */ 0, 1, 0,
+        /* w   */ SPH__Q(1, 1), 0, SPH__Q(-11, 4), 0, SPH__Q(33, 8), 0, SPH__Q(-231, 32), SPH__Q(33, 4), SPH__Q(-1155, 256), SPH__Q(11, 8), SPH__Q(-231, 1024), SPH__Q(1, 64),
+        /* g   */ SPH__Q(-11, 2), 0, SPH__Q(33, 2), 0, SPH__Q(-693, 16), SPH__Q(231, 4), SPH__Q(-1155, 32), SPH__Q(99, 8), SPH__Q(-1155, 512), SPH__Q(11, 64), 0, 0,
+        /* w2  */ SPH__Q(-11, 2), 0, SPH__Q(99, 2), 0, SPH__Q(-3465, 16), SPH__Q(693, 2), SPH__Q(-8085, 32), SPH__Q(99, 1), SPH__Q(-10395, 512), SPH__Q(55, 32), 0, 0,
+    /* [1/2, 1) c = 1 */ SPH__Q(1, 1), 0, 1,
+        /* w   */ SPH__Q(61, 1024), SPH__Q(-187, 512), SPH__Q(869, 1024), SPH__Q(-99, 128), SPH__Q(-99, 512), SPH__Q(231, 256), SPH__Q(-231, 512), SPH__Q(-33, 128), SPH__Q(297, 1024), SPH__Q(-11, 512), SPH__Q(-55, 1024), SPH__Q(1, 64),
+        /* g   */ SPH__Q(-187, 512), SPH__Q(869, 512), SPH__Q(-297, 128), SPH__Q(-99, 128), SPH__Q(1155, 256), SPH__Q(-693, 256), SPH__Q(-231, 128), SPH__Q(297, 128), SPH__Q(-99, 512), SPH__Q(-275, 512), SPH__Q(11, 64), 0,
+        /* w2  */ SPH__Q(869, 512), SPH__Q(-297, 64), SPH__Q(-297, 128), SPH__Q(1155, 64), SPH__Q(-3465, 256), SPH__Q(-693, 64), SPH__Q(2079, 128), SPH__Q(-99, 64), SPH__Q(-2475, 512), SPH__Q(55, 32), 0, 0,
+    /* [1, 3/2) c = 3/2 */ SPH__Q(3, 2), 0, 1,
+        /* w   */ SPH__Q(553, 1048576), SPH__Q(-2013, 262144), SPH__Q(12397, 262144), SPH__Q(-1287, 8192), SPH__Q(9537, 32768), SPH__Q(-2079, 8192), SPH__Q(-231, 8192), SPH__Q(231, 1024), SPH__Q(-363, 4096), SPH__Q(-77, 1024), SPH__Q(33, 1024), SPH__Q(1, 64),
+        /* g   */ SPH__Q(-2013, 262144), SPH__Q(12397, 131072), SPH__Q(-3861, 8192), SPH__Q(9537, 8192), SPH__Q(-10395, 8192), SPH__Q(-693, 4096), SPH__Q(1617, 1024), SPH__Q(-363, 512), SPH__Q(-693, 1024), SPH__Q(165, 512), SPH__Q(11, 64), 0,
+        /* w2  */ SPH__Q(12397, 131072), SPH__Q(-3861, 4096), SPH__Q(28611, 8192), SPH__Q(-10395, 2048), SPH__Q(-3465, 4096), SPH__Q(4851, 512), SPH__Q(-2541, 512), SPH__Q(-693, 128), SPH__Q(1485, 512), SPH__Q(55, 32), 0, 0,
+    /* [3/2, 2) c = 2 */ SPH__Q(2, 1), 0, 1,
+        /* w   */ 0, 0, 0, 0, 0, 0, 0, 0, SPH__Q(33, 128), SPH__Q(77, 256), SPH__Q(121, 1024), SPH__Q(1, 64),
+        /* g   */ 0, 0, 0, 0, 0, 0, 0, SPH__Q(33, 16), SPH__Q(693, 256), SPH__Q(605, 512), SPH__Q(11, 64), 0,
+        /* w2  */ 0, 0, 0, 0, 0, 0, SPH__Q(231, 16), SPH__Q(693, 32), SPH__Q(5445, 512), SPH__Q(55, 32), 0, 0,
+    /* zero row */ 0, 1, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0,
+    /* Wendland C2 (1-D), Wendland 1995, kappa = 2, degree 4 */
+    /*   w = -(q - 2)**3*(3*q + 2)/16  on [0, 2) */
+    /* [0, 1/2) c = 0 */ 0, 1, 0,
+        /* w   */ SPH__Q(1, 1), 0, SPH__Q(-3, 2), SPH__Q(1, 1), SPH__Q(-3, 16),
+        /* g   */ SPH__Q(-3, 1), SPH__Q(3, 1), SPH__Q(-3, 4), 0, 0,
+        /* w2  */ SPH__Q(-3, 1), SPH__Q(6, 1), SPH__Q(-9, 4), 0, 0,
+    /* [1/2, 1) c = 1 */ SPH__Q(1, 1), 0, 1,
+        /* w   */ SPH__Q(5, 16), SPH__Q(-3, 4), SPH__Q(3, 8), SPH__Q(1, 4), SPH__Q(-3, 16),
+        /* g   */ SPH__Q(-3, 4), SPH__Q(3, 4), SPH__Q(3, 4), SPH__Q(-3, 4), 0,
+        /* w2  */ SPH__Q(3, 4), SPH__Q(3, 2), SPH__Q(-9, 4), 0, 0,
+    /* [1, 3/2) c = 3/2 */ SPH__Q(3, 2), 0, 1,
+        /* w   */ SPH__Q(13, 256), SPH__Q(-9, 32), SPH__Q(15, 32), SPH__Q(-1, 8), SPH__Q(-3, 16),
+        /* g   */ SPH__Q(-9, 32), SPH__Q(15, 16), SPH__Q(-3, 8), SPH__Q(-3, 4), 0,
+        /* w2  */ SPH__Q(15, 16), SPH__Q(-3, 4), SPH__Q(-9, 4), 0, 0,
+    /* [3/2, 2) c = 2 */ SPH__Q(2, 1), 0, 1,
+        /* w   */ 0, 0, 0, SPH__Q(-1, 2), SPH__Q(-3, 16),
+        /* g   */ 0, 0, SPH__Q(-3, 2), SPH__Q(-3, 4), 0,
+        /* w2  */ 0, SPH__Q(-3, 1), SPH__Q(-9, 4), 0, 0,
+    /* zero row */ 0, 1, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0,
+    /* Wendland C4 (1-D), Wendland 1995, kappa = 2, degree 7 */
+    /*   w = -(q - 2)**5*(4*q**2 + 5*q + 2)/64  on [0, 2) */
+    /* [0, 1/2) c = 0 */ 0, 1, 0,
+        /* w   */ SPH__Q(1, 1), 0, SPH__Q(-7, 4), 0, SPH__Q(35, 16), SPH__Q(-7, 4), SPH__Q(35, 64), SPH__Q(-1, 16),
+        /* g   */ SPH__Q(-7, 2), 0, SPH__Q(35, 4), SPH__Q(-35, 4), SPH__Q(105, 32), SPH__Q(-7, 16), 0, 0,
+        /* w2  */ SPH__Q(-7, 2), 0, SPH__Q(105, 4), SPH__Q(-35, 1), SPH__Q(525, 32), SPH__Q(-21, 8), 0, 0,
+    /* [1/2, 1) c = 1 */ SPH__Q(1, 1), 0, 1,
+        /* w   */ SPH__Q(11, 64), SPH__Q(-21, 32), SPH__Q(49, 64), 0, SPH__Q(-35, 64), SPH__Q(7, 32), SPH__Q(7, 64), SPH__Q(-1, 16),
+        /* g   */ SPH__Q(-21, 32), SPH__Q(49, 32), 0, SPH__Q(-35, 16), SPH__Q(35, 32), SPH__Q(21, 32), SPH__Q(-7, 16), 0,
+        /* w2  */ SPH__Q(49, 32), 0, SPH__Q(-105, 16), SPH__Q(35, 8), SPH__Q(105, 32), SPH__Q(-21, 8), 0, 0,
+    /* [1, 3/2) c = 3/2 */ SPH__Q(3, 2), 0, 1,
+        /* w   */ SPH__Q(37, 4096), SPH__Q(-21, 256), SPH__Q(287, 1024), SPH__Q(-105, 256), SPH__Q(35, 256), SPH__Q(7, 32), SPH__Q(-7, 64), SPH__Q(-1, 16),
+        /* g   */ SPH__Q(-21, 256), SPH__Q(287, 512), SPH__Q(-315, 256), SPH__Q(35, 64), SPH__Q(35, 32), SPH__Q(-21, 32), SPH__Q(-7, 16), 0,
+        /* w2  */ SPH__Q(287, 512), SPH__Q(-315, 128), SPH__Q(105, 64), SPH__Q(35, 8), SPH__Q(-105, 32), SPH__Q(-21, 8), 0, 0,
+    /* [3/2, 2) c = 2 */ SPH__Q(2, 1), 0, 1,
+        /* w   */ 0, 0, 0, 0, 0, SPH__Q(-7, 16), SPH__Q(-21, 64), SPH__Q(-1, 16),
+        /* g   */ 0, 0, 0, 0, SPH__Q(-35, 16), SPH__Q(-63, 32), SPH__Q(-7, 16), 0,
+        /* w2  */ 0, 0, 0, SPH__Q(-35, 4), SPH__Q(-315, 32), SPH__Q(-21, 8), 0, 0,
+    /* zero row */ 0, 1, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0,
+    /* Wendland C6 (1-D), Wendland 1995, kappa = 2, degree 10 */
+    /*   w = -(q - 2)**7*(3*q + 2)*(7*q**2 + 8*q + 4)/1024  on [0, 2) */
+    /* [0, 1/2) c = 0 */ 0, 1, 0,
+        /* w   */ SPH__Q(1, 1), 0, SPH__Q(-9, 4), 0, SPH__Q(21, 8), 0, SPH__Q(-105, 32), SPH__Q(3, 1), SPH__Q(-315, 256), SPH__Q(1, 4), SPH__Q(-21, 1024),
+        /* g   */ SPH__Q(-9, 2), 0, SPH__Q(21, 2), 0, SPH__Q(-315, 16), SPH__Q(21, 1), SPH__Q(-315, 32), SPH__Q(9, 4), SPH__Q(-105, 512), 0, 0,
+        /* w2  */ SPH__Q(-9, 2), 0, SPH__Q(63, 2), 0, SPH__Q(-1575, 16), SPH__Q(126, 1), SPH__Q(-2205, 32), SPH__Q(18, 1), SPH__Q(-945, 512), 0, 0,
+    /* [1/2, 1) c = 1 */ SPH__Q(1, 1), 0, 1,
+        /* w   */ SPH__Q(95, 1024), SPH__Q(-249, 512), SPH__Q(927, 1024), SPH__Q(-63, 128), SPH__Q(-273, 512), SPH__Q(189, 256), SPH__Q(-21, 512), SPH__Q(-39, 128), SPH__Q(99, 1024), SPH__Q(23, 512), SPH__Q(-21, 1024),
+        /* g   */ SPH__Q(-249, 512), SPH__Q(927, 512), SPH__Q(-189, 128), SPH__Q(-273, 128), SPH__Q(945, 256), SPH__Q(-63, 256), SPH__Q(-273, 128), SPH__Q(99, 128), SPH__Q(207, 512), SPH__Q(-105, 512), 0,
+        /* w2  */ SPH__Q(927, 512), SPH__Q(-189, 64), SPH__Q(-819, 128), SPH__Q(945, 64), SPH__Q(-315, 256), SPH__Q(-819, 64), SPH__Q(693, 128), SPH__Q(207, 64), SPH__Q(-945, 512), 0, 0,
+    /* [1, 3/2) c = 3/2 */ SPH__Q(3, 2), 0, 1,
+        /* w   */ SPH__Q(1651, 1048576), SPH__Q(-5211, 262144), SPH__Q(26991, 262144), SPH__Q(-4473, 16384), SPH__Q(11739, 32768), SPH__Q(-945, 8192), SPH__Q(-1869, 8192), SPH__Q(183, 1024), SPH__Q(279, 4096), SPH__Q(-59, 1024), SPH__Q(-21, 1024),
+        /* g   */ SPH__Q(-5211, 262144), SPH__Q(26991, 131072), SPH__Q(-13419, 16384), SPH__Q(11739, 8192), SPH__Q(-4725, 8192), SPH__Q(-5607, 4096), SPH__Q(1281, 1024), SPH__Q(279, 512), SPH__Q(-531, 1024), SPH__Q(-105, 512), 0,
+        /* w2  */ SPH__Q(26991, 131072), SPH__Q(-13419, 8192), SPH__Q(35217, 8192), SPH__Q(-4725, 2048), SPH__Q(-28035, 4096), SPH__Q(3843, 512), SPH__Q(1953, 512), SPH__Q(-531, 128), SPH__Q(-945, 512), 0, 0,
+    /* [3/2, 2) c = 2 */ SPH__Q(2, 1), 0, 1,
+        /* w   */ 0, 0, 0, 0, 0, 0, 0, SPH__Q(-3, 8), SPH__Q(-27, 64), SPH__Q(-41, 256), SPH__Q(-21, 1024),
+        /* g   */ 0, 0, 0, 0, 0, 0, SPH__Q(-21, 8), SPH__Q(-27, 8), SPH__Q(-369, 256), SPH__Q(-105, 512), 0,
+        /* w2  */ 0, 0, 0, 0, 0, SPH__Q(-63, 4), SPH__Q(-189, 8), SPH__Q(-369, 32), SPH__Q(-945, 512), 0, 0,
+    /* zero row */ 0, 1, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0
+};
+
+SPH__TABLE sph__shape sph__shapes[] = {
+    /* kappa, 1/width, pieces, degree, offset into sph__coef */
+    { SPH__Q(2, 1), SPH__Q(2, 1), 4, 3, 0 }, /* 0 cubic */
+    { SPH__Q(1, 1), SPH__Q(2, 1), 2, 4, 75 }, /* 1 lucy */
+    { SPH__Q(2, 1), SPH__Q(2, 1), 4, 4, 129 }, /* 2 new_quartic */
+    { SPH__Q(3, 1), SPH__Q(2, 1), 6, 5, 219 }, /* 3 quintic */
+    { SPH__Q(2, 1), SPH__Q(2, 1), 4, 5, 366 }, /* 4 wendland_c2 */
+    { SPH__Q(2, 1), SPH__Q(2, 1), 4, 8, 471 }, /* 5 wendland_c4 */
+    { SPH__Q(2, 1), SPH__Q(2, 1), 4, 11, 621 }, /* 6 wendland_c6 */
+    { SPH__Q(2, 1), SPH__Q(2, 1), 4, 4, 816 }, /* 7 wendland_c2_1d */
+    { SPH__Q(2, 1), SPH__Q(2, 1), 4, 7, 906 }, /* 8 wendland_c4_1d */
+    { SPH__Q(2, 1), SPH__Q(2, 1), 4, 10, 1041 }  /* 9 wendland_c6_1d */
+};
+
+/* Per kernel and dimension 1..3: shape index, alpha_d (exact integration of
+   the shape, correctly rounded) and sigma_d / h, sigma_d^2 = int |x|^2 W d^dx / d. */
+SPH__TABLE sph__kdim sph__kdims[SPH_KERNEL_COUNT][3] = {
+    { /* cubic */
+        { 0, SPH__C(1.00000000000000000000), SPH__C(0.577350269189625764509) }, /* 1D: alpha = 1, sigma/h = sqrt(3)/3 */
+        { 0, SPH__C(0.682092613250980010438), SPH__C(0.562429133857986501406) }, /* 2D: alpha = 15/(7*pi), sigma/h = sqrt(62)/14 */
+        { 0, SPH__C(0.477464829275686007307), SPH__C(0.547722557505166113457) }  /* 3D: alpha = 3/(2*pi), sigma/h = sqrt(30)/10 */
+    },
+    { /* lucy */
+        { 1, SPH__C(1.25000000000000000000), SPH__C(0.308606699924183820522) }, /* 1D: alpha = 5/4, sigma/h = sqrt(42)/21 */
+        { 1, SPH__C(1.59154943091895335769), SPH__C(0.298807152333598409992) }, /* 2D: alpha = 5/pi, sigma/h = sqrt(70)/28 */
+        { 1, SPH__C(2.08890862808112628197), SPH__C(0.288675134594812882255) }  /* 3D: alpha = 105/(16*pi), sigma/h = sqrt(3)/6 */
+    },
+    { /* new_quartic */
+        { 2, SPH__C(1.00000000000000000000), SPH__C(0.574594404914223089000) }, /* 1D: alpha = 1, sigma/h = 2*sqrt(910)/105 */
+        { 2, SPH__C(0.682092613250980010438), SPH__C(0.553283335172488126454) }, /* 2D: alpha = 15/(7*pi), sigma/h = sqrt(15)/7 */
+        { 2, SPH__C(0.482055837249490680454), SPH__C(0.531085004543794336722) }  /* 3D: alpha = 315/(208*pi), sigma/h = sqrt(429)/39 */
+    },
+    { /* quintic */
+        { 3, SPH__C(0.00833333333333333333333), SPH__C(0.707106781186547524401) }, /* 1D: alpha = 1/120, sigma/h = sqrt(2)/2 */
+        { 3, SPH__C(0.00466144184787977970871), SPH__C(0.695046229260274514650) }, /* 2D: alpha = 7/(478*pi), sigma/h = sqrt(3973614)/2868 */
+        { 3, SPH__C(0.00265258238486492226281), SPH__C(0.683130051063973225548) }  /* 3D: alpha = 1/(120*pi), sigma/h = sqrt(105)/15 */
+    },
+    { /* wendland_c2 */
+        { 7, SPH__C(0.625000000000000000000), SPH__C(0.617213399848367641044) }, /* 1D: alpha = 5/8, sigma/h = 2*sqrt(42)/21 */
+        { 4, SPH__C(0.557042300821633675191), SPH__C(0.527046276694729888666) }, /* 2D: alpha = 7/(4*pi), sigma/h = sqrt(10)/6 */
+        { 4, SPH__C(0.417781725616225256393), SPH__C(0.516397779494322251357) }  /* 3D: alpha = 21/(16*pi), sigma/h = 2*sqrt(15)/15 */
+    },
+    { /* wendland_c4 */
+        { 8, SPH__C(0.750000000000000000000), SPH__C(0.516397779494322251357) }, /* 1D: alpha = 3/4, sigma/h = 2*sqrt(15)/15 */
+        { 5, SPH__C(0.716197243913529010960), SPH__C(0.460566186471838291869) }, /* 2D: alpha = 9/(4*pi), sigma/h = sqrt(231)/33 */
+        { 5, SPH__C(0.615482006488188993794), SPH__C(0.452910813657838300244) }  /* 3D: alpha = 495/(256*pi), sigma/h = 2*sqrt(78)/39 */
+    },
+    { /* wendland_c6 */
+        { 9, SPH__C(0.859375000000000000000), SPH__C(0.452910813657838300244) }, /* 1D: alpha = 55/64, sigma/h = 2*sqrt(78)/39 */
+        { 6, SPH__C(0.886720397226274013569), SPH__C(0.414039335605412530678) }, /* 2D: alpha = 39/(14*pi), sigma/h = sqrt(210)/35 */
+        { 6, SPH__C(0.848619130157957552049), SPH__C(0.408248290463863016366) }  /* 3D: alpha = 1365/(512*pi), sigma/h = sqrt(6)/6 */
+    }
+};
+/* ---- end of GENERATED tables ---- */
+
+/* Horner's rule, lowest power first: c[0] + u (c[1] + u (c[2] + ...)). */
+SPH_API sph_real sph__horner(const sph_real *c, int degree, sph_real u)
+{
+    sph_real p = c[degree];
+    int i;
+    for (i = degree - 1; i >= 0; --i) p = p * u + c[i];
+    return p;
+}
+
+/* The table row of the piece holding q: picked by one conversion, no chain of
+ * ifs. q outside [0, kappa) (and NaN) selects the zero row. */
+SPH_API const sph_real *sph__row(const sph__shape *s, sph_real q)
+{
+    const int i = (q >= 0 && q < s->kappa) ? (int)(q * s->inv_width) : s->npiece;
+    return sph__coef + s->offset + i * (3 + 3 * (s->degree + 1));
+}
+
+/* docs/kernels.md eq. (K1), (K2): the dimensionless shape w(q) and
+ * g(q) = w'(q)/q at q >= 0, both from one table row. */
+SPH_API void sph__shape_wg(const sph__shape *s, sph_real q, sph_real *w, sph_real *g)
+{
+    const sph_real *row = sph__row(s, q);
+    const sph_real u = q - row[0];
+    *w = sph__horner(row + 3, s->degree, u);
+    *g = sph__horner(row + 4 + s->degree, s->degree, u) / (row[1] + row[2] * q);
+}
+
+/* w'(q) and w''(q) at q >= 0 (for dW/dr, dW/dh, d2W/dr2). */
+SPH_API void sph__shape_d12(const sph__shape *s, sph_real q, sph_real *w, sph_real *w1,
+                            sph_real *w2)
+{
+    const sph_real *row = sph__row(s, q);
+    const sph_real u = q - row[0];
+    const int n = s->degree + 1;
+    /* inner piece: g = w'/q, so w' = g q; outer pieces: g = w' (den0 = 0). */
+    const sph_real g = sph__horner(row + 3 + n, s->degree, u);
+    *w = sph__horner(row + 3, s->degree, u);
+    *w1 = row[1] > 0 ? g * q : g;
+    *w2 = sph__horner(row + 3 + 2 * n, s->degree, u);
+}
+
+/* x * hinv^n, scaling last so intermediate values stay representable. */
+SPH_API sph_real sph__hpow(sph_real x, sph_real hinv, int n)
+{
+    int i;
+    for (i = 0; i < n; ++i) x *= hinv;
+    return x;
+}
+
+/* SPH_OK when kernel k is defined in dimension dim, else SPH_EKERNEL/SPH_EDIM.
+ * Every kernel here is defined in 1, 2 and 3 dimensions (1-D Wendland uses
+ * Wendland's 1-D functions, see docs/kernels.md). */
+SPH_API int sph_kernel_check(sph_kernel k, int dim)
+{
+    if ((int)k < 0 || (int)k >= (int)SPH_KERNEL_COUNT) return SPH_EKERNEL;
+    if (dim < 1 || dim > 3) return SPH_EDIM;
+    return SPH_OK;
+}
+
+/* SPH_OK when h is a usable smoothing length: positive, finite, 1/h finite. */
+SPH_API int sph_check_h(sph_real h)
+{
+    return (h > 0 && h <= SPH__REAL_MAX && 1 / h <= SPH__REAL_MAX) ? SPH_OK : SPH_EH;
+}
+
+/* The per-dimension data of (k, dim), or NULL for invalid arguments. */
+SPH_API const sph__kdim *sph__kd(sph_kernel k, int dim)
+{
+    return sph_kernel_check(k, dim) == SPH_OK ? &sph__kdims[k][dim - 1] : NULL;
+}
+
+/* Validates (k, dim, r, h) for the scalar API; on success sets the data,
+ * 1/h and q = r/h. */
+SPH_API const sph__kdim *sph__prep(sph_kernel k, int dim, sph_real r, sph_real h,
+                                   sph_real *hinv, sph_real *q)
+{
+    const sph__kdim *kd = sph__kd(k, dim);
+    if (kd == NULL || sph_check_h(h) != SPH_OK || !(r >= 0 && r <= SPH__REAL_MAX)) return NULL;
+    *hinv = 1 / h;
+    *q = r * *hinv;
+    return kd;
+}
+
+/* kappa: W(r, h) = 0 for r >= kappa h (0 for an unknown kernel). */
+SPH_API sph_real sph_kernel_support(sph_kernel k)
+{
+    return sph_kernel_check(k, 1) == SPH_OK ? sph__shapes[sph__kdims[k][0].shape].kappa : 0;
+}
+
+/* Short lower-case identifier ("cubic", "wendland_c4", ...); "invalid" otherwise. */
+SPH_API const char *sph_kernel_name(sph_kernel k)
+{
+    switch (k) {
+    case SPH_KERNEL_CUBIC: return "cubic";
+    case SPH_KERNEL_LUCY: return "lucy";
+    case SPH_KERNEL_NEW_QUARTIC: return "new_quartic";
+    case SPH_KERNEL_QUINTIC: return "quintic";
+    case SPH_KERNEL_WENDLAND_C2: return "wendland_c2";
+    case SPH_KERNEL_WENDLAND_C4: return "wendland_c4";
+    case SPH_KERNEL_WENDLAND_C6: return "wendland_c6";
+    default: return "invalid";
+    }
+}
+
+/* Inverse of sph_kernel_name; SPH_EKERNEL for an unknown name (or NULL). */
+SPH_API int sph_kernel_from_name(const char *name)
+{
+    int k;
+    for (k = 0; name != NULL && k < (int)SPH_KERNEL_COUNT; ++k) {
+        const char *a = name, *b = sph_kernel_name((sph_kernel)k);
+        while (*a != '\0' && *a == *b) ++a, ++b;
+        if (*a == '\0' && *b == '\0') return k;
+    }
+    return SPH_EKERNEL;
+}
+
+/* alpha_d, the normalisation: W(r, h) = alpha_d h^-d w(r/h). 0 if invalid. */
+SPH_API sph_real sph_kernel_alpha(sph_kernel k, int dim)
+{
+    const sph__kdim *kd = sph__kd(k, dim);
+    return kd ? kd->alpha : 0;
+}
+
+/* Standard deviation of W per coordinate in units of h,
+ * sigma^2 = (1/d) int |x|^2 W d^dx (docs/kernels.md eq. (K5)); kernels of equal
+ * sigma h resolve equally (Dehnen & Aly 2012). 0 if invalid. */
+SPH_API sph_real sph_kernel_sigma(sph_kernel k, int dim)
+{
+    const sph__kdim *kd = sph__kd(k, dim);
+    return kd ? kd->sigma : 0;
+}
+
+/* Volume of the unit ball in dim dimensions (2, pi, 4 pi / 3). */
+SPH_API sph_real sph__unit_ball(int dim)
+{
+    return dim == 1 ? (sph_real)2
+         : dim == 2 ? SPH__C(3.14159265358979323846)
+                    : SPH__C(4.18879020478639098462);
+}
+
+/* Expected number of neighbours inside the support (the particle itself
+ * included) for particles of volume V = m / rho (docs/kernels.md eq. (K6)):
+ * N = omega_d (kappa h)^d / V. 0 if invalid. */
+SPH_API sph_real sph_kernel_neighbours(sph_kernel k, int dim, sph_real h, sph_real volume)
+{
+    const sph_real kh = sph_kernel_support(k) * h;
+    if (sph_kernel_check(k, dim) != SPH_OK || !(volume > 0) || sph_check_h(h) != SPH_OK) return 0;
+    return sph__unit_ball(dim) * (dim == 1 ? kh : dim == 2 ? kh * kh : kh * kh * kh) / volume;
+}
+
+/* The h that puts n_neigh neighbours (self included) inside the support of a
+ * particle of volume V = m / rho: the inverse of sph_kernel_neighbours. */
+SPH_API sph_real sph_kernel_h_for_neighbours(sph_kernel k, int dim, sph_real n_neigh,
+                                             sph_real volume)
+{
+    sph_real x;
+    if (sph_kernel_check(k, dim) != SPH_OK || !(volume > 0) || !(n_neigh > 0)) return 0;
+    x = n_neigh * volume / sph__unit_ball(dim);
+    x = dim == 1 ? x : dim == 2 ? (sph_real)sqrt((double)x) : (sph_real)cbrt((double)x);
+    return x / sph_kernel_support(k);
+}
+
+/* docs/kernels.md eq. (K1): W(r, h) = alpha_d h^-d w(r/h). */
+SPH_API sph_real sph_kernel_w(sph_kernel k, int dim, sph_real r, sph_real h)
+{
+    sph_real hinv = 0, q = 0, w, g;
+    const sph__kdim *kd = sph__prep(k, dim, r, h, &hinv, &q);
+    if (kd == NULL) return 0;
+    sph__shape_wg(&sph__shapes[kd->shape], q, &w, &g);
+    return sph__hpow(kd->alpha * w, hinv, dim);
+}
+
+/* docs/kernels.md eq. (K2): F = (1/r) dW/dr = alpha_d h^-(d+2) w'(q)/q, finite at r = 0. */
+SPH_API sph_real sph_kernel_f(sph_kernel k, int dim, sph_real r, sph_real h)
+{
+    sph_real hinv = 0, q = 0, w, g;
+    const sph__kdim *kd = sph__prep(k, dim, r, h, &hinv, &q);
+    if (kd == NULL) return 0;
+    sph__shape_wg(&sph__shapes[kd->shape], q, &w, &g);
+    return sph__hpow(kd->alpha * g, hinv, dim + 2);
+}
+
+/* docs/kernels.md eq. (K1), (K2) fused: W and F from one table row (hot loops). */
+SPH_API void sph_kernel_wf(sph_kernel k, int dim, sph_real r, sph_real h, sph_real *W,
+                           sph_real *F)
+{
+    sph_real hinv = 0, q = 0, w, g;
+    const sph__kdim *kd = sph__prep(k, dim, r, h, &hinv, &q);
+    if (kd == NULL) {
+        *W = 0;
+        *F = 0;
+        return;
+    }
+    sph__shape_wg(&sph__shapes[kd->shape], q, &w, &g);
+    *W = sph__hpow(kd->alpha * w, hinv, dim);
+    *F = sph__hpow(kd->alpha * g, hinv, dim + 2);
+}
+
+/* docs/kernels.md eq. (K3): dW/dr = alpha_d h^-(d+1) w'(q). */
+SPH_API sph_real sph_kernel_dwdr(sph_kernel k, int dim, sph_real r, sph_real h)
+{
+    sph_real hinv = 0, q = 0, w, w1, w2;
+    const sph__kdim *kd = sph__prep(k, dim, r, h, &hinv, &q);
+    if (kd == NULL) return 0;
+    sph__shape_d12(&sph__shapes[kd->shape], q, &w, &w1, &w2);
+    return sph__hpow(kd->alpha * w1, hinv, dim + 1);
+}
+
+/* docs/kernels.md eq. (K4): d2W/dr2 = alpha_d h^-(d+2) w''(q). */
+SPH_API sph_real sph_kernel_d2wdr2(sph_kernel k, int dim, sph_real r, sph_real h)
+{
+    sph_real hinv = 0, q = 0, w, w1, w2;
+    const sph__kdim *kd = sph__prep(k, dim, r, h, &hinv, &q);
+    if (kd == NULL) return 0;
+    sph__shape_d12(&sph__shapes[kd->shape], q, &w, &w1, &w2);
+    return sph__hpow(kd->alpha * w2, hinv, dim + 2);
+}
+
+/* docs/kernels.md eq. (K7): dW/dh = -(d W + r dW/dr) / h = -alpha_d h^-(d+1) (d w + q w'). */
+SPH_API sph_real sph_kernel_dwdh(sph_kernel k, int dim, sph_real r, sph_real h)
+{
+    sph_real hinv = 0, q = 0, w, w1, w2;
+    const sph__kdim *kd = sph__prep(k, dim, r, h, &hinv, &q);
+    if (kd == NULL) return 0;
+    sph__shape_d12(&sph__shapes[kd->shape], q, &w, &w1, &w2);
+    return -sph__hpow(kd->alpha * ((sph_real)dim * w + q * w1), hinv, dim + 1);
+}
+
+/* docs/kernels.md eq. (K8): grad_i W_ij = F x_ij, dx = x_i - x_j (dim components).
+ * Computed as alpha_d h^-(d+1) g(q) (dx / h) so that it stays representable
+ * wherever the gradient is. Writes zeros for invalid input or non-finite dx. */
+SPH_API void sph_kernel_grad(sph_kernel k, int dim, const sph_real *dx, sph_real h,
+                             sph_real *grad)
+{
+    sph_real s[3] = {0, 0, 0}, q2 = 0, q, w, g, G;
+    const sph__kdim *kd = sph__kd(k, dim);
+    int a;
+    if (kd == NULL || dx == NULL || grad == NULL || sph_check_h(h) != SPH_OK) {
+        for (a = 0; grad != NULL && a < dim && a < 3; ++a) grad[a] = 0;
+        return;
+    }
+    for (a = 0; a < dim; ++a) {
+        s[a] = dx[a] / h;
+        q2 += s[a] * s[a];
+    }
+    q = (sph_real)sqrt((double)q2);
+    sph__shape_wg(&sph__shapes[kd->shape], q, &w, &g);
+    G = (q < sph__shapes[kd->shape].kappa) ? sph__hpow(kd->alpha * g, 1 / h, dim + 1) : 0;
+    for (a = 0; a < dim; ++a) grad[a] = G != 0 ? G * s[a] : 0;
+}
+
+/* ======================================================================== */
+/* 4. Particle data: strided views, neighbour lists, periodic box            */
+/* ======================================================================== */
+/* Shared by the pair terms, operators and neighbour search (sections 5-7).
+ * Every array belongs to the caller and is read in place, never copied. */
+
+typedef int32_t sph_idx; /* particle index (targets and sources) */
+typedef int64_t sph_off; /* position in a neighbour list */
+
+/* A read-only field of ncomp (1..3) components per particle: component a of
+ * particle i is p[a][i * stride]. One view reads structure-of-arrays
+ * (p = {x, y, z}, stride 1), interleaved (p = {x, x+1, x+2}, stride 3) and
+ * array-of-structs (p = {&s[0].x, &s[0].y, ...}, stride sizeof(s[0]) /
+ * sizeof(sph_real)) alike. */
+typedef struct {
+    const sph_real *p[3];
+    ptrdiff_t stride;
+} sph_view;
+
+/* The same for output fields. */
+typedef struct {
+    sph_real *p[3];
+    ptrdiff_t stride;
+} sph_out;
+
+/* Neighbour lists in CSR form: the sources of target i are
+ * index[offset[i]] .. index[offset[i+1]-1], each in 0..n_sources-1. */
+typedef struct {
+    sph_idx n_targets;
+    sph_idx n_sources;
+    const sph_off *offset; /* [n_targets + 1], offset[0] = 0, non-decreasing */
+    const sph_idx *index;  /* [offset[n_targets]] */
+} sph_neighbours;
+
+/* An axis-aligned box [lo, lo + length) with per-axis periodicity (minimum
+ * image). Pass NULL where a function takes a box and there is none. */
+typedef struct {
+    sph_real lo[3];
+    sph_real length[3];
+    int periodic[3]; /* non-zero: axis a is periodic with period length[a] */
+} sph_box;
+
+/* View of a structure-of-arrays field (pass NULL for unused components). */
+SPH_API sph_view sph_view_soa(const sph_real *x, const sph_real *y, const sph_real *z)
+{
+    sph_view v;
+    v.p[0] = x;
+    v.p[1] = y;
+    v.p[2] = z;
+    v.stride = 1;
+    return v;
+}
+
+/* View of an interleaved field x[ncomp * i + a] (ncomp 1..3). */
+SPH_API sph_view sph_view_interleaved(const sph_real *x, int ncomp)
+{
+    sph_view v;
+    int a;
+    for (a = 0; a < 3; ++a) v.p[a] = (x != NULL && a < ncomp) ? x + a : NULL;
+    v.stride = ncomp;
+    return v;
+}
+
+/* View of fields inside an array of structs: first points at component 0 of
+ * particle 0, components are consecutive reals, stride_bytes = sizeof(struct)
+ * (a multiple of sizeof(sph_real)). */
+SPH_API sph_view sph_view_aos(const sph_real *first, int ncomp, size_t stride_bytes)
+{
+    sph_view v;
+    int a;
+    for (a = 0; a < 3; ++a) v.p[a] = (first != NULL && a < ncomp) ? first + a : NULL;
+    v.stride = (ptrdiff_t)(stride_bytes / sizeof(sph_real));
+    return v;
+}
+
+/* Output counterparts. */
+SPH_API sph_out sph_out_soa(sph_real *x, sph_real *y, sph_real *z)
+{
+    sph_out v;
+    v.p[0] = x;
+    v.p[1] = y;
+    v.p[2] = z;
+    v.stride = 1;
+    return v;
+}
+
+SPH_API sph_out sph_out_interleaved(sph_real *x, int ncomp)
+{
+    sph_out v;
+    int a;
+    for (a = 0; a < 3; ++a) v.p[a] = (x != NULL && a < ncomp) ? x + a : NULL;
+    v.stride = ncomp;
+    return v;
+}
+
+SPH_API sph_out sph_out_aos(sph_real *first, int ncomp, size_t stride_bytes)
+{
+    sph_out v;
+    int a;
+    for (a = 0; a < 3; ++a) v.p[a] = (first != NULL && a < ncomp) ? first + a : NULL;
+    v.stride = (ptrdiff_t)(stride_bytes / sizeof(sph_real));
+    return v;
+}
+
+/* ======================================================================== */
+/* 5. Pair terms                                                             */
+/* ======================================================================== */
+
+/* ======================================================================== */
+/* 6. Array operators                                                        */
+/* ======================================================================== */
+
+/* ======================================================================== */
+/* 7. Neighbour search                                                       */
+/* ======================================================================== */
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* SPH_KERNEL_H */
+
+/*
+ * MIT License. Copyright (c) 2026 The sph_kernel.h authors. Permission is hereby
+ * granted, free of charge, to any person obtaining a copy of this software, to
+ * deal in it without restriction, subject to including this notice; THE
+ * SOFTWARE IS PROVIDED "AS IS", WITHOUT WARRANTY OF ANY KIND. Full text: LICENSE.
+ */

@@ -1,0 +1,117 @@
+/* tests/harness.h - the project's assertion harness.
+ *
+ * A test program is a list of cases. A case passes when none of its checks
+ * fails; the program ends with one line "N passed, N failed" (cases) and exits
+ * non-zero when any case failed. tests/run.sh adds the lines of every program
+ * and every build configuration into the final count.
+ *
+ *   th_begin("normalisation %s %dD", name, dim);
+ *   TH_CHECK(x > 0, "x = %g", x);
+ *   TH_NEAR(value, reference, rel_tol);   relative, with |reference| floor 1
+ *   TH_CLOSE(value, reference, abs_tol);  absolute
+ *   th_end();
+ *   return th_summary();
+ *
+ * TH_EPS is the machine epsilon of sph_real (the precision under test).
+ */
+#ifndef SPH_TEST_HARNESS_H
+#define SPH_TEST_HARNESS_H
+
+#include <float.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <string.h>
+
+#include "../sph_kernel.h"
+
+#define TH_IS_FLOAT (sizeof(sph_real) == sizeof(float))
+#define TH_EPS (TH_IS_FLOAT ? (double)FLT_EPSILON : (double)DBL_EPSILON)
+#define TH_PRECISION (TH_IS_FLOAT ? "float" : "double")
+
+static int th_passed, th_failed, th_case_bad, th_case_open, th_quiet_fails;
+static char th_case_name[256];
+
+static void th_begin(const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(th_case_name, sizeof th_case_name, fmt, ap);
+    va_end(ap);
+    th_case_bad = 0;
+    th_case_open = 1;
+    th_quiet_fails = 0;
+}
+
+static void th_end(void)
+{
+    if (!th_case_open) return;
+    if (th_case_bad) {
+        ++th_failed;
+        if (th_quiet_fails) printf("    (%d more failed checks in this case)\n", th_quiet_fails);
+    } else {
+        ++th_passed;
+    }
+    th_case_open = 0;
+}
+
+/* Records a failed check; prints the first five of a case. */
+static void th_fail(const char *file, int line, const char *fmt, ...)
+{
+    va_list ap;
+    if (th_case_bad >= 5) {
+        ++th_quiet_fails;
+        ++th_case_bad;
+        return;
+    }
+    if (th_case_bad == 0) printf("FAIL [%s] %s\n", TH_PRECISION, th_case_name);
+    ++th_case_bad;
+    printf("    %s:%d: ", file, line);
+    va_start(ap, fmt);
+    vprintf(fmt, ap);
+    va_end(ap);
+    printf("\n");
+}
+
+#define TH_CHECK(cond, ...)                                                    \
+    do {                                                                       \
+        if (!(cond)) th_fail(__FILE__, __LINE__, __VA_ARGS__);                 \
+    } while (0)
+
+/* |a - b| <= tol * max(1, |b|) ... relative with a floor: use TH_REL for pure relative. */
+#define TH_NEAR(a, b, tol)                                                     \
+    do {                                                                       \
+        double th_a_ = (double)(a), th_b_ = (double)(b), th_t_ = (double)(tol); \
+        double th_s_ = fabs(th_b_) > 1 ? fabs(th_b_) : 1;                       \
+        if (!(fabs(th_a_ - th_b_) <= th_t_ * th_s_))                           \
+            th_fail(__FILE__, __LINE__, "%s = %.17g, expected %.17g (tol %.3g)", #a, th_a_, \
+                    th_b_, th_t_);                                             \
+    } while (0)
+
+/* |a - b| <= tol * |b| (pure relative). */
+#define TH_REL(a, b, tol)                                                      \
+    do {                                                                       \
+        double th_a_ = (double)(a), th_b_ = (double)(b), th_t_ = (double)(tol); \
+        if (!(fabs(th_a_ - th_b_) <= th_t_ * fabs(th_b_)))                     \
+            th_fail(__FILE__, __LINE__, "%s = %.17g, expected %.17g (rel tol %.3g, rel err %.3g)", \
+                    #a, th_a_, th_b_, th_t_, fabs(th_a_ - th_b_) / fabs(th_b_)); \
+    } while (0)
+
+/* |a - b| <= tol. */
+#define TH_CLOSE(a, b, tol)                                                    \
+    do {                                                                       \
+        double th_a_ = (double)(a), th_b_ = (double)(b), th_t_ = (double)(tol); \
+        if (!(fabs(th_a_ - th_b_) <= th_t_))                                   \
+            th_fail(__FILE__, __LINE__, "%s = %.17g, expected %.17g (abs tol %.3g)", #a, th_a_, \
+                    th_b_, th_t_);                                             \
+    } while (0)
+
+/* Prints the closing line; exit status for main. */
+static int th_summary(void)
+{
+    th_end();
+    printf("%d passed, %d failed\n", th_passed, th_failed);
+    return th_failed == 0 ? 0 : 1;
+}
+
+#endif

@@ -1,0 +1,127 @@
+#!/bin/sh
+# tests/run.sh - `make test`: builds every tests/test_*.c in every configuration
+# (gcc and clang x double and float, sanitizers where the compiler has them,
+# plus an OpenMP build), runs them, runs the compile checks (C++, nvcc, CMake)
+# and prints one closing line "N passed, N failed" with the sum of all cases.
+# A configuration whose compiler is missing is skipped with a printed reason.
+set -u
+cd "$(dirname "$0")/.." || exit 2
+OUT=build/test
+mkdir -p "$OUT"
+WARN="-std=c99 -Wall -Wextra -pedantic -Werror"
+OPT="-O1 -g"
+TOTAL_PASS=0
+TOTAL_FAIL=0
+LOG="$OUT/run.log"
+: > "$LOG"
+
+count() { # count "label" exit-status output-file
+    line=$(grep -E '^[0-9]+ passed, [0-9]+ failed$' "$3" | tail -n 1)
+    if [ -z "$line" ]; then
+        echo "  $1: no summary line (exit $2) - counted as 1 failed"
+        sed 's/^/    | /' "$3" | tail -n 20
+        TOTAL_FAIL=$((TOTAL_FAIL + 1))
+        return
+    fi
+    p=${line%% passed*}
+    f=${line#*passed, }
+    f=${f%% failed*}
+    if [ "$2" -ne 0 ] && [ "$f" -eq 0 ]; then f=1; fi
+    TOTAL_PASS=$((TOTAL_PASS + p))
+    TOTAL_FAIL=$((TOTAL_FAIL + f))
+    grep -E '^(FAIL|    )' "$3" | head -n 40
+    echo "  $1: $p passed, $f failed"
+}
+
+check() { # check "label" command...: a compile check counted as one case
+    label=$1
+    shift
+    if "$@" > "$OUT/check.out" 2>&1; then
+        TOTAL_PASS=$((TOTAL_PASS + 1))
+        echo "  $label: ok"
+    else
+        TOTAL_FAIL=$((TOTAL_FAIL + 1))
+        echo "  $label: FAILED"
+        sed 's/^/    | /' "$OUT/check.out" | head -n 30
+    fi
+}
+
+has_sanitizers() { # has_sanitizers cc
+    printf 'int main(void){return 0;}\n' > "$OUT/san.c"
+    "$1" -fsanitize=address,undefined "$OUT/san.c" -o "$OUT/san" > /dev/null 2>&1 && "$OUT/san" > /dev/null 2>&1
+}
+
+has_openmp() {
+    printf '#include <omp.h>\nint main(void){return omp_get_max_threads() > 0 ? 0 : 1;}\n' > "$OUT/omp.c"
+    "$1" -fopenmp "$OUT/omp.c" -o "$OUT/omp" > /dev/null 2>&1 && "$OUT/omp" > /dev/null 2>&1
+}
+
+run_config() { # run_config cc precision extra-flags label
+    cc=$1 prec=$2 extra=$3 label=$4
+    dir="$OUT/$label"
+    mkdir -p "$dir"
+    for src in tests/test_*.c; do
+        name=$(basename "$src" .c)
+        if ! $cc $WARN $OPT $extra -DSPH_REAL=$prec "$src" -o "$dir/$name" -lm > "$dir/$name.build" 2>&1; then
+            echo "  $label $name: BUILD FAILED"
+            sed 's/^/    | /' "$dir/$name.build" | head -n 30
+            TOTAL_FAIL=$((TOTAL_FAIL + 1))
+            continue
+        fi
+        "$dir/$name" > "$dir/$name.out" 2>&1
+        count "$label $name" $? "$dir/$name.out"
+    done
+}
+
+for cc in gcc clang; do
+    if ! command -v $cc > /dev/null 2>&1; then
+        echo "SKIPPED: $cc configurations ($cc is not installed)"
+        continue
+    fi
+    san=""
+    if has_sanitizers $cc; then
+        san="-fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer"
+    else
+        echo "note: $cc has no address/undefined sanitizers here; $cc builds run without them"
+    fi
+    for prec in double float; do
+        echo "== $cc $prec${san:+ +asan,ubsan}"
+        run_config $cc $prec "$san" "$cc-$prec"
+    done
+done
+
+# OpenMP: the same tests with threads on (operators must match the serial ones bitwise).
+if has_openmp gcc; then
+    echo "== gcc double -fopenmp (2 threads)"
+    OMP_NUM_THREADS=2 run_config gcc double "-fopenmp" "gcc-double-omp"
+else
+    echo "SKIPPED: OpenMP configuration (gcc -fopenmp does not build here)"
+fi
+
+echo "== compile checks"
+if command -v g++ > /dev/null 2>&1; then
+    check "C++11 (g++ -std=c++11 -Wall -Wextra -pedantic -Werror)" \
+        g++ -std=c++11 -Wall -Wextra -pedantic -Werror -I. tests/compile_check.cpp -o "$OUT/cpp_check"
+    check "C++ float build" \
+        g++ -std=c++11 -Wall -Wextra -pedantic -Werror -DSPH_REAL=float -I. tests/compile_check.cpp -o "$OUT/cpp_check_f"
+else
+    echo "SKIPPED: C++ compile check (g++ is not installed)"
+fi
+if command -v clang > /dev/null 2>&1; then
+    check "C11 (clang -std=c11)" clang -std=c11 -Wall -Wextra -pedantic -Werror -fsyntax-only -x c sph_kernel.h
+fi
+check "C11 (gcc -std=c11)" gcc -std=c11 -Wall -Wextra -pedantic -Werror -fsyntax-only -x c sph_kernel.h
+if command -v nvcc > /dev/null 2>&1; then
+    check "CUDA (nvcc, host and device code)" \
+        nvcc -std=c++11 -Werror all-warnings -I. -c tests/compile_check.cu -o "$OUT/cu_check.o"
+else
+    echo "SKIPPED: nvcc compile check (nvcc is not on the PATH)"
+fi
+if command -v cmake > /dev/null 2>&1; then
+    check "CMake INTERFACE target sph_kernel::sph_kernel (add_subdirectory)" sh tests/cmake_check.sh
+else
+    echo "SKIPPED: CMake check (cmake is not installed)"
+fi
+
+echo "$TOTAL_PASS passed, $TOTAL_FAIL failed"
+[ "$TOTAL_FAIL" -eq 0 ]
