@@ -85,6 +85,18 @@ typedef SPH_REAL sph_real;
 extern "C" {
 #endif
 
+/* libm in the precision of sph_real (the sizeof test folds at compile time). */
+SPH_API sph_real sph__sqrt(sph_real x)
+{
+    return sizeof(sph_real) == sizeof(float) ? (sph_real)sqrtf((float)x) : (sph_real)sqrt((double)x);
+}
+
+SPH_API sph_real sph__floor(sph_real x)
+{
+    return sizeof(sph_real) == sizeof(float) ? (sph_real)floorf((float)x) : (sph_real)floor((double)x);
+}
+
+
 /* ======================================================================== */
 /* 2. Status codes                                                           */
 /* ======================================================================== */
@@ -565,7 +577,7 @@ SPH_API sph_real sph_kernel_h_for_neighbours(sph_kernel k, int dim, sph_real n_n
     sph_real x;
     if (sph_kernel_check(k, dim) != SPH_OK || !(volume > 0) || !(n_neigh > 0)) return 0;
     x = n_neigh * volume / sph__unit_ball(dim);
-    x = dim == 1 ? x : dim == 2 ? (sph_real)sqrt((double)x) : (sph_real)cbrt((double)x);
+    x = dim == 1 ? x : dim == 2 ? sph__sqrt(x) : (sph_real)cbrt((double)x);
     return x / sph_kernel_support(k);
 }
 
@@ -652,7 +664,7 @@ SPH_API void sph_kernel_grad(sph_kernel k, int dim, const sph_real *dx, sph_real
         s[a] = dx[a] / h;
         q2 += s[a] * s[a];
     }
-    q = (sph_real)sqrt((double)q2);
+    q = sph__sqrt(q2);
     sph__shape_wg(&sph__shapes[kd->shape], q, &w, &g);
     G = (q < sph__shapes[kd->shape].kappa) ? sph__hpow(kd->alpha * g, 1 / h, dim + 1) : 0;
     for (a = 0; a < dim; ++a) grad[a] = G != 0 ? G * s[a] : 0;
@@ -699,6 +711,17 @@ typedef struct {
     sph_real length[3];
     int periodic[3]; /* non-zero: axis a is periodic with period length[a] */
 } sph_box;
+
+/* Minimum image of one component of x_i - x_j (docs/operators.md eq. (O0)):
+ * along a periodic axis of length L, dx - L * round(dx / L), so |dx| <= L/2
+ * whatever multiple of L the two positions are apart. Unchanged when box is
+ * NULL or the axis is not periodic. Every part of the library (and the
+ * brute-force references of the tests) uses this one function. */
+SPH_API sph_real sph_box_delta(const sph_box *box, int a, sph_real dx)
+{
+    if (box == NULL || !box->periodic[a]) return dx;
+    return dx - box->length[a] * sph__floor(dx / box->length[a] + (sph_real)0.5);
+}
 
 /* View of a structure-of-arrays field (pass NULL for unused components). */
 SPH_API sph_view sph_view_soa(const sph_real *x, const sph_real *y, const sph_real *z)

@@ -29,10 +29,10 @@
 #define TH_EPS (TH_IS_FLOAT ? (double)FLT_EPSILON : (double)DBL_EPSILON)
 #define TH_PRECISION (TH_IS_FLOAT ? "float" : "double")
 
-static int th_passed, th_failed, th_case_bad, th_case_open, th_quiet_fails;
+static inline int th_passed, th_failed, th_case_bad, th_case_open, th_quiet_fails;
 static char th_case_name[256];
 
-static void th_begin(const char *fmt, ...)
+static inline void th_begin(const char *fmt, ...)
 {
     va_list ap;
     va_start(ap, fmt);
@@ -43,7 +43,7 @@ static void th_begin(const char *fmt, ...)
     th_quiet_fails = 0;
 }
 
-static void th_end(void)
+static inline void th_end(void)
 {
     if (!th_case_open) return;
     if (th_case_bad) {
@@ -56,7 +56,7 @@ static void th_end(void)
 }
 
 /* Records a failed check; prints the first five of a case. */
-static void th_fail(const char *file, int line, const char *fmt, ...)
+static inline void th_fail(const char *file, int line, const char *fmt, ...)
 {
     va_list ap;
     if (th_case_bad >= 5) {
@@ -107,7 +107,7 @@ static void th_fail(const char *file, int line, const char *fmt, ...)
     } while (0)
 
 /* Prints the closing line; exit status for main. */
-static int th_summary(void)
+static inline int th_summary(void)
 {
     th_end();
     printf("%d passed, %d failed\n", th_passed, th_failed);

@@ -1,0 +1,171 @@
+/* tests/particles.h - particle clouds and reference neighbour lists for tests.
+ *
+ * Positions are interleaved with three slots per particle, x[3*i + a]
+ * (unused components are 0), so sph_view_interleaved(x, 3) reads them.
+ * Everything here is deliberately simple (O(N^2) reference search), written
+ * only for checking the library against it. Arrays come from malloc; free
+ * them with free() / tp_free_list().
+ */
+#ifndef SPH_TEST_PARTICLES_H
+#define SPH_TEST_PARTICLES_H
+
+#include <stdint.h>
+#include <stdlib.h>
+
+#include "../sph_kernel.h"
+
+/* ---- a seeded random generator (splitmix64), the same on every machine ---- */
+typedef struct {
+    uint64_t s;
+} tp_rng;
+
+static inline uint64_t tp_next(tp_rng *g)
+{
+    uint64_t z = (g->s += 0x9E3779B97F4A7C15ULL);
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
+    return z ^ (z >> 31);
+}
+
+/* Uniform in [0, 1). */
+static inline double tp_uniform(tp_rng *g) { return (double)(tp_next(g) >> 11) * (1.0 / 9007199254740992.0); }
+
+/* Uniform in [lo, hi). */
+static inline double tp_range(tp_rng *g, double lo, double hi) { return lo + (hi - lo) * tp_uniform(g); }
+
+/* ---- clouds ---- */
+
+/* Number of particles of an n^dim lattice. */
+static inline int tp_lattice_count(int dim, int n) { return dim == 1 ? n : dim == 2 ? n * n : n * n * n; }
+
+/* Lattice of n points per side, spacing dx, cell-centred in [0, n dx)^dim:
+ * x = (k + 1/2) dx. Returns the particle count; x must hold 3 * count. */
+static inline int tp_lattice(int dim, int n, double dx, sph_real *x)
+{
+    int count = tp_lattice_count(dim, n), i, a;
+    for (i = 0; i < count; ++i) {
+        int rest = i;
+        for (a = 0; a < 3; ++a) {
+            x[3 * i + a] = 0;
+            if (a < dim) {
+                x[3 * i + a] = (sph_real)(((double)(rest % n) + 0.5) * dx);
+                rest /= n;
+            }
+        }
+    }
+    return count;
+}
+
+/* Moves every particle by a uniform random amount in [-amp, amp) per axis. */
+static inline void tp_perturb(int dim, int count, double amp, tp_rng *g, sph_real *x)
+{
+    int i, a;
+    for (i = 0; i < count; ++i)
+        for (a = 0; a < dim; ++a) x[3 * i + a] += (sph_real)tp_range(g, -amp, amp);
+}
+
+/* count points uniform in [0, L)^dim. */
+static inline void tp_uniform_cloud(int dim, int count, double L, tp_rng *g, sph_real *x)
+{
+    int i, a;
+    for (i = 0; i < count; ++i)
+        for (a = 0; a < 3; ++a) x[3 * i + a] = a < dim ? (sph_real)tp_range(g, 0, L) : 0;
+}
+
+/* count points in nclusters tight clusters (Gaussian-like, width w, sum of
+ * three uniforms) whose centres are uniform in [0, L)^dim, plus a uniform
+ * background of one point in ten: a strongly inhomogeneous cloud. */
+static inline void tp_clustered_cloud(int dim, int count, int nclusters, double L, double w, tp_rng *g,
+                               sph_real *x)
+{
+    double c[16][3];
+    int i, a, k;
+    if (nclusters > 16) nclusters = 16;
+    for (k = 0; k < nclusters; ++k)
+        for (a = 0; a < 3; ++a) c[k][a] = tp_range(g, 0.2 * L, 0.8 * L);
+    for (i = 0; i < count; ++i) {
+        k = (int)(tp_uniform(g) * nclusters);
+        for (a = 0; a < 3; ++a) {
+            double v;
+            if (a >= dim) {
+                x[3 * i + a] = 0;
+                continue;
+            }
+            if (i % 10 == 9) v = tp_range(g, 0, L);
+            else v = c[k][a] + w * (tp_uniform(g) + tp_uniform(g) + tp_uniform(g) - 1.5);
+            x[3 * i + a] = (sph_real)v;
+        }
+    }
+}
+
+/* ---- reference neighbour lists ---- */
+
+/* Who counts as a neighbour (the library's criterion): source j is a
+ * neighbour of target i when r_ij^2 < R^2 with R = kappa * h_i ("gather") or
+ * R = kappa * max(h_i, h_j) ("symmetric"); x_ij by sph_box_delta per axis. */
+enum { TP_GATHER = 0, TP_SYMMETRIC = 1 };
+
+typedef struct {
+    sph_off *offset; /* [nt + 1] */
+    sph_idx *index;  /* [offset[nt]], ascending source index within a target */
+    sph_neighbours list;
+} tp_list;
+
+static inline void tp_free_list(tp_list *l)
+{
+    free(l->offset);
+    free(l->index);
+    l->offset = NULL;
+    l->index = NULL;
+}
+
+/* r^2 between target position xt (3 slots) and source position xs. */
+static inline sph_real tp_r2(int dim, const sph_real *xt, const sph_real *xs, const sph_box *box)
+{
+    sph_real r2 = 0;
+    int a;
+    for (a = 0; a < dim; ++a) {
+        sph_real d = sph_box_delta(box, a, xt[a] - xs[a]);
+        r2 += d * d;
+    }
+    return r2;
+}
+
+/* O(nt * ns) reference list. ht / hs: per-particle h, or NULL for uniform h.
+ * Returns 0 on success, -1 when malloc fails. */
+static inline int tp_brute_list(int dim, const sph_real *xt, int nt, const sph_real *xs, int ns,
+                         sph_real h, const sph_real *ht, const sph_real *hs, sph_real kappa,
+                         int mode, const sph_box *box, tp_list *out)
+{
+    int i, j, pass;
+    sph_off n = 0;
+    out->offset = (sph_off *)malloc(sizeof(sph_off) * (size_t)(nt + 1));
+    out->index = NULL;
+    if (out->offset == NULL) return -1;
+    for (pass = 0; pass < 2; ++pass) {
+        n = 0;
+        for (i = 0; i < nt; ++i) {
+            out->offset[i] = n;
+            for (j = 0; j < ns; ++j) {
+                sph_real hi = ht ? ht[i] : h, hj = hs ? hs[j] : h;
+                sph_real R = kappa * (mode == TP_SYMMETRIC && hj > hi ? hj : hi);
+                if (tp_r2(dim, xt + 3 * i, xs + 3 * j, box) < R * R) {
+                    if (pass == 1) out->index[n] = (sph_idx)j;
+                    ++n;
+                }
+            }
+        }
+        out->offset[nt] = n;
+        if (pass == 0) {
+            out->index = (sph_idx *)malloc(sizeof(sph_idx) * (size_t)(n > 0 ? n : 1));
+            if (out->index == NULL) return -1;
+        }
+    }
+    out->list.n_targets = (sph_idx)nt;
+    out->list.n_sources = (sph_idx)ns;
+    out->list.offset = out->offset;
+    out->list.index = out->index;
+    return 0;
+}
+
+#endif
