@@ -108,10 +108,10 @@ if command -v g++ > /dev/null 2>&1; then
 else
     echo "SKIPPED: C++ compile check (g++ is not installed)"
 fi
-if command -v clang > /dev/null 2>&1; then
-    check "C11 (clang -std=c11)" clang -std=c11 -Wall -Wextra -pedantic -Werror -fsyntax-only -x c sph_kernel.h
-fi
-check "C11 (gcc -std=c11)" gcc -std=c11 -Wall -Wextra -pedantic -Werror -fsyntax-only -x c sph_kernel.h
+for cc in gcc clang; do
+    command -v $cc > /dev/null 2>&1 || continue
+    check "C11 ($cc -std=c11, double and float)" sh -c "$cc -std=c11 -Wall -Wextra -pedantic -Werror -I. tests/compile_check.c -o $OUT/c11_check -lm && $OUT/c11_check && $cc -std=c11 -Wall -Wextra -pedantic -Werror -DSPH_REAL=float -I. tests/compile_check.c -o $OUT/c11_check_f -lm && $OUT/c11_check_f"
+done
 if command -v nvcc > /dev/null 2>&1; then
     check "CUDA (nvcc, host and device code)" \
         nvcc -std=c++11 -Werror all-warnings -I. -c tests/compile_check.cu -o "$OUT/cu_check.o"
