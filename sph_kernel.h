@@ -446,18 +446,17 @@ SPH_API void sph__shape_wg(const sph__shape *s, sph_real q, sph_real *w, sph_rea
     *g = sph__horner(row + 4 + s->degree, s->degree, u) / (row[1] + row[2] * q);
 }
 
-/* w'(q) and w''(q) at q >= 0 (for dW/dr, dW/dh, d2W/dr2). */
-SPH_API void sph__shape_d12(const sph__shape *s, sph_real q, sph_real *w, sph_real *w1,
-                            sph_real *w2)
+/* w, g = w'/q, w' and w'' at q >= 0 from one table row (scalar API). */
+SPH_API void sph__shape_all(const sph__shape *s, sph_real q, sph_real d[4])
 {
     const sph_real *row = sph__row(s, q);
     const sph_real u = q - row[0];
     const int n = s->degree + 1;
-    /* inner piece: g = w'/q, so w' = g q; outer pieces: g = w' (den0 = 0). */
-    const sph_real g = sph__horner(row + 3 + n, s->degree, u);
-    *w = sph__horner(row + 3, s->degree, u);
-    *w1 = row[1] > 0 ? g * q : g;
-    *w2 = sph__horner(row + 3 + 2 * n, s->degree, u);
+    const sph_real num = sph__horner(row + 3 + n, s->degree, u);
+    d[0] = sph__horner(row + 3, s->degree, u);
+    d[1] = num / (row[1] + row[2] * q);
+    d[2] = row[1] > 0 ? num * q : num; /* inner piece stores w'/q, the others w' */
+    d[3] = sph__horner(row + 3 + 2 * n, s->degree, u);
 }
 
 /* x * hinv^n, scaling last so intermediate values stay representable. */
@@ -581,24 +580,52 @@ SPH_API sph_real sph_kernel_h_for_neighbours(sph_kernel k, int dim, sph_real n_n
     return x / sph_kernel_support(k);
 }
 
+/* The scalar kernel quantities, each alpha_d h^-p times a shape value. */
+enum { SPH__W, SPH__F, SPH__DWDR, SPH__D2WDR2, SPH__DWDH };
+
+SPH_API sph_real sph__scalar(sph_kernel k, int dim, sph_real r, sph_real h, int what)
+{
+    sph_real hinv = 0, q = 0, d[4];
+    const sph__kdim *kd = sph__prep(k, dim, r, h, &hinv, &q);
+    if (kd == NULL) return 0;
+    sph__shape_all(&sph__shapes[kd->shape], q, d);
+    switch (what) {
+    case SPH__W: return sph__hpow(kd->alpha * d[0], hinv, dim);
+    case SPH__F: return sph__hpow(kd->alpha * d[1], hinv, dim + 2);
+    case SPH__DWDR: return sph__hpow(kd->alpha * d[2], hinv, dim + 1);
+    case SPH__D2WDR2: return sph__hpow(kd->alpha * d[3], hinv, dim + 2);
+    default: return -sph__hpow(kd->alpha * ((sph_real)dim * d[0] + q * d[2]), hinv, dim + 1);
+    }
+}
+
 /* docs/kernels.md eq. (K1): W(r, h) = alpha_d h^-d w(r/h). */
 SPH_API sph_real sph_kernel_w(sph_kernel k, int dim, sph_real r, sph_real h)
 {
-    sph_real hinv = 0, q = 0, w, g;
-    const sph__kdim *kd = sph__prep(k, dim, r, h, &hinv, &q);
-    if (kd == NULL) return 0;
-    sph__shape_wg(&sph__shapes[kd->shape], q, &w, &g);
-    return sph__hpow(kd->alpha * w, hinv, dim);
+    return sph__scalar(k, dim, r, h, SPH__W);
 }
 
 /* docs/kernels.md eq. (K2): F = (1/r) dW/dr = alpha_d h^-(d+2) w'(q)/q, finite at r = 0. */
 SPH_API sph_real sph_kernel_f(sph_kernel k, int dim, sph_real r, sph_real h)
 {
-    sph_real hinv = 0, q = 0, w, g;
-    const sph__kdim *kd = sph__prep(k, dim, r, h, &hinv, &q);
-    if (kd == NULL) return 0;
-    sph__shape_wg(&sph__shapes[kd->shape], q, &w, &g);
-    return sph__hpow(kd->alpha * g, hinv, dim + 2);
+    return sph__scalar(k, dim, r, h, SPH__F);
+}
+
+/* docs/kernels.md eq. (K3): dW/dr = alpha_d h^-(d+1) w'(q). */
+SPH_API sph_real sph_kernel_dwdr(sph_kernel k, int dim, sph_real r, sph_real h)
+{
+    return sph__scalar(k, dim, r, h, SPH__DWDR);
+}
+
+/* docs/kernels.md eq. (K4): d2W/dr2 = alpha_d h^-(d+2) w''(q). */
+SPH_API sph_real sph_kernel_d2wdr2(sph_kernel k, int dim, sph_real r, sph_real h)
+{
+    return sph__scalar(k, dim, r, h, SPH__D2WDR2);
+}
+
+/* docs/kernels.md eq. (K7): dW/dh = -(d W + r dW/dr) / h = -alpha_d h^-(d+1) (d w + q w'). */
+SPH_API sph_real sph_kernel_dwdh(sph_kernel k, int dim, sph_real r, sph_real h)
+{
+    return sph__scalar(k, dim, r, h, SPH__DWDH);
 }
 
 /* docs/kernels.md eq. (K1), (K2) fused: W and F from one table row (hot loops). */
@@ -615,36 +642,6 @@ SPH_API void sph_kernel_wf(sph_kernel k, int dim, sph_real r, sph_real h, sph_re
     sph__shape_wg(&sph__shapes[kd->shape], q, &w, &g);
     *W = sph__hpow(kd->alpha * w, hinv, dim);
     *F = sph__hpow(kd->alpha * g, hinv, dim + 2);
-}
-
-/* docs/kernels.md eq. (K3): dW/dr = alpha_d h^-(d+1) w'(q). */
-SPH_API sph_real sph_kernel_dwdr(sph_kernel k, int dim, sph_real r, sph_real h)
-{
-    sph_real hinv = 0, q = 0, w, w1, w2;
-    const sph__kdim *kd = sph__prep(k, dim, r, h, &hinv, &q);
-    if (kd == NULL) return 0;
-    sph__shape_d12(&sph__shapes[kd->shape], q, &w, &w1, &w2);
-    return sph__hpow(kd->alpha * w1, hinv, dim + 1);
-}
-
-/* docs/kernels.md eq. (K4): d2W/dr2 = alpha_d h^-(d+2) w''(q). */
-SPH_API sph_real sph_kernel_d2wdr2(sph_kernel k, int dim, sph_real r, sph_real h)
-{
-    sph_real hinv = 0, q = 0, w, w1, w2;
-    const sph__kdim *kd = sph__prep(k, dim, r, h, &hinv, &q);
-    if (kd == NULL) return 0;
-    sph__shape_d12(&sph__shapes[kd->shape], q, &w, &w1, &w2);
-    return sph__hpow(kd->alpha * w2, hinv, dim + 2);
-}
-
-/* docs/kernels.md eq. (K7): dW/dh = -(d W + r dW/dr) / h = -alpha_d h^-(d+1) (d w + q w'). */
-SPH_API sph_real sph_kernel_dwdh(sph_kernel k, int dim, sph_real r, sph_real h)
-{
-    sph_real hinv = 0, q = 0, w, w1, w2;
-    const sph__kdim *kd = sph__prep(k, dim, r, h, &hinv, &q);
-    if (kd == NULL) return 0;
-    sph__shape_d12(&sph__shapes[kd->shape], q, &w, &w1, &w2);
-    return -sph__hpow(kd->alpha * ((sph_real)dim * w + q * w1), hinv, dim + 1);
 }
 
 /* docs/kernels.md eq. (K8): grad_i W_ij = F x_ij, dx = x_i - x_j (dim components).
@@ -734,16 +731,6 @@ SPH_API sph_view sph_view_soa(const sph_real *x, const sph_real *y, const sph_re
     return v;
 }
 
-/* View of an interleaved field x[ncomp * i + a] (ncomp 1..3). */
-SPH_API sph_view sph_view_interleaved(const sph_real *x, int ncomp)
-{
-    sph_view v;
-    int a;
-    for (a = 0; a < 3; ++a) v.p[a] = (x != NULL && a < ncomp) ? x + a : NULL;
-    v.stride = ncomp;
-    return v;
-}
-
 /* View of fields inside an array of structs: first points at component 0 of
  * particle 0, components are consecutive reals, stride_bytes = sizeof(struct)
  * (a multiple of sizeof(sph_real)). */
@@ -756,33 +743,36 @@ SPH_API sph_view sph_view_aos(const sph_real *first, int ncomp, size_t stride_by
     return v;
 }
 
-/* Output counterparts. */
+/* View of an interleaved field x[ncomp * i + a] (ncomp 1..3). */
+SPH_API sph_view sph_view_interleaved(const sph_real *x, int ncomp)
+{
+    return sph_view_aos(x, ncomp, (size_t)ncomp * sizeof(sph_real));
+}
+
+/* The writable twin of a view built on the caller's writable arrays. */
+SPH_API sph_out sph__out_of(sph_view v)
+{
+    sph_out o;
+    int a;
+    for (a = 0; a < 3; ++a) o.p[a] = (sph_real *)v.p[a]; /* the caller passed writable arrays */
+    o.stride = v.stride;
+    return o;
+}
+
+/* Output counterparts of the three views. */
 SPH_API sph_out sph_out_soa(sph_real *x, sph_real *y, sph_real *z)
 {
-    sph_out v;
-    v.p[0] = x;
-    v.p[1] = y;
-    v.p[2] = z;
-    v.stride = 1;
-    return v;
+    return sph__out_of(sph_view_soa(x, y, z));
 }
 
 SPH_API sph_out sph_out_interleaved(sph_real *x, int ncomp)
 {
-    sph_out v;
-    int a;
-    for (a = 0; a < 3; ++a) v.p[a] = (x != NULL && a < ncomp) ? x + a : NULL;
-    v.stride = ncomp;
-    return v;
+    return sph__out_of(sph_view_interleaved(x, ncomp));
 }
 
 SPH_API sph_out sph_out_aos(sph_real *first, int ncomp, size_t stride_bytes)
 {
-    sph_out v;
-    int a;
-    for (a = 0; a < 3; ++a) v.p[a] = (first != NULL && a < ncomp) ? first + a : NULL;
-    v.stride = (ptrdiff_t)(stride_bytes / sizeof(sph_real));
-    return v;
+    return sph__out_of(sph_view_aos(first, ncomp, stride_bytes));
 }
 
 /* ======================================================================== */
