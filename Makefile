@@ -13,7 +13,7 @@ BUILD   := build
 
 .PHONY: all test demo plots install uninstall clean
 
-all: $(BUILD)/kernel_table $(BUILD)/kernel_plots
+all: $(BUILD)/kernel_table $(BUILD)/kernel_plots $(BUILD)/quickstart
 
 test:
 	@sh tests/run.sh
