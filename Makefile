@@ -13,7 +13,7 @@ BUILD   := build
 
 .PHONY: all test demo plots install uninstall clean
 
-all: $(BUILD)/kernel_table
+all: $(BUILD)/kernel_table $(BUILD)/kernel_plots $(BUILD)/quickstart
 
 test:
 	@sh tests/run.sh
@@ -24,6 +24,16 @@ $(BUILD)/%: examples/%.c sph_kernel.h
 
 demo: $(BUILD)/kernel_table
 	./$(BUILD)/kernel_table
+
+# Data from examples/kernel_plots.c into build/plots, PNGs into docs/plots.
+plots: $(BUILD)/kernel_plots
+	@command -v gnuplot > /dev/null 2>&1 || { \
+	    echo "make plots: gnuplot is not installed (Debian/Ubuntu: apt-get install gnuplot-nox);"; \
+	    echo "            the PNGs in docs/plots were left as they are."; exit 1; }
+	@mkdir -p $(BUILD)/plots
+	./$(BUILD)/kernel_plots $(BUILD)/plots
+	gnuplot -e "datadir='$(BUILD)/plots'; outdir='docs/plots'" docs/plots/kernels.gp
+	@ls docs/plots/*.png
 
 install:
 	install -d $(DESTDIR)$(PREFIX)/include $(DESTDIR)$(PREFIX)/lib/pkgconfig
