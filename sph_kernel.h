@@ -137,7 +137,7 @@ SPH_API const char *sph_strerror(int status)
 typedef enum {
     SPH_KERNEL_CUBIC,       /* cubic B-spline M4, kappa = 2, C2          */
     SPH_KERNEL_LUCY,        /* Lucy quartic, kappa = 1, C2               */
-    SPH_KERNEL_NEW_QUARTIC, /* Liu & Liu new quartic, kappa = 2, C2       */
+    SPH_KERNEL_NEW_QUARTIC, /* Liu & Liu new quartic, kappa = 2, C1       */
     SPH_KERNEL_QUINTIC,     /* quintic B-spline M6, kappa = 3, C4        */
     SPH_KERNEL_WENDLAND_C2, /* Wendland C2, kappa = 2                    */
     SPH_KERNEL_WENDLAND_C4, /* Wendland C4, kappa = 2                    */

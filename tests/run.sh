@@ -119,7 +119,7 @@ else
     echo "SKIPPED: nvcc compile check (nvcc is not on the PATH)"
 fi
 if command -v cmake > /dev/null 2>&1; then
-    check "CMake INTERFACE target sph_kernel::sph_kernel (add_subdirectory)" sh tests/cmake_check.sh
+    check "CMake target sph_kernel::sph_kernel (add_subdirectory and installed find_package)" sh tests/cmake_check.sh
 else
     echo "SKIPPED: CMake check (cmake is not installed)"
 fi
