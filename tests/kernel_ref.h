@@ -217,6 +217,19 @@ REF_FN ref_real ref_sphere(int dim)
     return dim == 1 ? 2.0L : dim == 2 ? 2 * REF_PI : 4 * REF_PI;
 }
 
+/* The neighbouring sph_real of x in the direction of dir. */
+REF_FN sph_real ref_next(sph_real x, double dir)
+{
+    return TH_IS_FLOAT ? (sph_real)nextafterf((float)x, (float)dir) : (sph_real)nextafter((double)x, dir);
+}
+
+/* A small deterministic generator: uniform in [-1, 1). */
+REF_FN double ref_rand(uint64_t *state)
+{
+    *state = *state * 6364136223846793005u + 1442695040888963407u;
+    return (double)(*state >> 12) / 2251799813685248.0 - 1.0;
+}
+
 /* Kernel list, in enum order, for loops. */
 static const sph_kernel ref_kernels[SPH_KERNEL_COUNT] = {
     SPH_KERNEL_CUBIC, SPH_KERNEL_LUCY, SPH_KERNEL_NEW_QUARTIC, SPH_KERNEL_QUINTIC,
