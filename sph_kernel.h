@@ -497,7 +497,7 @@ SPH_API const sph__kdim *sph__prep(sph_kernel k, int dim, sph_real r, sph_real h
     const sph__kdim *kd = sph__kd(k, dim);
     if (kd == NULL || sph_check_h(h) != SPH_OK || !(r >= 0 && r <= SPH__REAL_MAX)) return NULL;
     *hinv = 1 / h;
-    *q = r * *hinv;
+    *q = r / h; /* one rounding: r = kappa h gives q = kappa exactly */
     return kd;
 }
 

@@ -202,15 +202,11 @@ static void test_support(sph_kernel k, int dim)
 }
 
 /* The same for any h, with "r >= kappa h" decided exactly (long double holds
- * the product of a sph_real and kappa exactly). Off by default: the header
- * forms q = r * (1/h), and the rounding of 1/h can put q one ulp below kappa
- * for r = kappa h exactly (W ~ 1e-49 instead of 0). Build with
- * -DSPH_TEST_SUPPORT_ANY_H to run. (The sign one ulp inside is not asked for
- * arbitrary h: for kappa = 3, r/h can round up to kappa whatever the method.)
- * Reproducer: h = 4.7020975303859682, r = 2 h (exact):
- * sph_kernel_w(SPH_KERNEL_CUBIC, 1, r, h) = 3.9e-49, not 0. q = r / h (one
- * correctly rounded division) classifies both cases exactly. */
-#ifdef SPH_TEST_SUPPORT_ANY_H
+ * the product of a sph_real and kappa exactly). Guards q = r / h in the
+ * header: q = r * (1/h) put q one ulp below kappa for r = kappa h exactly
+ * with about one h in nine (h = 4.7020975303859682, r = 2 h gave W = 3.9e-49
+ * instead of 0). (The sign one ulp inside is not asked for arbitrary h: for
+ * kappa = 3, r/h can round up to kappa whatever the method.) */
 static void test_support_any_h(sph_kernel k, int dim)
 {
     const sph_real kap = sph_kernel_support(k);
@@ -232,7 +228,6 @@ static void test_support_any_h(sph_kernel k, int dim)
     }
     th_end();
 }
-#endif
 
 /* Left and right limits at every multiple of 1/2 in (0, kappa]: the left
  * value is taken one ulp below m, the right one at m (the header picks the
@@ -290,9 +285,7 @@ int main(void)
             test_monotone(ref_kernels[ik], dim);
             test_symmetry(ref_kernels[ik], dim);
             test_support(ref_kernels[ik], dim);
-#ifdef SPH_TEST_SUPPORT_ANY_H
             test_support_any_h(ref_kernels[ik], dim);
-#endif
             test_continuity(ref_kernels[ik], dim);
         }
     }
