@@ -779,9 +779,876 @@ SPH_API sph_out sph_out_aos(sph_real *first, int ncomp, size_t stride_bytes)
 /* 5. Pair terms                                                             */
 /* ======================================================================== */
 
+/* One neighbour's contribution to each operator of section 6, for solvers that
+ * fuse several operators in their own neighbour loop (docs/operators.md,
+ * "Pair terms"). Conventions: dx = x_ij = x_i - x_j (minimum image, (O0)),
+ * F = F_ij = (1/r) dW/dr at the pair's h, grad_i W_ij = F dx (O1); V_j = m_j /
+ * rho_j. The vector terms add into acc[0..dim-1]; nothing is divided by r. */
+
+/* Force-inlined helpers: the operator loops rely on them folding into one
+ * loop body per kernel and dimension. */
+#if defined(__CUDACC__)
+#define SPH__INLINE static __forceinline__ SPH_HOSTDEV
+#elif defined(__GNUC__) || defined(__clang__)
+#define SPH__INLINE static inline __attribute__((always_inline))
+#elif defined(_MSC_VER)
+#define SPH__INLINE static __forceinline
+#else
+#define SPH__INLINE static inline
+#endif
+
+/* The kernel at one pair: r = |dx|, q = r / h, W = W(r, h), F = (1/r) dW/dr. */
+typedef struct {
+    sph_real r, q, W, F;
+} sph_pair;
+
+/* (O1) r, q, W and F of a pair from dx = x_i - x_j (dim components) and the
+ * pair's h (the caller picks h_i, or (h_i + h_j) / 2 for symmetric terms).
+ * All zero for invalid kernel, dim or h (as the scalar kernel functions). */
+SPH_API sph_pair sph_pair_kernel(sph_kernel k, int dim, const sph_real *dx, sph_real h)
+{
+    sph_pair p;
+    sph_real r2 = 0, w, g, hinv;
+    const sph__kdim *kd = sph__kd(k, dim);
+    int a;
+    p.r = p.q = p.W = p.F = 0;
+    if (kd == NULL || dx == NULL || sph_check_h(h) != SPH_OK) return p;
+    for (a = 0; a < dim; ++a) r2 += dx[a] * dx[a];
+    hinv = 1 / h;
+    p.r = sph__sqrt(r2);
+    p.q = p.r * hinv;
+    sph__shape_wg(&sph__shapes[kd->shape], p.q, &w, &g);
+    p.W = sph__hpow(kd->alpha * w, hinv, dim);
+    p.F = sph__hpow(kd->alpha * g, hinv, dim + 2);
+    return p;
+}
+
+/* (O2) density: m_j W_ij. */
+SPH_API sph_real sph_pair_density(sph_real m_j, sph_real W) { return m_j * W; }
+
+/* (O3) interpolation: V_j f_j W_ij (Shepard: also sum V_j W_ij). */
+SPH_API sph_real sph_pair_interpolate(sph_real V_j, sph_real f_j, sph_real W) { return V_j * f_j * W; }
+
+/* acc += c dx (the common shape of every gradient pair term, c = coefficient * F). */
+SPH__INLINE void sph__axpy(int dim, sph_real c, const sph_real *dx, sph_real *acc)
+{
+    int a;
+    for (a = 0; a < dim; ++a) acc[a] += c * dx[a];
+}
+
+/* (O4) standard gradient: acc += V_j f_j F dx. */
+SPH_API void sph_pair_grad_standard(int dim, sph_real V_j, sph_real f_j, sph_real F,
+                                    const sph_real *dx, sph_real *acc)
+{
+    sph__axpy(dim, V_j * f_j * F, dx, acc);
+}
+
+/* (O5) difference gradient: acc += V_j (f_j - f_i) F dx (zero for constants). */
+SPH_API void sph_pair_grad_difference(int dim, sph_real V_j, sph_real f_i, sph_real f_j,
+                                      sph_real F, const sph_real *dx, sph_real *acc)
+{
+    sph__axpy(dim, V_j * (f_j - f_i) * F, dx, acc);
+}
+
+/* (O6) symmetric gradient: acc += V_j (f_j + f_i) F dx (antisymmetric in i, j). */
+SPH_API void sph_pair_grad_symmetric(int dim, sph_real V_j, sph_real f_i, sph_real f_j,
+                                     sph_real F, const sph_real *dx, sph_real *acc)
+{
+    sph__axpy(dim, V_j * (f_j + f_i) * F, dx, acc);
+}
+
+/* (O8) pressure form: acc += m_j (p_i / rho_i^2 + p_j / rho_j^2) F dx; then
+ * grad p_i = rho_i acc and the acceleration is -acc. P = p / rho^2 is passed
+ * precomputed (once per particle: no division in the pair loop). */
+SPH_API void sph_pair_grad_pressure(int dim, sph_real m_j, sph_real P_i, sph_real P_j, sph_real F,
+                                    const sph_real *dx, sph_real *acc)
+{
+    sph__axpy(dim, m_j * (P_i + P_j) * F, dx, acc);
+}
+
+/* P = p / rho^2, the per-particle factor of (O8). */
+SPH_API sph_real sph_pressure_factor(sph_real p, sph_real rho) { return p / (rho * rho); }
+
+/* (O9) standard divergence: V_j v_j . dx F. */
+SPH_API sph_real sph_pair_div_standard(int dim, sph_real V_j, const sph_real *v_j, sph_real F,
+                                       const sph_real *dx)
+{
+    sph_real s = 0;
+    int a;
+    for (a = 0; a < dim; ++a) s += v_j[a] * dx[a];
+    return V_j * F * s;
+}
+
+/* (O10) difference divergence: V_j (v_j - v_i) . dx F. */
+SPH_API sph_real sph_pair_div_difference(int dim, sph_real V_j, const sph_real *v_i,
+                                         const sph_real *v_j, sph_real F, const sph_real *dx)
+{
+    sph_real s = 0;
+    int a;
+    for (a = 0; a < dim; ++a) s += (v_j[a] - v_i[a]) * dx[a];
+    return V_j * F * s;
+}
+
+/* (O11) curl: acc += V_j F (dx x u), u = v_j (standard) or v_j - v_i
+ * (difference); dim 2: acc[0] += V_j F (dx_x u_y - dx_y u_x); dim 3: vector. */
+SPH_API void sph_pair_curl(int dim, sph_real V_j, const sph_real *u, sph_real F, const sph_real *dx,
+                           sph_real *acc)
+{
+    const sph_real c = V_j * F;
+    if (dim == 2) {
+        acc[0] += c * (dx[0] * u[1] - dx[1] * u[0]);
+    } else if (dim == 3) {
+        acc[0] += c * (dx[1] * u[2] - dx[2] * u[1]);
+        acc[1] += c * (dx[2] * u[0] - dx[0] * u[2]);
+        acc[2] += c * (dx[0] * u[1] - dx[1] * u[0]);
+    }
+}
+
+/* (O12) Laplacian (Brookshaw / Morris): 2 V_j (f_i - f_j) F. */
+SPH_API sph_real sph_pair_laplacian(sph_real V_j, sph_real f_i, sph_real f_j, sph_real F)
+{
+    return 2 * V_j * (f_i - f_j) * F;
+}
+
+/* (O13) pair coefficient k_ij = 4 k_i k_j / (k_i + k_j) (twice the harmonic
+ * mean; 2k for k_i = k_j = k). 0 when k_i k_j <= 0 (a zero or sign-changing
+ * coefficient blocks the flux), so k_i + k_j = 0 never divides. */
+SPH_API sph_real sph_harmonic_k(sph_real k_i, sph_real k_j)
+{
+    return k_i * k_j > 0 ? 4 * k_i * k_j / (k_i + k_j) : 0;
+}
+
+/* (O14) diffusion div(k grad f): V_j k_ij (f_i - f_j) F with k_ij from (O13). */
+SPH_API sph_real sph_pair_diffusion(sph_real V_j, sph_real k_ij, sph_real f_i, sph_real f_j,
+                                    sph_real F)
+{
+    return V_j * k_ij * (f_i - f_j) * F;
+}
+
+/* (O15) correction matrix: M[3a+b] += V_j (d_a W_ij) (x_j - x_i)_b = -V_j F dx_a dx_b
+ * (M is 3x3 row-major, the dim x dim block used). */
+SPH_API void sph_pair_correction(int dim, sph_real V_j, sph_real F, const sph_real *dx, sph_real *M)
+{
+    const sph_real c = -V_j * F;
+    int a, b;
+    for (a = 0; a < dim; ++a)
+        for (b = 0; b < dim; ++b) M[3 * a + b] += c * dx[a] * dx[b];
+}
+
+/* Largest column sum of |A| over the dim x dim block (matrix 1-norm). */
+SPH__INLINE sph_real sph__norm1(int dim, const sph_real *A)
+{
+    sph_real n = 0;
+    int a, b;
+    for (b = 0; b < dim; ++b) {
+        sph_real s = 0;
+        for (a = 0; a < dim; ++a) s += A[3 * a + b] < 0 ? -A[3 * a + b] : A[3 * a + b];
+        n = s > n ? s : n;
+    }
+    return n;
+}
+
+/* (O16) B = M^-1 when M is well conditioned: reciprocal condition number in
+ * the 1-norm, |det M| / (||M||_1 ||adj M||_1) >= rcond_min, tested without a
+ * division (scale-free). Otherwise (degenerate neighbourhood, NaN) B = identity
+ * and 0 is returned, else 1. M and B are 3x3 row-major; the dim x dim block
+ * is used, the rest of B is set to zero. */
+SPH_API int sph_correction_invert(int dim, const sph_real *M, sph_real rcond_min, sph_real *B)
+{
+    sph_real A[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0}, det, ad, inv;
+    int a, ok;
+    if (dim == 1) {
+        A[0] = 1;
+        det = M[0];
+    } else if (dim == 2) {
+        A[0] = M[4];
+        A[1] = -M[1];
+        A[3] = -M[3];
+        A[4] = M[0];
+        det = M[0] * M[4] - M[1] * M[3];
+    } else {
+        A[0] = M[4] * M[8] - M[5] * M[7];
+        A[1] = M[2] * M[7] - M[1] * M[8];
+        A[2] = M[1] * M[5] - M[2] * M[4];
+        A[3] = M[5] * M[6] - M[3] * M[8];
+        A[4] = M[0] * M[8] - M[2] * M[6];
+        A[5] = M[2] * M[3] - M[0] * M[5];
+        A[6] = M[3] * M[7] - M[4] * M[6];
+        A[7] = M[1] * M[6] - M[0] * M[7];
+        A[8] = M[0] * M[4] - M[1] * M[3];
+        det = M[0] * A[0] + M[1] * A[3] + M[2] * A[6];
+    }
+    ad = det < 0 ? -det : det;
+    ok = ad > 0 && ad <= SPH__REAL_MAX && ad >= rcond_min * sph__norm1(dim, M) * sph__norm1(dim, A);
+    inv = ok ? 1 / det : 0;
+    for (a = 0; a < 9; ++a) B[a] = ok ? A[a] * inv : (a % 4 == 0 && a / 3 < dim ? 1 : 0);
+    return ok;
+}
+
+
 /* ======================================================================== */
 /* 6. Array operators                                                        */
 /* ======================================================================== */
+
+/* Loops over the targets of a CSR neighbour list (gather form: each target
+ * sums its own list in order, so results are deterministic and, with OpenMP,
+ * bitwise the same for any thread count). docs/operators.md describes the
+ * context, the views, the schemes, the status codes and the fallbacks.
+ *
+ * Lists: the sources of target i are index[offset[i]] .. index[offset[i+1]-1].
+ * When targets are the sources, a list contains i itself (r = 0): the density
+ * and interpolation need the self term; the derivative terms vanish there.
+ * Smoothing length: uniform (ctx.h), or per particle; then density and
+ * interpolation use the target's h_i (gather) and every derivative operator
+ * h_ij = (h_i + h_j) / 2, so that their pair terms stay antisymmetric. The
+ * list must hold every source within kappa h of the target for the h used. */
+
+/* How much input checking an operator does before it runs. */
+enum {
+    SPH_VALIDATE_FULL = 0, /* default: arguments, one pass over the list (sph_neighbours_check)
+                              and one over every per-particle input array */
+    SPH_VALIDATE_ARGS = 1  /* arguments only (O(1)): the caller has checked list and data */
+};
+
+/* Gradient, divergence and curl schemes (docs/operators.md (O4)-(O11), (O17)). */
+typedef enum {
+    SPH_SCHEME_STANDARD,   /* sum V_j f_j grad_i W_ij                       */
+    SPH_SCHEME_DIFFERENCE, /* sum V_j (f_j - f_i) grad_i W_ij                */
+    SPH_SCHEME_SYMMETRIC,  /* sum V_j (f_j + f_i) grad_i W_ij                */
+    SPH_SCHEME_CORRECTED,  /* B_i sum V_j (f_j - f_i) grad_i W_ij            */
+    SPH_SCHEME_PRESSURE    /* rho_i sum m_j (f_i/rho_i^2 + f_j/rho_j^2) grad_i W_ij (scalars) */
+} sph_scheme;
+
+/* What every operator reads besides its field. Fill with sph_ctx_init, then
+ * set what the scene uses. Sources are indexed 0..n_sources-1 and targets
+ * 0..n_targets-1; a view with p[0] == NULL is absent. */
+typedef struct {
+    sph_kernel kernel;
+    int dim;                    /* 1..3 */
+    sph_real h;                 /* uniform smoothing length (when h_source is absent) */
+    const sph_neighbours *list; /* CSR list, targets -> sources */
+    const sph_box *box;         /* periodic box, or NULL */
+    sph_view x;                 /* source positions (dim components) */
+    sph_view x_target;          /* target positions; absent: the targets are the sources */
+    sph_view h_source;          /* per-particle h of sources; absent: uniform h */
+    sph_view h_target;          /* per-particle h of targets (needed when x_target is given) */
+    sph_view V;                 /* source volumes V_j = m_j / rho_j (all but density, pressure) */
+    sph_view m;                 /* source masses (density, pressure form) */
+    sph_view rho;               /* source densities (pressure form) */
+    sph_view rho_target;        /* target densities (pressure form, when x_target is given) */
+    sph_real rcond_min;         /* corrected schemes: fall back below this 1-norm rcond (1e-3) */
+    int validate;               /* SPH_VALIDATE_FULL (default) or SPH_VALIDATE_ARGS */
+} sph_ctx;
+
+/* An absent view (every pointer NULL). */
+SPH_API sph_view sph_view_none(void) { return sph_view_soa(NULL, NULL, NULL); }
+
+/* A context with uniform h, no box, targets = sources, rcond_min = 1e-3,
+ * full validation, and every other view absent. */
+SPH_API sph_ctx sph_ctx_init(sph_kernel kernel, int dim, sph_real h, const sph_neighbours *list,
+                             sph_view x)
+{
+    sph_ctx c;
+    c.kernel = kernel;
+    c.dim = dim;
+    c.h = h;
+    c.list = list;
+    c.box = NULL;
+    c.x = x;
+    c.x_target = c.h_source = c.h_target = c.V = c.m = c.rho = c.rho_target = sph_view_none();
+    c.rcond_min = SPH__C(1e-3);
+    c.validate = SPH_VALIDATE_FULL;
+    return c;
+}
+
+/* SPH_OK when list is a well-formed CSR list: counts >= 0 (else SPH_ESIZE),
+ * offset[0] = 0 and non-decreasing (else SPH_EINVAL), every index in
+ * 0..n_sources-1 (else SPH_EINDEX), arrays present (else SPH_ENULL).
+ * Cost: one pass over offset and index. Run it once per list and set
+ * ctx.validate = SPH_VALIDATE_ARGS to skip it in the operators. */
+SPH_API int sph_neighbours_check(const sph_neighbours *list)
+{
+    sph_idx i;
+    sph_off o;
+    if (list == NULL || list->offset == NULL) return SPH_ENULL;
+    if (list->n_targets < 0 || list->n_sources < 0) return SPH_ESIZE;
+    if (list->offset[0] != 0) return SPH_EINVAL;
+    for (i = 0; i < list->n_targets; ++i)
+        if (list->offset[i + 1] < list->offset[i]) return SPH_EINVAL;
+    if (list->offset[list->n_targets] > 0 && list->index == NULL) return SPH_ENULL;
+    for (o = 0; o < list->offset[list->n_targets]; ++o)
+        if (list->index[o] < 0 || list->index[o] >= list->n_sources) return SPH_EINDEX;
+    return SPH_OK;
+}
+
+#define SPH__AT(v, a, i) ((v).p[a][(ptrdiff_t)(i) * (v).stride])
+
+/* Operators of the loop body (compile-time constants of its instances). */
+enum {
+    SPH__OP_DENSITY, SPH__OP_INTERP, SPH__OP_SHEPARD, /* gather h: W only */
+    SPH__OP_GRAD_STD, SPH__OP_GRAD_DIFF, SPH__OP_GRAD_SYM, SPH__OP_GRAD_CORR, SPH__OP_GRAD_PRES,
+    SPH__OP_GRADV_STD, SPH__OP_GRADV_DIFF, SPH__OP_GRADV_SYM, SPH__OP_GRADV_CORR,
+    SPH__OP_DIV_STD, SPH__OP_DIV_DIFF, SPH__OP_DIV_CORR, SPH__OP_CURL_STD, SPH__OP_CURL_DIFF,
+    SPH__OP_LAPLACIAN, SPH__OP_DIFFUSION, SPH__OP_CORRECTION
+};
+
+/* Everything an operator loop reads, resolved and checked. */
+typedef struct {
+    sph_kernel kernel;
+    int dim, hv, pb; /* per-particle h; periodic box */
+    sph_idx nt;
+    sph_real h, rcond_min;
+    const sph_box *box;
+    const sph_off *off;
+    const sph_idx *idx;
+    sph_view x, xt, hs, ht, V, m, rho, rhot, f, ft, k, kt;
+    sph_out out;
+    sph_real *T;
+    ptrdiff_t Ts;
+} sph__args;
+
+/* The pair loop instances. K is a kernel (compile-time constant) or -1 (the
+ * kernel read once per target from A: SPH_OP_SPECIALISE 0); D the dimension;
+ * GEN 0 is the uniform-h, no-box instance (no trace of those options in it),
+ * GEN 1 handles per-particle h and periodic boxes. */
+
+/* Kernel data of the instance. */
+SPH__INLINE const sph__kdim *sph__kdk(const sph__args *A, const int K, const int D)
+{
+    return &sph__kdims[K < 0 ? (int)A->kernel : K][D - 1];
+}
+
+/* Target i: position into xi, its h into *hi, 1/h of the instance into *hinv;
+ * returns alpha h^-D (DER 0: W) or alpha h^-(D+2) (DER 1: F). DER 0 (density,
+ * interpolation) uses the target's h_i; DER 1 recomputes per pair with h_ij. */
+SPH__INLINE sph_real sph__tinit(const sph__args *A, const sph__kdim *kd, const int D, const int GEN,
+                                const int DER, const sph_idx i, sph_real *xi, sph_real *hi,
+                                sph_real *hinv)
+{
+    int a;
+    for (a = 0; a < D; ++a) xi[a] = SPH__AT(A->xt, a, i);
+    *hi = (GEN && A->hv) ? SPH__AT(A->ht, 0, i) : A->h;
+    *hinv = 1 / *hi;
+    return sph__hpow(kd->alpha, *hinv, DER ? D + 2 : D);
+}
+
+/* (O0), (O1) one pair: dx = x_i - x_j (minimum image), then W (DER 0) or F
+ * (DER 1) from one table row; with per-particle h, DER 1 uses
+ * h_ij = (h_i + h_j) / 2 (hinv, c as returned by sph__tinit otherwise). */
+SPH__INLINE sph_real sph__pair(const sph__args *A, const sph__kdim *kd, const int D, const int GEN,
+                               const int DER, const sph_real *xi, sph_real hi, sph_real hinv,
+                               sph_real c, const sph_idx j, sph_real *dx)
+{
+    const sph__shape *sh = &sph__shapes[kd->shape];
+    const sph_real *row;
+    sph_real r2 = 0, q;
+    int a;
+    for (a = 0; a < D; ++a) {
+        dx[a] = xi[a] - SPH__AT(A->x, a, j);
+        if (GEN && A->pb) dx[a] = sph_box_delta(A->box, a, dx[a]);
+        r2 += dx[a] * dx[a];
+    }
+    if (GEN && DER && A->hv) {
+        hinv = 2 / (hi + SPH__AT(A->hs, 0, j));
+        c = sph__hpow(kd->alpha, hinv, D + 2);
+    }
+    q = sph__sqrt(r2) * hinv;
+    row = sph__row(sh, q);
+    if (!DER) return c * sph__horner(row + 3, sh->degree, q - row[0]);
+    return c * sph__horner(row + 4 + sh->degree, sh->degree, q - row[0]) / (row[1] + row[2] * q);
+}
+
+/* The loop head shared by the derivative families: declarations, target setup. */
+#define SPH__TARGET_HEAD(DER)                                                      \
+    const sph__kdim *kd = sph__kdk(A, K, D);                                       \
+    sph_real xi[3] = {0, 0, 0}, dx[3] = {0, 0, 0}, hi, hinv;                       \
+    const sph_real c = sph__tinit(A, kd, D, GEN, DER, i, xi, &hi, &hinv);          \
+    sph_off o;                                                                     \
+    int a
+
+/* (O2), (O3) density, interpolation, Shepard; returns 1 for an empty Shepard target. */
+SPH__INLINE int sph__t_sum(const sph__args *A, const int OP, const int K, const int D,
+                           const int GEN, const sph_idx i)
+{
+    sph_real s = 0, w = 0;
+    SPH__TARGET_HEAD(0);
+    (void)a;
+    for (o = A->off[i]; o < A->off[i + 1]; ++o) {
+        const sph_idx j = A->idx[o];
+        const sph_real W = sph__pair(A, kd, D, GEN, 0, xi, hi, hinv, c, j, dx);
+        if (OP == SPH__OP_DENSITY) {
+            s += sph_pair_density(SPH__AT(A->m, 0, j), W);
+        } else {
+            s += sph_pair_interpolate(SPH__AT(A->V, 0, j), SPH__AT(A->f, 0, j), W);
+            w += SPH__AT(A->V, 0, j) * W;
+        }
+    }
+    if (OP == SPH__OP_SHEPARD) {
+        SPH__AT(A->out, 0, i) = w != 0 ? s / w : 0;
+        return w == 0;
+    }
+    SPH__AT(A->out, 0, i) = s;
+    return 0;
+}
+
+/* (O4)-(O8) scalar gradient; returns 1 when the corrected scheme fell back. */
+SPH__INLINE int sph__t_grad(const sph__args *A, const int OP, const int K, const int D,
+                            const int GEN, const sph_idx i)
+{
+    const int corr = OP == SPH__OP_GRAD_CORR;
+    const sph_real fi = OP == SPH__OP_GRAD_STD ? 0 : SPH__AT(A->ft, 0, i);
+    const sph_real rhoi = OP == SPH__OP_GRAD_PRES ? SPH__AT(A->rhot, 0, i) : 1;
+    const sph_real Pi = OP == SPH__OP_GRAD_PRES ? sph_pressure_factor(fi, rhoi) : 0;
+    sph_real g[3] = {0, 0, 0}, M[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0}, B[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+    int fb = 0, b;
+    SPH__TARGET_HEAD(1);
+    for (o = A->off[i]; o < A->off[i + 1]; ++o) {
+        const sph_idx j = A->idx[o];
+        const sph_real F = sph__pair(A, kd, D, GEN, 1, xi, hi, hinv, c, j, dx);
+        const sph_real fj = SPH__AT(A->f, 0, j);
+        if (OP == SPH__OP_GRAD_PRES) {
+            sph_pair_grad_pressure(D, SPH__AT(A->m, 0, j), Pi,
+                                   sph_pressure_factor(fj, SPH__AT(A->rho, 0, j)), F, dx, g);
+            continue;
+        }
+        if (OP == SPH__OP_GRAD_STD) sph_pair_grad_standard(D, SPH__AT(A->V, 0, j), fj, F, dx, g);
+        if (OP == SPH__OP_GRAD_DIFF || corr)
+            sph_pair_grad_difference(D, SPH__AT(A->V, 0, j), fi, fj, F, dx, g);
+        if (OP == SPH__OP_GRAD_SYM) sph_pair_grad_symmetric(D, SPH__AT(A->V, 0, j), fi, fj, F, dx, g);
+        if (corr) sph_pair_correction(D, SPH__AT(A->V, 0, j), F, dx, M);
+    }
+    if (corr) fb = !sph_correction_invert(D, M, A->rcond_min, B);
+    for (a = 0; a < D; ++a) {
+        sph_real y = rhoi * g[a];
+        if (corr) /* (O7) */
+            for (y = 0, b = 0; b < D; ++b) y += B[3 * a + b] * g[b];
+        SPH__AT(A->out, a, i) = y;
+    }
+    return fb;
+}
+
+/* (O15)-(O18) tensors: velocity gradient S[a][b] = d v_a / d x_b, the
+ * corrected divergence trace(S B) and the correction matrix B itself. */
+SPH__INLINE int sph__t_tensor(const sph__args *A, const int OP, const int K, const int D,
+                              const int GEN, const sph_idx i)
+{
+    const int corr = OP == SPH__OP_GRADV_CORR || OP == SPH__OP_DIV_CORR || OP == SPH__OP_CORRECTION;
+    sph_real vi[3] = {0, 0, 0}, S[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0}, M[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
+    sph_real B[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1}, div = 0;
+    int fb = 0, b, e;
+    SPH__TARGET_HEAD(1);
+    for (a = 0; OP != SPH__OP_GRADV_STD && OP != SPH__OP_CORRECTION && a < D; ++a)
+        vi[a] = SPH__AT(A->ft, a, i);
+    for (o = A->off[i]; o < A->off[i + 1]; ++o) {
+        const sph_idx j = A->idx[o];
+        const sph_real F = sph__pair(A, kd, D, GEN, 1, xi, hi, hinv, c, j, dx);
+        const sph_real Vj = SPH__AT(A->V, 0, j);
+        for (a = 0; OP != SPH__OP_CORRECTION && a < D; ++a) {
+            const sph_real vj = SPH__AT(A->f, a, j);
+            if (OP == SPH__OP_GRADV_STD) sph_pair_grad_standard(D, Vj, vj, F, dx, S + 3 * a);
+            else if (OP == SPH__OP_GRADV_SYM) sph_pair_grad_symmetric(D, Vj, vi[a], vj, F, dx, S + 3 * a);
+            else sph_pair_grad_difference(D, Vj, vi[a], vj, F, dx, S + 3 * a);
+        }
+        if (corr) sph_pair_correction(D, Vj, F, dx, M);
+    }
+    if (corr) fb = !sph_correction_invert(D, M, A->rcond_min, B);
+    for (a = 0; a < D; ++a)
+        for (b = 0; b < D; ++b) {
+            sph_real t = S[3 * a + b];
+            if (OP == SPH__OP_CORRECTION) t = B[3 * a + b];
+            else if (corr) /* (O17) T = S B */
+                for (t = 0, e = 0; e < D; ++e) t += S[3 * a + e] * B[3 * e + b];
+            if (OP == SPH__OP_DIV_CORR) div += a == b ? t : 0; /* (O18) */
+            else A->T[(ptrdiff_t)i * A->Ts + a * D + b] = t;
+        }
+    if (OP == SPH__OP_DIV_CORR) SPH__AT(A->out, 0, i) = div;
+    return fb;
+}
+
+/* (O9)-(O11) divergence and curl, standard and difference forms. */
+SPH__INLINE int sph__t_divcurl(const sph__args *A, const int OP, const int K, const int D,
+                               const int GEN, const sph_idx i)
+{
+    const int diff = OP == SPH__OP_DIV_DIFF || OP == SPH__OP_CURL_DIFF;
+    const int curl = OP == SPH__OP_CURL_STD || OP == SPH__OP_CURL_DIFF;
+    sph_real vi[3] = {0, 0, 0}, acc[3] = {0, 0, 0};
+    SPH__TARGET_HEAD(1);
+    for (a = 0; diff && a < D; ++a) vi[a] = SPH__AT(A->ft, a, i);
+    for (o = A->off[i]; o < A->off[i + 1]; ++o) {
+        const sph_idx j = A->idx[o];
+        const sph_real F = sph__pair(A, kd, D, GEN, 1, xi, hi, hinv, c, j, dx);
+        sph_real u[3] = {0, 0, 0};
+        for (a = 0; a < D; ++a) u[a] = SPH__AT(A->f, a, j) - vi[a];
+        if (curl) sph_pair_curl(D, SPH__AT(A->V, 0, j), u, F, dx, acc);
+        else acc[0] += sph_pair_div_standard(D, SPH__AT(A->V, 0, j), u, F, dx);
+    }
+    for (a = 0; a < (curl ? (D == 2 ? 1 : 3) : 1); ++a) SPH__AT(A->out, a, i) = acc[a];
+    return 0;
+}
+
+/* (O12)-(O14) Laplacian and variable-coefficient diffusion. */
+SPH__INLINE int sph__t_lap(const sph__args *A, const int OP, const int K, const int D,
+                           const int GEN, const sph_idx i)
+{
+    const sph_real fi = SPH__AT(A->ft, 0, i);
+    const sph_real ki = OP == SPH__OP_DIFFUSION ? SPH__AT(A->kt, 0, i) : 0;
+    sph_real s = 0;
+    SPH__TARGET_HEAD(1);
+    (void)a;
+    for (o = A->off[i]; o < A->off[i + 1]; ++o) {
+        const sph_idx j = A->idx[o];
+        const sph_real F = sph__pair(A, kd, D, GEN, 1, xi, hi, hinv, c, j, dx);
+        const sph_real Vj = SPH__AT(A->V, 0, j), fj = SPH__AT(A->f, 0, j);
+        if (OP == SPH__OP_LAPLACIAN) s += sph_pair_laplacian(Vj, fi, fj, F);
+        else s += sph_pair_diffusion(Vj, sph_harmonic_k(ki, SPH__AT(A->k, 0, j)), fi, fj, F);
+    }
+    SPH__AT(A->out, 0, i) = s;
+    return 0;
+}
+
+/* Compile-time kernel specialisation (1, default): one loop instance per
+ * kernel, dimension and GEN, so table rows and Horner degrees fold. 0: one
+ * instance per dimension and GEN with the kernel read at run time (7 times
+ * less code to compile; the kernel data is still hoisted out of the loop). */
+#ifndef SPH_OP_SPECIALISE
+#define SPH_OP_SPECIALISE 1
+#endif
+
+#ifdef _OPENMP
+#define SPH__OMP_FOR _Pragma("omp parallel for schedule(static) reduction(+ : n_)")
+#else
+#define SPH__OMP_FOR
+#endif
+
+/* Every target of one instance; n_ counts fallbacks. */
+#define SPH__LOOP(A, FAM, OP, K, D, GEN)                                           \
+    do {                                                                           \
+        sph_idx i_;                                                                \
+        SPH__OMP_FOR                                                               \
+        for (i_ = 0; i_ < (A)->nt; ++i_) n_ += FAM(A, OP, K, D, GEN, i_);          \
+    } while (0)
+
+#define SPH__LOOP_G(A, FAM, OP, K, D)                                              \
+    do {                                                                           \
+        if ((A)->hv || (A)->pb) SPH__LOOP(A, FAM, OP, K, D, 1);                    \
+        else SPH__LOOP(A, FAM, OP, K, D, 0);                                       \
+    } while (0)
+
+#if SPH_OP_SPECIALISE
+#define SPH__LOOP_K(A, FAM, OP, D)                                                 \
+    switch ((A)->kernel) {                                                         \
+    case SPH_KERNEL_CUBIC: SPH__LOOP_G(A, FAM, OP, SPH_KERNEL_CUBIC, D); break;    \
+    case SPH_KERNEL_LUCY: SPH__LOOP_G(A, FAM, OP, SPH_KERNEL_LUCY, D); break;      \
+    case SPH_KERNEL_NEW_QUARTIC: SPH__LOOP_G(A, FAM, OP, SPH_KERNEL_NEW_QUARTIC, D); break; \
+    case SPH_KERNEL_QUINTIC: SPH__LOOP_G(A, FAM, OP, SPH_KERNEL_QUINTIC, D); break; \
+    case SPH_KERNEL_WENDLAND_C2: SPH__LOOP_G(A, FAM, OP, SPH_KERNEL_WENDLAND_C2, D); break; \
+    case SPH_KERNEL_WENDLAND_C4: SPH__LOOP_G(A, FAM, OP, SPH_KERNEL_WENDLAND_C4, D); break; \
+    default: SPH__LOOP_G(A, FAM, OP, SPH_KERNEL_WENDLAND_C6, D); break;            \
+    }
+#else
+#define SPH__LOOP_K(A, FAM, OP, D) SPH__LOOP_G(A, FAM, OP, -1, D)
+#endif
+
+/* name(A): runs operator OP of family FAM; one function per dimension keeps
+ * each compiled function small. Returns the number of fallbacks. */
+#define SPH__RUNNER(name, FAM, OP)                                                 \
+    SPH_API sph_idx name##_d1(const sph__args *A) { sph_idx n_ = 0; SPH__LOOP_K(A, FAM, OP, 1); return n_; } \
+    SPH_API sph_idx name##_d2(const sph__args *A) { sph_idx n_ = 0; SPH__LOOP_K(A, FAM, OP, 2); return n_; } \
+    SPH_API sph_idx name##_d3(const sph__args *A) { sph_idx n_ = 0; SPH__LOOP_K(A, FAM, OP, 3); return n_; } \
+    SPH_API sph_idx name(const sph__args *A)                                       \
+    {                                                                              \
+        return A->dim == 1 ? name##_d1(A) : A->dim == 2 ? name##_d2(A) : name##_d3(A); \
+    }
+
+SPH__RUNNER(sph__run_density, sph__t_sum, SPH__OP_DENSITY)
+SPH__RUNNER(sph__run_interp, sph__t_sum, SPH__OP_INTERP)
+SPH__RUNNER(sph__run_shepard, sph__t_sum, SPH__OP_SHEPARD)
+SPH__RUNNER(sph__run_grad_std, sph__t_grad, SPH__OP_GRAD_STD)
+SPH__RUNNER(sph__run_grad_diff, sph__t_grad, SPH__OP_GRAD_DIFF)
+SPH__RUNNER(sph__run_grad_sym, sph__t_grad, SPH__OP_GRAD_SYM)
+SPH__RUNNER(sph__run_grad_corr, sph__t_grad, SPH__OP_GRAD_CORR)
+SPH__RUNNER(sph__run_grad_pres, sph__t_grad, SPH__OP_GRAD_PRES)
+SPH__RUNNER(sph__run_gradv_std, sph__t_tensor, SPH__OP_GRADV_STD)
+SPH__RUNNER(sph__run_gradv_diff, sph__t_tensor, SPH__OP_GRADV_DIFF)
+SPH__RUNNER(sph__run_gradv_sym, sph__t_tensor, SPH__OP_GRADV_SYM)
+SPH__RUNNER(sph__run_gradv_corr, sph__t_tensor, SPH__OP_GRADV_CORR)
+SPH__RUNNER(sph__run_div_corr, sph__t_tensor, SPH__OP_DIV_CORR)
+SPH__RUNNER(sph__run_correction, sph__t_tensor, SPH__OP_CORRECTION)
+SPH__RUNNER(sph__run_div_std, sph__t_divcurl, SPH__OP_DIV_STD)
+SPH__RUNNER(sph__run_div_diff, sph__t_divcurl, SPH__OP_DIV_DIFF)
+SPH__RUNNER(sph__run_curl_std, sph__t_divcurl, SPH__OP_CURL_STD)
+SPH__RUNNER(sph__run_curl_diff, sph__t_divcurl, SPH__OP_CURL_DIFF)
+SPH__RUNNER(sph__run_laplacian, sph__t_lap, SPH__OP_LAPLACIAN)
+SPH__RUNNER(sph__run_diffusion, sph__t_lap, SPH__OP_DIFFUSION)
+
+/* ---- validation (everything is checked before any output is written) ---- */
+
+/* SPH_OK when components 0..ncomp-1 are present and the stride positive. */
+SPH_API int sph__view_ok(sph_view v, int ncomp)
+{
+    int a;
+    for (a = 0; a < ncomp; ++a)
+        if (v.p[a] == NULL) return SPH_ENULL;
+    return v.stride > 0 ? SPH_OK : SPH_EINVAL;
+}
+
+SPH_API int sph__out_ok(sph_out v, int ncomp)
+{
+    int a;
+    for (a = 0; a < ncomp; ++a)
+        if (v.p[a] == NULL) return SPH_ENULL;
+    return v.stride > 0 ? SPH_OK : SPH_EINVAL;
+}
+
+/* Value checks of n entries, ncomp components: kind 0 finite (SPH_ENONFINITE),
+ * 1 usable h (SPH_EH), 2 positive and finite (SPH_EINVAL; densities). */
+SPH_API int sph__scan(sph_view v, int ncomp, sph_idx n, int kind)
+{
+    sph_idx i;
+    int a;
+    for (i = 0; i < n; ++i)
+        for (a = 0; a < ncomp; ++a) {
+            const sph_real y = SPH__AT(v, a, i);
+            if (kind == 1 && sph_check_h(y) != SPH_OK) return SPH_EH;
+            if (kind == 2 && !(y > 0)) return SPH_EINVAL;
+            if (!(y - y == 0)) return SPH_ENONFINITE;
+        }
+    return SPH_OK;
+}
+
+/* Presence (and, with full validation, values) of a source view and its target
+ * counterpart; an absent target view means "the source view" when the targets
+ * are the sources. */
+SPH_API int sph__field(const sph_ctx *c, sph_view src, sph_view tgt, int ncomp, int need_target,
+                       int kind, sph_view *s_out, sph_view *t_out)
+{
+    const int same = c->x_target.p[0] == NULL;
+    int st = sph__view_ok(src, ncomp);
+    *s_out = src;
+    *t_out = (same && tgt.p[0] == NULL) ? src : tgt;
+    if (st == SPH_OK && need_target) st = sph__view_ok(*t_out, ncomp);
+    if (st != SPH_OK || c->validate == SPH_VALIDATE_ARGS) return st;
+    st = sph__scan(src, ncomp, c->list->n_sources, kind);
+    if (st == SPH_OK && need_target) st = sph__scan(*t_out, ncomp, c->list->n_targets, kind);
+    return st;
+}
+
+/* Needs of an operator. */
+enum { SPH__N_V = 1, SPH__N_M = 2, SPH__N_RHO = 4, SPH__N_FI = 8, SPH__N_K = 16 };
+
+/* Checks the context and the field(s) of one operator (fields f, k with ncomp
+ * components) and fills A. */
+SPH_API int sph__setup(const sph_ctx *c, int need, int ncomp, sph_view f, sph_view ft, sph_view k,
+                       sph_view kt, sph__args *A)
+{
+    const int full = c != NULL && c->validate != SPH_VALIDATE_ARGS;
+    sph_view none = sph_view_none(), unused;
+    int st, a;
+    if (c == NULL || c->list == NULL) return SPH_ENULL;
+    if ((st = sph_kernel_check(c->kernel, c->dim)) != SPH_OK) return st;
+    if (c->list->offset == NULL) return SPH_ENULL;
+    if (c->list->n_targets < 0 || c->list->n_sources < 0) return SPH_ESIZE;
+    if (full && (st = sph_neighbours_check(c->list)) != SPH_OK) return st;
+    if (c->list->offset[c->list->n_targets] > 0 && c->list->index == NULL) return SPH_ENULL;
+    if (c->x_target.p[0] == NULL && c->list->n_targets > c->list->n_sources) return SPH_ESIZE;
+    if (!(c->rcond_min >= 0 && c->rcond_min < 1)) return SPH_EINVAL;
+    for (a = 0; c->box != NULL && a < c->dim; ++a)
+        if (c->box->periodic[a] && !(c->box->length[a] > 0 && c->box->length[a] <= SPH__REAL_MAX))
+            return SPH_EINVAL;
+    A->kernel = c->kernel;
+    A->dim = c->dim;
+    A->hv = c->h_source.p[0] != NULL;
+    A->pb = 0;
+    for (a = 0; c->box != NULL && a < c->dim; ++a) A->pb |= c->box->periodic[a] != 0;
+    A->nt = c->list->n_targets;
+    A->h = c->h;
+    A->rcond_min = c->rcond_min;
+    A->box = c->box;
+    A->off = c->list->offset;
+    A->idx = c->list->index;
+    A->V = A->m = A->rho = A->rhot = A->f = A->ft = A->k = A->kt = A->hs = A->ht = none;
+    A->T = NULL;
+    A->Ts = 0;
+    if ((st = sph__field(c, c->x, c->x_target, c->dim, 1, 0, &A->x, &A->xt)) != SPH_OK) return st;
+    if (A->hv) st = sph__field(c, c->h_source, c->h_target, 1, 1, 1, &A->hs, &A->ht);
+    else st = sph_check_h(c->h);
+    if (st != SPH_OK) return st;
+    if ((need & SPH__N_V) && (st = sph__field(c, c->V, none, 1, 0, 0, &A->V, &unused)) != SPH_OK)
+        return st;
+    if ((need & SPH__N_M) && (st = sph__field(c, c->m, none, 1, 0, 0, &A->m, &unused)) != SPH_OK)
+        return st;
+    if ((need & SPH__N_RHO) &&
+        (st = sph__field(c, c->rho, c->rho_target, 1, 1, 2, &A->rho, &A->rhot)) != SPH_OK)
+        return st;
+    if ((need & SPH__N_K) && (st = sph__field(c, k, kt, 1, 1, 0, &A->k, &A->kt)) != SPH_OK) return st;
+    if (ncomp > 0) st = sph__field(c, f, ft, ncomp, (need & SPH__N_FI) != 0, 0, &A->f, &A->ft);
+    return st;
+}
+
+/* Runs a prepared operator when the setup succeeded; stores the fallback count. */
+SPH_API int sph__finish(int st, const sph__args *A, sph_idx (*run)(const sph__args *),
+                        sph_idx *count)
+{
+    sph_idx n;
+    if (st != SPH_OK) return st;
+    n = run(A);
+    if (count != NULL) *count = n;
+    return SPH_OK;
+}
+
+/* ---- public operators ---- */
+
+/* (O2) rho_i = sum_j m_j W_ij(h_i) (needs ctx.m). */
+SPH_API int sph_density(const sph_ctx *c, sph_out rho)
+{
+    sph__args A;
+    int st = sph__setup(c, SPH__N_M, 0, sph_view_none(), sph_view_none(), sph_view_none(),
+                        sph_view_none(), &A);
+    if (st == SPH_OK) st = sph__out_ok(rho, 1);
+    A.out = rho;
+    return sph__finish(st, &A, sph__run_density, NULL);
+}
+
+/* (O3) <f>_i = sum_j V_j f_j W_ij(h_i) (needs ctx.V). */
+SPH_API int sph_interpolate(const sph_ctx *c, sph_view f, sph_out out)
+{
+    sph__args A;
+    int st = sph__setup(c, SPH__N_V, 1, f, sph_view_none(), sph_view_none(), sph_view_none(), &A);
+    if (st == SPH_OK) st = sph__out_ok(out, 1);
+    A.out = out;
+    return sph__finish(st, &A, sph__run_interp, NULL);
+}
+
+/* (O3) Shepard: sum_j V_j f_j W_ij / sum_j V_j W_ij; 0 for a target whose
+ * denominator is 0 (no sources in reach), counted in *n_empty (may be NULL). */
+SPH_API int sph_interpolate_shepard(const sph_ctx *c, sph_view f, sph_out out, sph_idx *n_empty)
+{
+    sph__args A;
+    int st = sph__setup(c, SPH__N_V, 1, f, sph_view_none(), sph_view_none(), sph_view_none(), &A);
+    if (st == SPH_OK) st = sph__out_ok(out, 1);
+    A.out = out;
+    return sph__finish(st, &A, sph__run_shepard, n_empty);
+}
+
+/* (O4)-(O8) gradient of the scalar f (f_target: target values, needed by all
+ * schemes but the standard one when targets are not the sources). Corrected:
+ * targets with an ill-conditioned M fall back to the difference scheme, counted
+ * in *n_fallback (may be NULL). Pressure: f is p, needs ctx.m, rho, rho_target. */
+SPH_API int sph_gradient(const sph_ctx *c, sph_scheme scheme, sph_view f, sph_view f_target,
+                         sph_out grad, sph_idx *n_fallback)
+{
+    sph__args A;
+    sph_idx (*run)(const sph__args *) =
+        scheme == SPH_SCHEME_STANDARD ? sph__run_grad_std
+        : scheme == SPH_SCHEME_DIFFERENCE ? sph__run_grad_diff
+        : scheme == SPH_SCHEME_SYMMETRIC ? sph__run_grad_sym
+        : scheme == SPH_SCHEME_CORRECTED ? sph__run_grad_corr
+        : scheme == SPH_SCHEME_PRESSURE ? sph__run_grad_pres : NULL;
+    const int need = scheme == SPH_SCHEME_PRESSURE ? SPH__N_M | SPH__N_RHO | SPH__N_FI
+                     : scheme == SPH_SCHEME_STANDARD ? SPH__N_V : SPH__N_V | SPH__N_FI;
+    int st = run == NULL ? SPH_EINVAL : sph__setup(c, need, 1, f, f_target, sph_view_none(), sph_view_none(), &A);
+    if (st == SPH_OK) st = sph__out_ok(grad, c->dim);
+    A.out = grad;
+    if (n_fallback != NULL && st == SPH_OK) *n_fallback = 0;
+    return sph__finish(st, &A, run, scheme == SPH_SCHEME_CORRECTED ? n_fallback : NULL);
+}
+
+/* (O17) velocity-gradient tensor of the vector v (dim components):
+ * T[i * T_stride + a * dim + b] = d v_a / d x_b, schemes standard, difference,
+ * symmetric, corrected (fallbacks as sph_gradient). T_stride >= dim * dim. */
+SPH_API int sph_gradient_vector(const sph_ctx *c, sph_scheme scheme, sph_view v, sph_view v_target,
+                                sph_real *T, ptrdiff_t T_stride, sph_idx *n_fallback)
+{
+    sph__args A;
+    sph_idx (*run)(const sph__args *) =
+        scheme == SPH_SCHEME_STANDARD ? sph__run_gradv_std
+        : scheme == SPH_SCHEME_DIFFERENCE ? sph__run_gradv_diff
+        : scheme == SPH_SCHEME_SYMMETRIC ? sph__run_gradv_sym
+        : scheme == SPH_SCHEME_CORRECTED ? sph__run_gradv_corr : NULL;
+    const int need = scheme == SPH_SCHEME_STANDARD ? SPH__N_V : SPH__N_V | SPH__N_FI;
+    int st = run == NULL ? SPH_EINVAL
+             : sph__setup(c, need, c != NULL ? c->dim : 1, v, v_target, sph_view_none(), sph_view_none(), &A);
+    if (st == SPH_OK && T == NULL) st = SPH_ENULL;
+    if (st == SPH_OK && T_stride < (ptrdiff_t)c->dim * c->dim) st = SPH_EINVAL;
+    A.T = T;
+    A.Ts = T_stride;
+    if (n_fallback != NULL && st == SPH_OK) *n_fallback = 0;
+    return sph__finish(st, &A, run, scheme == SPH_SCHEME_CORRECTED ? n_fallback : NULL);
+}
+
+/* (O9), (O10), (O18) divergence of v: standard, difference or corrected
+ * (trace of the corrected tensor; fallbacks as sph_gradient). */
+SPH_API int sph_divergence(const sph_ctx *c, sph_scheme scheme, sph_view v, sph_view v_target,
+                           sph_out div, sph_idx *n_fallback)
+{
+    sph__args A;
+    sph_idx (*run)(const sph__args *) =
+        scheme == SPH_SCHEME_STANDARD ? sph__run_div_std
+        : scheme == SPH_SCHEME_DIFFERENCE ? sph__run_div_diff
+        : scheme == SPH_SCHEME_CORRECTED ? sph__run_div_corr : NULL;
+    const int need = scheme == SPH_SCHEME_STANDARD ? SPH__N_V : SPH__N_V | SPH__N_FI;
+    int st = run == NULL ? SPH_EINVAL
+             : sph__setup(c, need, c != NULL ? c->dim : 1, v, v_target, sph_view_none(), sph_view_none(), &A);
+    if (st == SPH_OK) st = sph__out_ok(div, 1);
+    A.out = div;
+    if (n_fallback != NULL && st == SPH_OK) *n_fallback = 0;
+    return sph__finish(st, &A, run, scheme == SPH_SCHEME_CORRECTED ? n_fallback : NULL);
+}
+
+/* (O11) curl of v, standard or difference: dim 2 writes the scalar
+ * d v_y/dx - d v_x/dy to component 0, dim 3 the vector; dim 1 is SPH_EDIM. */
+SPH_API int sph_curl(const sph_ctx *c, sph_scheme scheme, sph_view v, sph_view v_target, sph_out curl)
+{
+    sph__args A;
+    sph_idx (*run)(const sph__args *) =
+        scheme == SPH_SCHEME_STANDARD ? sph__run_curl_std
+        : scheme == SPH_SCHEME_DIFFERENCE ? sph__run_curl_diff : NULL;
+    const int need = scheme == SPH_SCHEME_STANDARD ? SPH__N_V : SPH__N_V | SPH__N_FI;
+    int st = run == NULL ? SPH_EINVAL
+             : sph__setup(c, need, c != NULL ? c->dim : 1, v, v_target, sph_view_none(), sph_view_none(), &A);
+    if (st == SPH_OK && c->dim == 1) st = SPH_EDIM;
+    if (st == SPH_OK) st = sph__out_ok(curl, c->dim == 2 ? 1 : 3);
+    A.out = curl;
+    return sph__finish(st, &A, run, NULL);
+}
+
+/* (O12) lap f_i = 2 sum_j V_j (f_i - f_j) F_ij. */
+SPH_API int sph_laplacian(const sph_ctx *c, sph_view f, sph_view f_target, sph_out lap)
+{
+    sph__args A;
+    int st = sph__setup(c, SPH__N_V | SPH__N_FI, 1, f, f_target, sph_view_none(), sph_view_none(), &A);
+    if (st == SPH_OK) st = sph__out_ok(lap, 1);
+    A.out = lap;
+    return sph__finish(st, &A, sph__run_laplacian, NULL);
+}
+
+/* (O14) div(k grad f)_i = sum_j V_j k_ij (f_i - f_j) F_ij, k_ij from (O13);
+ * for a constant k it equals k times sph_laplacian. */
+SPH_API int sph_diffusion(const sph_ctx *c, sph_view k, sph_view k_target, sph_view f,
+                          sph_view f_target, sph_out out)
+{
+    sph__args A;
+    int st = sph__setup(c, SPH__N_V | SPH__N_FI | SPH__N_K, 1, f, f_target, k, k_target, &A);
+    if (st == SPH_OK) st = sph__out_ok(out, 1);
+    A.out = out;
+    return sph__finish(st, &A, sph__run_diffusion, NULL);
+}
+
+/* (O15), (O16) the correction matrix B_i = M_i^-1 of every target:
+ * B[i * B_stride + a * dim + b]; identity where M_i is ill-conditioned
+ * (counted in *n_fallback, may be NULL). B_stride >= dim * dim. */
+SPH_API int sph_correction_matrix(const sph_ctx *c, sph_real *B, ptrdiff_t B_stride, sph_idx *n_fallback)
+{
+    sph__args A;
+    int st = sph__setup(c, SPH__N_V, 0, sph_view_none(), sph_view_none(), sph_view_none(),
+                        sph_view_none(), &A);
+    if (st == SPH_OK && B == NULL) st = SPH_ENULL;
+    if (st == SPH_OK && B_stride < (ptrdiff_t)c->dim * c->dim) st = SPH_EINVAL;
+    A.T = B;
+    A.Ts = B_stride;
+    return sph__finish(st, &A, sph__run_correction, n_fallback);
+}
+
 
 /* ======================================================================== */
 /* 7. Neighbour search                                                       */
