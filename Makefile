@@ -16,7 +16,7 @@ BUILD   := build
 all: $(BUILD)/kernel_table $(BUILD)/kernel_plots $(BUILD)/quickstart
 
 test:
-	@sh tests/run.sh
+	@bash tests/run.sh
 
 $(BUILD)/%: examples/%.c sph_kernel.h
 	@mkdir -p $(BUILD)

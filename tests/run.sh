@@ -1,4 +1,4 @@
-#!/bin/sh
+#!/bin/bash
 # tests/run.sh - `make test`: builds every tests/test_*.c in every configuration
 # (gcc and clang x double and float, sanitizers where the compiler has them,
 # plus an OpenMP build), runs them, runs the compile checks (C++, nvcc, CMake)
@@ -74,6 +74,10 @@ run_config() { # run_config cc precision extra-flags label
     done
 }
 
+# The configurations are independent: run them JOBS at a time (default: the
+# number of cores), each into its own log, and print the logs in order.
+JOBS=${JOBS:-$(nproc 2> /dev/null || echo 2)}
+CONFIGS=""
 for cc in gcc clang; do
     if ! command -v $cc > /dev/null 2>&1; then
         echo "SKIPPED: $cc configurations ($cc is not installed)"
@@ -86,18 +90,53 @@ for cc in gcc clang; do
         echo "note: $cc has no address/undefined sanitizers here; $cc builds run without them"
     fi
     for prec in double float; do
-        echo "== $cc $prec${san:+ +asan,ubsan}"
-        run_config $cc $prec "$san" "$cc-$prec"
+        CONFIGS="$CONFIGS $cc-$prec"
+        eval "CFG_$(echo $cc-$prec | tr - _)=\"\$cc|\$prec|\$san|== \$cc \$prec\${san:+ +asan,ubsan}|\""
     done
 done
-
-# OpenMP: the same tests with threads on (operators must match the serial ones bitwise).
 if has_openmp gcc; then
-    echo "== gcc double -fopenmp (2 threads)"
-    OMP_NUM_THREADS=2 run_config gcc double "-fopenmp" "gcc-double-omp"
+    CONFIGS="$CONFIGS gcc-double-omp"
+    CFG_gcc_double_omp="gcc|double|-fopenmp|== gcc double -fopenmp (2 threads)|OMP_NUM_THREADS=2"
 else
     echo "SKIPPED: OpenMP configuration (gcc -fopenmp does not build here)"
 fi
+
+run_one() { # run_one label: one configuration, output and counts into its own files
+    spec=$(eval echo "\"\$CFG_$(echo $1 | tr - _)\"")
+    IFS='|' read -r c p f title envs <<EOS
+$spec
+EOS
+    TOTAL_PASS=0
+    TOTAL_FAIL=0
+    {
+        echo "$title"
+        if [ -n "$envs" ]; then export $envs; fi
+        run_config "$c" "$p" "$f" "$1"
+        echo "$TOTAL_PASS $TOTAL_FAIL" > "$OUT/$1.counts"
+    } > "$OUT/$1.log" 2>&1
+}
+
+running=0
+for cfg in $CONFIGS; do
+    run_one "$cfg" &
+    running=$((running + 1))
+    if [ "$running" -ge "$JOBS" ]; then
+        wait -n 2> /dev/null || wait
+        running=$((running - 1))
+    fi
+done
+wait
+for cfg in $CONFIGS; do
+    cat "$OUT/$cfg.log"
+    if [ -f "$OUT/$cfg.counts" ]; then
+        read -r p f < "$OUT/$cfg.counts"
+        TOTAL_PASS=$((TOTAL_PASS + p))
+        TOTAL_FAIL=$((TOTAL_FAIL + f))
+    else
+        echo "  $cfg: did not finish - counted as 1 failed"
+        TOTAL_FAIL=$((TOTAL_FAIL + 1))
+    fi
+done
 
 echo "== compile checks"
 if command -v g++ > /dev/null 2>&1; then
