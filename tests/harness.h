@@ -29,7 +29,7 @@
 #define TH_EPS (TH_IS_FLOAT ? (double)FLT_EPSILON : (double)DBL_EPSILON)
 #define TH_PRECISION (TH_IS_FLOAT ? "float" : "double")
 
-static inline int th_passed, th_failed, th_case_bad, th_case_open, th_quiet_fails;
+static int th_passed, th_failed, th_case_bad, th_case_open, th_quiet_fails;
 static char th_case_name[256];
 
 static inline void th_begin(const char *fmt, ...)
