@@ -841,17 +841,17 @@ typedef struct {
     int dim;              /* 1..3 once built, 0 otherwise */
     int n[3];             /* cells per axis (1 for unused axes) */
     int n_cells;          /* n[0] n[1] n[2] */
-    int any_periodic;     /* some axis < dim is periodic */
     sph_idx n_sources;
     sph_real lo[3];       /* grid origin */
     sph_real w[3];        /* cell width per axis */
     sph_real inv_w[3];    /* 1 / w */
+    sph_real quarter[3];  /* L / 4 on periodic axes, the largest real elsewhere */
     sph_real slack;       /* rounding allowance added to every search radius */
     sph_real h_max;       /* largest per-source h (0 without per-source h) */
     sph_box box;          /* copy of the caller's box (periodic axes) */
     sph_idx *cell_start;  /* [n_cells + 1]: sources of cell c are sorted positions cell_start[c].. */
     sph_idx *order;       /* [n_sources]: source index at each sorted position */
-    sph_real *x[3];       /* [n_sources] per axis < dim: source positions in sorted order */
+    sph_real *x;          /* [dim * n_sources]: source positions in sorted order, x[dim k + a] */
     sph_real *h;          /* [n_sources] per-source h in sorted order, or NULL */
 } sph_nsearch;
 
@@ -961,16 +961,12 @@ SPH_API sph_real sph__nsearch_gap(const sph_nsearch *g, int a, sph_real t, int k
     return d > 0 ? d : 0;
 }
 
-/* r_ij^2 of eq. (N3) between target position xt and sorted source k. */
-SPH_API sph_real sph__nsearch_r2(const sph_nsearch *g, const sph_box *box, const sph_real *xt, sph_idx k)
+/* sph_box_delta(box, a, dx), skipping its division where its value is known:
+ * for |dx| <= L/4 the rounded dx/L + 1/2 lies in [1/4, 3/4], its floor is 0
+ * and sph_box_delta returns dx itself, bit for bit. */
+SPH_API sph_real sph__nsearch_delta(const sph_nsearch *g, int a, sph_real dx)
 {
-    sph_real r2 = 0;
-    int a;
-    for (a = 0; a < g->dim; ++a) {
-        sph_real d = sph_box_delta(box, a, xt[a] - g->x[a][k]);
-        r2 += d * d;
-    }
-    return r2;
+    return (dx < 0 ? -dx : dx) <= g->quarter[a] ? dx : sph_box_delta(&g->box, a, dx);
 }
 
 /* Parameters of one target's search. */
@@ -987,26 +983,57 @@ typedef struct {
     sph_off checked;  /* candidates checked so far */
 } sph__probe;
 
-/* Checks the sorted sources k0..k1-1 against the criterion (N1)/(N2). */
-SPH_API void sph__nsearch_scan(const sph_nsearch *g, sph__probe *p, sph_idx k0, sph_idx k1)
+/* 1 when sorted source k meets criterion (N1)/(N2) for the target of p:
+ * r_ij^2 of eq. (N3), summed in axis order, against R^2 = (kappa h)^2. */
+SPH_API int sph__nsearch_in(const sph_nsearch *g, const sph__probe *p, sph_idx k, const int dim)
 {
-    const sph_box *box = g->any_periodic ? &g->box : NULL;
-    const sph_real *hs = g->h;
-    sph_off m = p->found;
+    sph_real r2 = 0, hj = g->h != NULL ? g->h[k] : p->hu, R;
+    int a;
+    for (a = 0; a < dim; ++a) {
+        sph_real d = sph__nsearch_delta(g, a, p->xt[a] - g->x[dim * k + a]);
+        r2 += d * d;
+    }
+    R = p->kappa * (p->symmetric && hj > p->hi ? hj : p->hi);
+    return r2 < R * R;
+}
+
+/* Counts the sorted sources k0..k1-1 that meet the criterion (dim is a
+ * constant once inlined: the axis loop unrolls, the loop has no branch). */
+SPH_API sph_off sph__nsearch_count_run(const sph_nsearch *g, const sph__probe *p, sph_idx k0, sph_idx k1,
+                                       const int dim)
+{
+    sph_off m = 0;
     sph_idx k;
-    for (k = k0; k < k1; ++k) {
-        sph_real hj = hs != NULL ? hs[k] : p->hu;
-        sph_real R = p->kappa * (p->symmetric && hj > p->hi ? hj : p->hi);
-        int in = sph__nsearch_r2(g, box, p->xt, k) < R * R;
-        if (p->seg == NULL) {
-            m += in;
-        } else if (in) {
+    for (k = k0; k < k1; ++k) m += sph__nsearch_in(g, p, k, dim);
+    return m;
+}
+
+/* Appends the sorted sources k0..k1-1 that meet the criterion to the
+ * target's segment (never past its end); returns the new count. */
+SPH_API sph_off sph__nsearch_fill_run(const sph_nsearch *g, const sph__probe *p, sph_idx k0, sph_idx k1,
+                                      sph_off m, const int dim)
+{
+    sph_idx k;
+    for (k = k0; k < k1; ++k)
+        if (sph__nsearch_in(g, p, k, dim)) {
             if (m < p->cap) p->seg[m] = g->order[k];
             ++m;
         }
-    }
+    return m;
+}
+
+/* Checks the sorted sources k0..k1-1: counts them or appends them. */
+SPH_API void sph__nsearch_scan(const sph_nsearch *g, sph__probe *p, sph_idx k0, sph_idx k1)
+{
+    if (p->seg == NULL)
+        p->found += g->dim == 3 ? sph__nsearch_count_run(g, p, k0, k1, 3)
+                    : g->dim == 2 ? sph__nsearch_count_run(g, p, k0, k1, 2)
+                                  : sph__nsearch_count_run(g, p, k0, k1, 1);
+    else
+        p->found = g->dim == 3 ? sph__nsearch_fill_run(g, p, k0, k1, p->found, 3)
+                   : g->dim == 2 ? sph__nsearch_fill_run(g, p, k0, k1, p->found, 2)
+                                 : sph__nsearch_fill_run(g, p, k0, k1, p->found, 1);
     p->checked += k1 - k0;
-    p->found = m;
 }
 
 /* One row of cells along axis 0 (cells ky, kz of axes 1, 2), radius^2 rem left. */
@@ -1096,7 +1123,6 @@ SPH_API int sph__nsearch_geometry(sph_nsearch *g, int dim, sph_view xs, sph_idx 
     if (!(cell > 0 && cell <= SPH__REAL_MAX)) return SPH_EINVAL;
     if ((st = sph__ns_check_x(dim, xs, ns)) != SPH_OK) return st;
     if (ns > 0 && hs != NULL && (st = sph__ns_check_h(hs, ns)) != SPH_OK) return st;
-    g->any_periodic = 0;
     g->n_sources = ns;
     g->h_max = 0;
     for (i = 0; hs != NULL && i < ns; ++i) g->h_max = hs[i] > g->h_max ? hs[i] : g->h_max;
@@ -1129,7 +1155,7 @@ SPH_API int sph__nsearch_geometry(sph_nsearch *g, int dim, sph_view xs, sph_idx 
         g->box.lo[a] = lo;
         g->box.length[a] = per ? L : 0;
         g->box.periodic[a] = per;
-        g->any_periodic |= per;
+        g->quarter[a] = per ? L / 4 : SPH__REAL_MAX;
         if (a < dim && fabs((double)lo) + (double)L + (double)g->w[a] > extent)
             extent = fabs((double)lo) + (double)L + (double)g->w[a];
         for (i = 0; a < dim && i < ns; ++i) /* sources outside a periodic box */
@@ -1152,16 +1178,15 @@ SPH_API double sph__nsearch_layout(sph_nsearch *g, int with_h, char *base)
     const double cells = sph__nsearch_line((double)sizeof(sph_idx) * ((double)g->n_cells + 1));
     const double order = sph__nsearch_line((double)sizeof(sph_idx) * (double)g->n_sources);
     const double reals = sph__nsearch_line((double)sizeof(sph_real) * (double)g->n_sources);
-    int a;
+    const double xyz = sph__nsearch_line((double)sizeof(sph_real) * (double)g->n_sources * g->dim);
     if (base != NULL) {
         base += (64 - (size_t)((uintptr_t)base % 64)) % 64;
         g->cell_start = (sph_idx *)(void *)base;
         g->order = (sph_idx *)(void *)(base + (size_t)cells);
-        for (a = 0; a < 3; ++a)
-            g->x[a] = a < g->dim ? (sph_real *)(void *)(base + (size_t)(cells + order + a * reals)) : NULL;
-        g->h = with_h ? (sph_real *)(void *)(base + (size_t)(cells + order + g->dim * reals)) : NULL;
+        g->x = (sph_real *)(void *)(base + (size_t)(cells + order));
+        g->h = with_h ? (sph_real *)(void *)(base + (size_t)(cells + order + xyz)) : NULL;
     }
-    return 63 + cells + order + (g->dim + (with_h != 0)) * reals;
+    return 63 + cells + order + xyz + (with_h != 0) * reals;
 }
 
 /* Workspace bytes sph_nsearch_build needs for these sources (eq. (N4)
@@ -1213,7 +1238,7 @@ SPH_API int sph_nsearch_build(sph_nsearch *g, int dim, sph_view xs, sph_idx n_so
         c = sph__nsearch_source_cell(g, x);
         k = g->cell_start[c]++;
         g->order[k] = i;
-        for (a = 0; a < dim; ++a) g->x[a][k] = x[a];
+        for (a = 0; a < dim; ++a) g->x[(ptrdiff_t)dim * k + a] = x[a];
         if (hs != NULL) g->h[k] = hs[i];
     }
     for (c = g->n_cells; c > 0; --c) g->cell_start[c] = g->cell_start[c - 1];
