@@ -819,6 +819,13 @@ SPH_API sph_out sph_out_aos(sph_real *first, int ncomp, size_t stride_bytes)
  * positions (sorted by cell) into the workspace: the caller's arrays may
  * change after build, the workspace must not.
  *
+ * Algorithm: a stable counting sort bins the sources (O(N + cells)); each
+ * target scans only the cells whose nearest point lies within its radius, an
+ * x row of cells at a time as one contiguous run of sorted sources (two where
+ * a periodic axis wraps), then sorts its list. With cells of R/2 that is about
+ * 2.5 candidate checks per neighbour in 3-D (docs/neighbours.md). Count and
+ * fill run in parallel over targets under OpenMP.
+ *
  * Optional locality: sph_nsearch_permutation gives perm[new] = old (sources
  * by cell); sph_permute applies it to any field. Searching the sorted
  * particles is faster and their lists map back to the unsorted ones.
@@ -1334,8 +1341,8 @@ SPH_API int sph_nsearch_fill(const sph_nsearch *g, sph_view xt, sph_idx n_target
     return sph__nsearch_run(g, xt, n_targets, ht, h, kappa, mode, NULL, offset, index, NULL, NULL);
 }
 
-/* Statistics of one search without storing it: the number of pairs found
- * and of candidate distance checks made (the cost of count or fill). */
+/* Statistics of one search without storing it (docs/neighbours.md,
+ * "Measured"): pairs found by (N1)/(N2) and candidate distance checks made. */
 SPH_API int sph_nsearch_stats(const sph_nsearch *g, sph_view xt, sph_idx n_targets, const sph_real *ht,
                               sph_real h, sph_real kappa, int mode, sph_off *pairs, sph_off *candidates)
 {
@@ -1345,7 +1352,7 @@ SPH_API int sph_nsearch_stats(const sph_nsearch *g, sph_view xt, sph_idx n_targe
     return sph__nsearch_run(g, xt, n_targets, ht, h, kappa, mode, NULL, NULL, NULL, pairs, candidates);
 }
 
-/* Neighbour list view of arrays filled by sph_nsearch_count / _fill. */
+/* The sph_neighbours view (CSR, section 4) of arrays filled by sph_nsearch_count / _fill. */
 SPH_API sph_neighbours sph_nsearch_list(const sph_nsearch *g, sph_idx n_targets, const sph_off *offset,
                                         const sph_idx *index)
 {
