@@ -1677,8 +1677,9 @@ SPH_API int sph_correction_matrix(const sph_ctx *c, sph_real *B, ptrdiff_t B_str
  * Sources (xs, ns, optional per-source h hs) are binned once by build into a
  * grid of cells of edge >= cell (recommended: kappa h / 2); targets (xt, nt,
  * optional per-target h ht) are any point set: the sources themselves,
- * probe points, ghosts. h is the uniform smoothing length of every particle
- * whose per-particle array is NULL. Any cell size gives the same lists; it
+ * probe points, ghosts. Per-particle h are views like every other field
+ * (sph_view_soa(h, NULL, NULL), or sph_view_none() when absent); h is the
+ * uniform smoothing length wherever the view is absent. Any cell size gives the same lists; it
  * only sets speed and workspace. Periodic axes of box tile the period with
  * n_a = max(1, floor(L_a / cell)) cells (eq. (N4)) and positions anywhere are
  * wrapped into it; the other axes span the bounding box of the sources (the
@@ -1761,12 +1762,12 @@ SPH_API int sph__ns_check_x(int dim, sph_view x, sph_idx n)
     return SPH_OK;
 }
 
-/* Checks n per-particle smoothing lengths (NULL: none): SPH_EH if any is bad. */
-SPH_API int sph__ns_check_h(const sph_real *h, sph_idx n)
+/* Checks n per-particle smoothing lengths (absent view: none): SPH_EH if any is bad. */
+SPH_API int sph__ns_check_h(sph_view h, sph_idx n)
 {
     sph_idx i;
-    for (i = 0; h != NULL && i < n; ++i)
-        if (sph_check_h(h[i]) != SPH_OK) return SPH_EH;
+    for (i = 0; h.p[0] != NULL && i < n; ++i)
+        if (sph_check_h(h.p[0][(ptrdiff_t)i * h.stride]) != SPH_OK) return SPH_EH;
     return SPH_OK;
 }
 
@@ -1986,7 +1987,7 @@ SPH_API void sph__nsearch_target(const sph_nsearch *g, sph__probe *p)
 
 /* Grid geometry from the sources (eq. (N4)); no workspace needed yet. */
 SPH_API int sph__nsearch_geometry(sph_nsearch *g, int dim, sph_view xs, sph_idx ns,
-                                  const sph_real *hs, sph_real cell, const sph_box *box)
+                                  sph_view hs, sph_real cell, const sph_box *box)
 {
     double total = 1, extent = 0;
     int a, st;
@@ -1996,10 +1997,13 @@ SPH_API int sph__nsearch_geometry(sph_nsearch *g, int dim, sph_view xs, sph_idx 
     if (ns < 0) return SPH_ESIZE;
     if (!(cell > 0 && cell <= SPH__REAL_MAX)) return SPH_EINVAL;
     if ((st = sph__ns_check_x(dim, xs, ns)) != SPH_OK) return st;
-    if (ns > 0 && hs != NULL && (st = sph__ns_check_h(hs, ns)) != SPH_OK) return st;
+    if (ns > 0 && hs.p[0] != NULL && (st = sph__ns_check_h(hs, ns)) != SPH_OK) return st;
     g->n_sources = ns;
     g->h_max = 0;
-    for (i = 0; hs != NULL && i < ns; ++i) g->h_max = hs[i] > g->h_max ? hs[i] : g->h_max;
+    for (i = 0; hs.p[0] != NULL && i < ns; ++i) {
+        const sph_real hi = hs.p[0][(ptrdiff_t)i * hs.stride];
+        g->h_max = hi > g->h_max ? hi : g->h_max;
+    }
     for (a = 0; a < 3; ++a) {
         sph_real lo = 0, L = 0;
         double na = 1;
@@ -2065,7 +2069,7 @@ SPH_API double sph__nsearch_layout(sph_nsearch *g, int with_h, char *base)
 
 /* Workspace bytes sph_nsearch_build needs for these sources (eq. (N4)
  * sizes the grid; scans the positions for their bounds). */
-SPH_API int sph_nsearch_workspace_size(int dim, sph_view xs, sph_idx n_sources, const sph_real *hs,
+SPH_API int sph_nsearch_workspace_size(int dim, sph_view xs, sph_idx n_sources, sph_view hs,
                                        sph_real cell, const sph_box *box, size_t *bytes)
 {
     sph_nsearch g;
@@ -2074,7 +2078,7 @@ SPH_API int sph_nsearch_workspace_size(int dim, sph_view xs, sph_idx n_sources, 
     if (bytes == NULL) return SPH_ENULL;
     *bytes = 0;
     if ((st = sph__nsearch_geometry(&g, dim, xs, n_sources, hs, cell, box)) != SPH_OK) return st;
-    need = sph__nsearch_layout(&g, hs != NULL, NULL);
+    need = sph__nsearch_layout(&g, hs.p[0] != NULL, NULL);
     if (!(need <= (double)SIZE_MAX)) return SPH_ESIZE;
     *bytes = (size_t)need;
     return SPH_OK;
@@ -2083,7 +2087,7 @@ SPH_API int sph_nsearch_workspace_size(int dim, sph_view xs, sph_idx n_sources, 
 /* Bins the sources into cells (eq. (N4)) by a stable counting sort inside
  * work: cell starts, sorted order, sorted positions (and h). O(N + cells). */
 SPH_API int sph_nsearch_build(sph_nsearch *g, int dim, sph_view xs, sph_idx n_sources,
-                              const sph_real *hs, sph_real cell, const sph_box *box, void *work,
+                              sph_view hs, sph_real cell, const sph_box *box, void *work,
                               size_t work_bytes)
 {
     sph_real x[3] = {0, 0, 0};
@@ -2095,11 +2099,11 @@ SPH_API int sph_nsearch_build(sph_nsearch *g, int dim, sph_view xs, sph_idx n_so
         g->dim = 0;
         return SPH_ENULL;
     }
-    if (!(sph__nsearch_layout(g, hs != NULL, NULL) <= (double)work_bytes)) {
+    if (!(sph__nsearch_layout(g, hs.p[0] != NULL, NULL) <= (double)work_bytes)) {
         g->dim = 0;
         return SPH_ESIZE;
     }
-    sph__nsearch_layout(g, hs != NULL, (char *)work);
+    sph__nsearch_layout(g, hs.p[0] != NULL, (char *)work);
     for (c = 0; c <= g->n_cells; ++c) g->cell_start[c] = 0;
     for (i = 0; i < n_sources; ++i) { /* count per cell, shifted by one */
         for (a = 0; a < dim; ++a) x[a] = sph__ns_at(xs, a, i);
@@ -2113,7 +2117,7 @@ SPH_API int sph_nsearch_build(sph_nsearch *g, int dim, sph_view xs, sph_idx n_so
         k = g->cell_start[c]++;
         g->order[k] = i;
         for (a = 0; a < dim; ++a) g->x[(ptrdiff_t)dim * k + a] = x[a];
-        if (hs != NULL) g->h[k] = hs[i];
+        if (hs.p[0] != NULL) g->h[k] = hs.p[0][(ptrdiff_t)i * hs.stride];
     }
     for (c = g->n_cells; c > 0; --c) g->cell_start[c] = g->cell_start[c - 1];
     g->cell_start[0] = 0;
@@ -2121,10 +2125,10 @@ SPH_API int sph_nsearch_build(sph_nsearch *g, int dim, sph_view xs, sph_idx n_so
 }
 
 /* Checks the arguments shared by count, fill and stats. */
-SPH_API int sph__nsearch_check(const sph_nsearch *g, sph_view xt, sph_idx nt, const sph_real *ht,
+SPH_API int sph__nsearch_check(const sph_nsearch *g, sph_view xt, sph_idx nt, sph_view ht,
                                sph_real h, sph_real kappa, int mode)
 {
-    int uses_h = ht == NULL || (mode == SPH_NSEARCH_SYMMETRIC && g != NULL && g->h == NULL);
+    int uses_h = ht.p[0] == NULL || (mode == SPH_NSEARCH_SYMMETRIC && g != NULL && g->h == NULL);
     int st;
     if (g == NULL) return SPH_ENULL;
     if (g->dim < 1 || g->dim > 3) return SPH_EINVAL;
@@ -2140,7 +2144,7 @@ SPH_API int sph__nsearch_check(const sph_nsearch *g, sph_view xt, sph_idx nt, co
  * != NULL), fills index (when index != NULL, segments given by offset),
  * sums pairs and candidates. Returns SPH_EINVAL when a target's count differs
  * from its segment. Parallel over targets under OpenMP, same result. */
-SPH_API int sph__nsearch_run(const sph_nsearch *g, sph_view xt, sph_idx nt, const sph_real *ht,
+SPH_API int sph__nsearch_run(const sph_nsearch *g, sph_view xt, sph_idx nt, sph_view ht,
                              sph_real h, sph_real kappa, int mode, sph_off *count,
                              const sph_off *offset, sph_idx *index, sph_off *pairs,
                              sph_off *candidates)
@@ -2155,7 +2159,7 @@ SPH_API int sph__nsearch_run(const sph_nsearch *g, sph_view xt, sph_idx nt, cons
         sph__probe p;
         int a;
         for (a = 0; a < 3; ++a) p.xt[a] = a < g->dim ? sph__ns_at(xt, a, i) : 0;
-        p.hi = ht != NULL ? ht[i] : h;
+        p.hi = ht.p[0] != NULL ? ht.p[0][(ptrdiff_t)i * ht.stride] : h;
         p.hu = h;
         p.kappa = kappa;
         p.symmetric = mode == SPH_NSEARCH_SYMMETRIC;
@@ -2174,7 +2178,7 @@ SPH_API int sph__nsearch_run(const sph_nsearch *g, sph_view xt, sph_idx nt, cons
 
 /* Counting pass: offset[0..nt] of the CSR lists of criterion (N1)/(N2);
  * offset[nt] is the number of pairs, the length index[] needs. */
-SPH_API int sph_nsearch_count(const sph_nsearch *g, sph_view xt, sph_idx n_targets, const sph_real *ht,
+SPH_API int sph_nsearch_count(const sph_nsearch *g, sph_view xt, sph_idx n_targets, sph_view ht,
                               sph_real h, sph_real kappa, int mode, sph_off *offset)
 {
     sph_idx i;
@@ -2191,7 +2195,7 @@ SPH_API int sph_nsearch_count(const sph_nsearch *g, sph_view xt, sph_idx n_targe
  * (criterion (N1)/(N2)) in ascending source index. offset must come from
  * sph_nsearch_count with the same arguments; index holds capacity entries
  * (SPH_ESIZE, nothing written, when offset[nt] > capacity). */
-SPH_API int sph_nsearch_fill(const sph_nsearch *g, sph_view xt, sph_idx n_targets, const sph_real *ht,
+SPH_API int sph_nsearch_fill(const sph_nsearch *g, sph_view xt, sph_idx n_targets, sph_view ht,
                              sph_real h, sph_real kappa, int mode, const sph_off *offset, sph_idx *index,
                              sph_off capacity)
 {
@@ -2210,7 +2214,7 @@ SPH_API int sph_nsearch_fill(const sph_nsearch *g, sph_view xt, sph_idx n_target
 
 /* Statistics of one search without storing it (docs/neighbours.md,
  * "Measured"): pairs found by (N1)/(N2) and candidate distance checks made. */
-SPH_API int sph_nsearch_stats(const sph_nsearch *g, sph_view xt, sph_idx n_targets, const sph_real *ht,
+SPH_API int sph_nsearch_stats(const sph_nsearch *g, sph_view xt, sph_idx n_targets, sph_view ht,
                               sph_real h, sph_real kappa, int mode, sph_off *pairs, sph_off *candidates)
 {
     int st = sph__nsearch_check(g, xt, n_targets, ht, h, kappa, mode);

@@ -36,17 +36,17 @@ static void run(const char *label, const sph_real *x, int n, sph_real h, sph_rea
     void *work;
     double t0, t1, t2, t3;
     int st;
-    sph_nsearch_workspace_size(3, v, n, NULL, cell, box, &bytes);
+    sph_nsearch_workspace_size(3, v, n, sph_view_none(), cell, box, &bytes);
     work = malloc(bytes);
     t0 = now();
-    st = sph_nsearch_build(&g, 3, v, n, NULL, cell, box, work, bytes);
+    st = sph_nsearch_build(&g, 3, v, n, sph_view_none(), cell, box, work, bytes);
     t1 = now();
-    st |= sph_nsearch_count(&g, v, n, NULL, h, kappa, SPH_NSEARCH_GATHER, off);
+    st |= sph_nsearch_count(&g, v, n, sph_view_none(), h, kappa, SPH_NSEARCH_GATHER, off);
     t2 = now();
     idx = (sph_idx *)malloc(sizeof(sph_idx) * (size_t)off[n]);
-    st |= sph_nsearch_fill(&g, v, n, NULL, h, kappa, SPH_NSEARCH_GATHER, off, idx, off[n]);
+    st |= sph_nsearch_fill(&g, v, n, sph_view_none(), h, kappa, SPH_NSEARCH_GATHER, off, idx, off[n]);
     t3 = now();
-    st |= sph_nsearch_stats(&g, v, n, NULL, h, kappa, SPH_NSEARCH_GATHER, &pairs, &cand);
+    st |= sph_nsearch_stats(&g, v, n, sph_view_none(), h, kappa, SPH_NSEARCH_GATHER, &pairs, &cand);
     printf("%-12s cell %.3f R  cells %7d  build %.4f s  count %.4f s  fill %.4f s  "
            "neighbours/particle %.1f  candidates/neighbour %.3f  workspace %.1f MB%s\n",
            label, cell_over_R, g.n_cells, t1 - t0, t2 - t1, t3 - t2, (double)pairs / n,

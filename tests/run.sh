@@ -138,6 +138,26 @@ for cfg in $CONFIGS; do
     fi
 done
 
+# Examples with a --check mode: a short coarse run of a real simulation that
+# exits non-zero when it misses its own validation bounds (one case each).
+echo "== examples (--check)"
+mkdir -p "$OUT/examples"
+omp=""
+if has_openmp gcc; then omp="-fopenmp"; fi
+for src in examples/*.c; do
+    [ -e "$src" ] || continue
+    grep -q -- '--check' "$src" || continue
+    name=$(basename "$src" .c)
+    if ! gcc -O2 -std=c99 -Wall -Wextra -pedantic -Werror $omp -I. "$src" -o "$OUT/examples/$name" -lm \
+        > "$OUT/examples/$name.build" 2>&1; then
+        echo "  example $name: BUILD FAILED"
+        sed 's/^/    | /' "$OUT/examples/$name.build" | head -n 30
+        TOTAL_FAIL=$((TOTAL_FAIL + 1))
+        continue
+    fi
+    check "example $name --check" timeout 300 "$OUT/examples/$name" --check
+done
+
 echo "== compile checks"
 if command -v g++ > /dev/null 2>&1; then
     check "C++11 (g++ -std=c++11 -Wall -Wextra -pedantic -Werror)" \

@@ -38,16 +38,16 @@ static int nb_search(const nb_problem *p, sph_nsearch *g, void **work, tp_list *
     out->offset = NULL;
     out->index = NULL;
     *work = NULL;
-    st = sph_nsearch_workspace_size(p->dim, vs, p->ns, p->hs, p->cell, p->box, &bytes);
+    st = sph_nsearch_workspace_size(p->dim, vs, p->ns, sph_view_soa(p->hs, NULL, NULL), p->cell, p->box, &bytes);
     if (st != SPH_OK) return st;
     *work = malloc(bytes);
-    st = sph_nsearch_build(g, p->dim, vs, p->ns, p->hs, p->cell, p->box, *work, bytes);
+    st = sph_nsearch_build(g, p->dim, vs, p->ns, sph_view_soa(p->hs, NULL, NULL), p->cell, p->box, *work, bytes);
     if (st != SPH_OK) return st;
     out->offset = (sph_off *)malloc(sizeof(sph_off) * (size_t)(nt + 1));
-    st = sph_nsearch_count(g, vt, nt, p->ht, p->h, p->kappa, p->mode, out->offset);
+    st = sph_nsearch_count(g, vt, nt, sph_view_soa(p->ht, NULL, NULL), p->h, p->kappa, p->mode, out->offset);
     if (st != SPH_OK) return st;
     out->index = (sph_idx *)malloc(sizeof(sph_idx) * (size_t)(out->offset[nt] + 1));
-    st = sph_nsearch_fill(g, vt, nt, p->ht, p->h, p->kappa, p->mode, out->offset, out->index,
+    st = sph_nsearch_fill(g, vt, nt, sph_view_soa(p->ht, NULL, NULL), p->h, p->kappa, p->mode, out->offset, out->index,
                           out->offset[nt]);
     out->list = sph_nsearch_list(g, nt, out->offset, out->index);
     return st;
@@ -409,10 +409,10 @@ static void test_soa(void)
         for (a = 0; a < 3; ++a) soa[a * n + i] = x[3 * i + a];
     v = sph_view_soa(soa, soa + n, soa + 2 * n);
     th_begin("structure-of-arrays positions: same offsets as brute force");
-    st = sph_nsearch_workspace_size(3, v, n, NULL, (sph_real)0.1, NULL, &bytes);
+    st = sph_nsearch_workspace_size(3, v, n, sph_view_none(), (sph_real)0.1, NULL, &bytes);
     work = malloc(bytes);
-    st |= sph_nsearch_build(&g, 3, v, n, NULL, (sph_real)0.1, NULL, work, bytes);
-    st |= sph_nsearch_count(&g, v, n, NULL, (sph_real)0.1, 2, SPH_NSEARCH_GATHER, off);
+    st |= sph_nsearch_build(&g, 3, v, n, sph_view_none(), (sph_real)0.1, NULL, work, bytes);
+    st |= sph_nsearch_count(&g, v, n, sph_view_none(), (sph_real)0.1, 2, SPH_NSEARCH_GATHER, off);
     TH_CHECK(st == SPH_OK, "status %d", st);
     TH_CHECK(tp_brute_list(3, x, n, x, n, (sph_real)0.1, NULL, NULL, 2, TP_GATHER, NULL, &ref) == 0, "ref");
     for (i = 0; st == SPH_OK && i <= n; ++i) TH_CHECK(off[i] == ref.offset[i], "offset[%d]", i);
@@ -515,104 +515,104 @@ static void test_errors(void)
     tp_uniform_cloud(3, N, 1.0, &rng, x);
     for (i = 0; i < N; ++i) h[i] = (sph_real)0.2;
     th_begin("workspace size: status of each bad argument");
-    TH_CHECK(sph_nsearch_workspace_size(3, v, N, NULL, (sph_real)0.1, NULL, &need) == SPH_OK, "good call");
+    TH_CHECK(sph_nsearch_workspace_size(3, v, N, sph_view_none(), (sph_real)0.1, NULL, &need) == SPH_OK, "good call");
     TH_CHECK(need <= sizeof work, "test workspace too small for %lu", (unsigned long)need);
-    TH_CHECK(sph_nsearch_workspace_size(0, v, N, NULL, 1, NULL, &bytes) == SPH_EDIM, "dim 0");
-    TH_CHECK(sph_nsearch_workspace_size(4, v, N, NULL, 1, NULL, &bytes) == SPH_EDIM, "dim 4");
-    TH_CHECK(sph_nsearch_workspace_size(3, v, -1, NULL, 1, NULL, &bytes) == SPH_ESIZE, "n < 0");
-    TH_CHECK(sph_nsearch_workspace_size(3, vnull, N, NULL, 1, NULL, &bytes) == SPH_ENULL, "NULL x");
-    TH_CHECK(sph_nsearch_workspace_size(3, vnull, 0, NULL, 1, NULL, &bytes) == SPH_OK, "NULL x, N = 0");
-    TH_CHECK(sph_nsearch_workspace_size(3, v, N, NULL, 1, NULL, NULL) == SPH_ENULL, "NULL bytes");
-    TH_CHECK(sph_nsearch_workspace_size(3, v, N, NULL, 0, NULL, &bytes) == SPH_EINVAL, "cell 0");
-    TH_CHECK(sph_nsearch_workspace_size(3, v, N, NULL, -1, NULL, &bytes) == SPH_EINVAL, "cell < 0");
-    TH_CHECK(sph_nsearch_workspace_size(3, v, N, NULL, nanv, NULL, &bytes) == SPH_EINVAL, "cell NaN");
-    TH_CHECK(sph_nsearch_workspace_size(3, v, N, NULL, (sph_real)1e-9, NULL, &bytes) == SPH_ESIZE,
+    TH_CHECK(sph_nsearch_workspace_size(0, v, N, sph_view_none(), 1, NULL, &bytes) == SPH_EDIM, "dim 0");
+    TH_CHECK(sph_nsearch_workspace_size(4, v, N, sph_view_none(), 1, NULL, &bytes) == SPH_EDIM, "dim 4");
+    TH_CHECK(sph_nsearch_workspace_size(3, v, -1, sph_view_none(), 1, NULL, &bytes) == SPH_ESIZE, "n < 0");
+    TH_CHECK(sph_nsearch_workspace_size(3, vnull, N, sph_view_none(), 1, NULL, &bytes) == SPH_ENULL, "NULL x");
+    TH_CHECK(sph_nsearch_workspace_size(3, vnull, 0, sph_view_none(), 1, NULL, &bytes) == SPH_OK, "NULL x, N = 0");
+    TH_CHECK(sph_nsearch_workspace_size(3, v, N, sph_view_none(), 1, NULL, NULL) == SPH_ENULL, "NULL bytes");
+    TH_CHECK(sph_nsearch_workspace_size(3, v, N, sph_view_none(), 0, NULL, &bytes) == SPH_EINVAL, "cell 0");
+    TH_CHECK(sph_nsearch_workspace_size(3, v, N, sph_view_none(), -1, NULL, &bytes) == SPH_EINVAL, "cell < 0");
+    TH_CHECK(sph_nsearch_workspace_size(3, v, N, sph_view_none(), nanv, NULL, &bytes) == SPH_EINVAL, "cell NaN");
+    TH_CHECK(sph_nsearch_workspace_size(3, v, N, sph_view_none(), (sph_real)1e-9, NULL, &bytes) == SPH_ESIZE,
              "1e27 cells");
-    TH_CHECK(sph_nsearch_workspace_size(1, v, N, NULL, (sph_real)1e-9, NULL, &bytes) == SPH_ESIZE,
+    TH_CHECK(sph_nsearch_workspace_size(1, v, N, sph_view_none(), (sph_real)1e-9, NULL, &bytes) == SPH_ESIZE,
              "1e9 cells in 1-D, more than an int can index safely");
-    TH_CHECK(sph_nsearch_workspace_size(2, v, N, NULL, (sph_real)1e-4, &box, &bytes) == SPH_OK,
+    TH_CHECK(sph_nsearch_workspace_size(2, v, N, sph_view_none(), (sph_real)1e-4, &box, &bytes) == SPH_OK,
              "1e8 cells are allowed");
     x[3 * 5 + 1] = nanv;
-    TH_CHECK(sph_nsearch_workspace_size(3, v, N, NULL, 1, NULL, &bytes) == SPH_ENONFINITE, "NaN x");
+    TH_CHECK(sph_nsearch_workspace_size(3, v, N, sph_view_none(), 1, NULL, &bytes) == SPH_ENONFINITE, "NaN x");
     x[3 * 5 + 1] = (sph_real)INFINITY;
-    TH_CHECK(sph_nsearch_workspace_size(3, v, N, NULL, 1, &box, &bytes) == SPH_ENONFINITE, "Inf x");
+    TH_CHECK(sph_nsearch_workspace_size(3, v, N, sph_view_none(), 1, &box, &bytes) == SPH_ENONFINITE, "Inf x");
     x[3 * 5 + 1] = (sph_real)0.5;
     h[7] = 0;
-    TH_CHECK(sph_nsearch_workspace_size(3, v, N, h, 1, NULL, &bytes) == SPH_EH, "h = 0");
+    TH_CHECK(sph_nsearch_workspace_size(3, v, N, sph_view_soa(h, NULL, NULL), 1, NULL, &bytes) == SPH_EH, "h = 0");
     h[7] = -1;
-    TH_CHECK(sph_nsearch_workspace_size(3, v, N, h, 1, NULL, &bytes) == SPH_EH, "h < 0");
+    TH_CHECK(sph_nsearch_workspace_size(3, v, N, sph_view_soa(h, NULL, NULL), 1, NULL, &bytes) == SPH_EH, "h < 0");
     h[7] = nanv;
-    TH_CHECK(sph_nsearch_workspace_size(3, v, N, h, 1, NULL, &bytes) == SPH_EH, "h NaN");
+    TH_CHECK(sph_nsearch_workspace_size(3, v, N, sph_view_soa(h, NULL, NULL), 1, NULL, &bytes) == SPH_EH, "h NaN");
     h[7] = (sph_real)INFINITY;
-    TH_CHECK(sph_nsearch_workspace_size(3, v, N, h, 1, NULL, &bytes) == SPH_EH, "h Inf");
+    TH_CHECK(sph_nsearch_workspace_size(3, v, N, sph_view_soa(h, NULL, NULL), 1, NULL, &bytes) == SPH_EH, "h Inf");
     h[7] = (sph_real)0.2;
     box.length[1] = 0;
-    TH_CHECK(sph_nsearch_workspace_size(3, v, N, NULL, 1, &box, &bytes) == SPH_EINVAL, "period 0");
+    TH_CHECK(sph_nsearch_workspace_size(3, v, N, sph_view_none(), 1, &box, &bytes) == SPH_EINVAL, "period 0");
     box.length[1] = nanv;
-    TH_CHECK(sph_nsearch_workspace_size(3, v, N, NULL, 1, &box, &bytes) == SPH_EINVAL, "period NaN");
+    TH_CHECK(sph_nsearch_workspace_size(3, v, N, sph_view_none(), 1, &box, &bytes) == SPH_EINVAL, "period NaN");
     box.length[1] = 1;
     box.lo[2] = (sph_real)INFINITY;
-    TH_CHECK(sph_nsearch_workspace_size(3, v, N, NULL, 1, &box, &bytes) == SPH_EINVAL, "box lo Inf");
+    TH_CHECK(sph_nsearch_workspace_size(3, v, N, sph_view_none(), 1, &box, &bytes) == SPH_EINVAL, "box lo Inf");
     box.lo[2] = 0;
     th_end();
 
     th_begin("build: status of each bad argument; a failed build is unusable");
-    TH_CHECK(sph_nsearch_build(NULL, 3, v, N, NULL, (sph_real)0.1, NULL, work, need) == SPH_ENULL, "NULL grid");
-    TH_CHECK(sph_nsearch_build(&g, 3, v, N, NULL, (sph_real)0.1, NULL, NULL, need) == SPH_ENULL, "NULL work");
-    TH_CHECK(sph_nsearch_build(&g, 3, v, N, NULL, (sph_real)0.1, NULL, work, need - 1) == SPH_ESIZE,
+    TH_CHECK(sph_nsearch_build(NULL, 3, v, N, sph_view_none(), (sph_real)0.1, NULL, work, need) == SPH_ENULL, "NULL grid");
+    TH_CHECK(sph_nsearch_build(&g, 3, v, N, sph_view_none(), (sph_real)0.1, NULL, NULL, need) == SPH_ENULL, "NULL work");
+    TH_CHECK(sph_nsearch_build(&g, 3, v, N, sph_view_none(), (sph_real)0.1, NULL, work, need - 1) == SPH_ESIZE,
              "workspace one byte short");
-    TH_CHECK(sph_nsearch_count(&g, v, N, NULL, (sph_real)0.1, 2, 0, off) == SPH_EINVAL, "count on failed build");
-    TH_CHECK(sph_nsearch_build(&g, 5, v, N, NULL, (sph_real)0.1, NULL, work, need) == SPH_EDIM, "dim 5");
+    TH_CHECK(sph_nsearch_count(&g, v, N, sph_view_none(), (sph_real)0.1, 2, 0, off) == SPH_EINVAL, "count on failed build");
+    TH_CHECK(sph_nsearch_build(&g, 5, v, N, sph_view_none(), (sph_real)0.1, NULL, work, need) == SPH_EDIM, "dim 5");
     x[7] = nanv;
-    TH_CHECK(sph_nsearch_build(&g, 3, v, N, NULL, (sph_real)0.1, NULL, work, need) == SPH_ENONFINITE, "NaN");
+    TH_CHECK(sph_nsearch_build(&g, 3, v, N, sph_view_none(), (sph_real)0.1, NULL, work, need) == SPH_ENONFINITE, "NaN");
     x[7] = (sph_real)0.5;
-    TH_CHECK(sph_nsearch_build(&g, 3, v, N, NULL, (sph_real)0.1, NULL, work + 1, need) == SPH_OK,
+    TH_CHECK(sph_nsearch_build(&g, 3, v, N, sph_view_none(), (sph_real)0.1, NULL, work + 1, need) == SPH_OK,
              "unaligned workspace of the queried size");
     th_end();
 
     th_begin("count / fill: status of each bad argument");
-    st = sph_nsearch_build(&g, 3, v, N, h, (sph_real)0.1, &box, work, sizeof work);
+    st = sph_nsearch_build(&g, 3, v, N, sph_view_soa(h, NULL, NULL), (sph_real)0.1, &box, work, sizeof work);
     TH_CHECK(st == SPH_OK, "build %d", st);
-    TH_CHECK(sph_nsearch_count(NULL, v, N, NULL, (sph_real)0.1, 2, 0, off) == SPH_ENULL, "NULL grid");
-    TH_CHECK(sph_nsearch_count(&g, v, -2, NULL, (sph_real)0.1, 2, 0, off) == SPH_ESIZE, "n < 0");
-    TH_CHECK(sph_nsearch_count(&g, vnull, N, NULL, (sph_real)0.1, 2, 0, off) == SPH_ENULL, "NULL x");
-    TH_CHECK(sph_nsearch_count(&g, v, N, NULL, (sph_real)0.1, 2, 0, NULL) == SPH_ENULL, "NULL offset");
-    TH_CHECK(sph_nsearch_count(&g, v, N, NULL, 0, 2, 0, off) == SPH_EH, "h = 0");
-    TH_CHECK(sph_nsearch_count(&g, v, N, NULL, nanv, 2, 0, off) == SPH_EH, "h NaN");
-    TH_CHECK(sph_nsearch_count(&g, v, N, h, nanv, 2, 0, off) == SPH_OK, "uniform h unused");
-    TH_CHECK(sph_nsearch_count(&g, v, N, h, nanv, 2, SPH_NSEARCH_SYMMETRIC, off) == SPH_OK,
+    TH_CHECK(sph_nsearch_count(NULL, v, N, sph_view_none(), (sph_real)0.1, 2, 0, off) == SPH_ENULL, "NULL grid");
+    TH_CHECK(sph_nsearch_count(&g, v, -2, sph_view_none(), (sph_real)0.1, 2, 0, off) == SPH_ESIZE, "n < 0");
+    TH_CHECK(sph_nsearch_count(&g, vnull, N, sph_view_none(), (sph_real)0.1, 2, 0, off) == SPH_ENULL, "NULL x");
+    TH_CHECK(sph_nsearch_count(&g, v, N, sph_view_none(), (sph_real)0.1, 2, 0, NULL) == SPH_ENULL, "NULL offset");
+    TH_CHECK(sph_nsearch_count(&g, v, N, sph_view_none(), 0, 2, 0, off) == SPH_EH, "h = 0");
+    TH_CHECK(sph_nsearch_count(&g, v, N, sph_view_none(), nanv, 2, 0, off) == SPH_EH, "h NaN");
+    TH_CHECK(sph_nsearch_count(&g, v, N, sph_view_soa(h, NULL, NULL), nanv, 2, 0, off) == SPH_OK, "uniform h unused");
+    TH_CHECK(sph_nsearch_count(&g, v, N, sph_view_soa(h, NULL, NULL), nanv, 2, SPH_NSEARCH_SYMMETRIC, off) == SPH_OK,
              "uniform h unused (symmetric, grid has per-source h)");
     h[3] = -1;
-    TH_CHECK(sph_nsearch_count(&g, v, N, h, 1, 2, 0, off) == SPH_EH, "per-target h < 0");
+    TH_CHECK(sph_nsearch_count(&g, v, N, sph_view_soa(h, NULL, NULL), 1, 2, 0, off) == SPH_EH, "per-target h < 0");
     h[3] = (sph_real)0.2;
-    TH_CHECK(sph_nsearch_count(&g, v, N, NULL, (sph_real)0.1, 0, 0, off) == SPH_EINVAL, "kappa 0");
-    TH_CHECK(sph_nsearch_count(&g, v, N, NULL, (sph_real)0.1, nanv, 0, off) == SPH_EINVAL, "kappa NaN");
-    TH_CHECK(sph_nsearch_count(&g, v, N, NULL, (sph_real)0.1, 2, 2, off) == SPH_EINVAL, "mode 2");
+    TH_CHECK(sph_nsearch_count(&g, v, N, sph_view_none(), (sph_real)0.1, 0, 0, off) == SPH_EINVAL, "kappa 0");
+    TH_CHECK(sph_nsearch_count(&g, v, N, sph_view_none(), (sph_real)0.1, nanv, 0, off) == SPH_EINVAL, "kappa NaN");
+    TH_CHECK(sph_nsearch_count(&g, v, N, sph_view_none(), (sph_real)0.1, 2, 2, off) == SPH_EINVAL, "mode 2");
     x[3 * 9] = (sph_real)-INFINITY;
-    TH_CHECK(sph_nsearch_count(&g, v, N, NULL, (sph_real)0.1, 2, 0, off) == SPH_ENONFINITE, "-Inf target");
-    TH_CHECK(sph_nsearch_fill(&g, v, N, NULL, (sph_real)0.1, 2, 0, off, idx, N * N) == SPH_ENONFINITE,
+    TH_CHECK(sph_nsearch_count(&g, v, N, sph_view_none(), (sph_real)0.1, 2, 0, off) == SPH_ENONFINITE, "-Inf target");
+    TH_CHECK(sph_nsearch_fill(&g, v, N, sph_view_none(), (sph_real)0.1, 2, 0, off, idx, N * N) == SPH_ENONFINITE,
              "-Inf target (fill)");
     x[3 * 9] = (sph_real)0.5;
-    st = sph_nsearch_count(&g, v, N, NULL, (sph_real)0.1, 2, 0, off);
+    st = sph_nsearch_count(&g, v, N, sph_view_none(), (sph_real)0.1, 2, 0, off);
     TH_CHECK(st == SPH_OK && off[N] > N, "count %d, %ld pairs", st, (long)off[N]);
     for (i = 0; i <= N * N; ++i) idx[i] = -7;
-    TH_CHECK(sph_nsearch_fill(&g, v, N, NULL, (sph_real)0.1, 2, 0, off, idx, off[N] - 1) == SPH_ESIZE,
+    TH_CHECK(sph_nsearch_fill(&g, v, N, sph_view_none(), (sph_real)0.1, 2, 0, off, idx, off[N] - 1) == SPH_ESIZE,
              "index one short");
     for (i = 0; i <= N * N && idx[i] == -7; ++i) continue;
     TH_CHECK(i > N * N, "a failed fill wrote index[%d]", i);
-    TH_CHECK(sph_nsearch_fill(&g, v, N, NULL, (sph_real)0.1, 2, 0, off, NULL, off[N]) == SPH_ENULL, "NULL index");
-    TH_CHECK(sph_nsearch_fill(&g, v, N, NULL, (sph_real)0.1, 2, 0, NULL, idx, N * N) == SPH_ENULL, "NULL offset");
+    TH_CHECK(sph_nsearch_fill(&g, v, N, sph_view_none(), (sph_real)0.1, 2, 0, off, NULL, off[N]) == SPH_ENULL, "NULL index");
+    TH_CHECK(sph_nsearch_fill(&g, v, N, sph_view_none(), (sph_real)0.1, 2, 0, NULL, idx, N * N) == SPH_ENULL, "NULL offset");
     /* offsets of another search (h 0.2 instead of 0.1): segments do not match */
-    TH_CHECK(sph_nsearch_fill(&g, v, N, NULL, (sph_real)0.2, 2, 0, off, idx, N * N) == SPH_EINVAL,
+    TH_CHECK(sph_nsearch_fill(&g, v, N, sph_view_none(), (sph_real)0.2, 2, 0, off, idx, N * N) == SPH_EINVAL,
              "offsets of a different search");
     for (i = (int)off[N]; i <= N * N && idx[i] == -7; ++i) continue;
     TH_CHECK(i > N * N, "a mismatched fill wrote past offset[n]: index[%d]", i);
     off[3] = off[4] + 1;
-    TH_CHECK(sph_nsearch_fill(&g, v, N, NULL, (sph_real)0.1, 2, 0, off, idx, N * N) == SPH_EINVAL,
+    TH_CHECK(sph_nsearch_fill(&g, v, N, sph_view_none(), (sph_real)0.1, 2, 0, off, idx, N * N) == SPH_EINVAL,
              "decreasing offsets");
     g0 = g;
     g0.dim = 0;
-    TH_CHECK(sph_nsearch_fill(&g0, v, N, NULL, (sph_real)0.1, 2, 0, off, idx, N * N) == SPH_EINVAL, "unbuilt grid");
+    TH_CHECK(sph_nsearch_fill(&g0, v, N, sph_view_none(), (sph_real)0.1, 2, 0, off, idx, N * N) == SPH_EINVAL, "unbuilt grid");
     th_end();
 
     th_begin("permutations: status of each bad argument");
@@ -658,10 +658,10 @@ static void test_candidate_ratio(void)
         sph_nsearch g;
         void *work;
         int st;
-        sph_nsearch_workspace_size(3, v, n, NULL, cell, &box, &bytes);
+        sph_nsearch_workspace_size(3, v, n, sph_view_none(), cell, &box, &bytes);
         work = malloc(bytes);
-        st = sph_nsearch_build(&g, 3, v, n, NULL, cell, &box, work, bytes);
-        st |= sph_nsearch_stats(&g, v, n, NULL, h, kappa, SPH_NSEARCH_GATHER, &pairs, &cand);
+        st = sph_nsearch_build(&g, 3, v, n, sph_view_none(), cell, &box, work, bytes);
+        st |= sph_nsearch_stats(&g, v, n, sph_view_none(), h, kappa, SPH_NSEARCH_GATHER, &pairs, &cand);
         th_begin("perturbed lattice 3D, cell = %.3g R: candidates per neighbour", nb_cells[c]);
         TH_CHECK(st == SPH_OK, "status %d", st);
         TH_NEAR((double)pairs / n, 60, 0.05); /* the h above was chosen for 60 */
