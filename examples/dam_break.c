@@ -281,7 +281,7 @@ static void continuity(sim *s, const double *vel)
     }
 }
 
-/* Wall pressure (Adami et al. 2012, eq. 27, stationary wall, gravity (0, -g)):
+/* Wall pressure (Adami, Hu & Adams 2012, stationary wall, gravity (0, -g)):
  * p_w = (sum_f p_f W_wf + g . sum_f rho_f (x_w - x_f) W_wf) / sum_f W_wf,
  * each sum a Shepard interpolation (O3, V = 1) over the fluid neighbours;
  * clamped at 0 (no suction) and turned into a density by the inverse EOS. */
@@ -672,7 +672,7 @@ int main(int argc, char **argv)
     pm.tank = 10;
     pm.skin = 0.25;
     pm.a = 0.05715;
-    pm.out = "build/dam_break";
+    pm.out = "build/dam_break_out";
     pm.vtk_every = 500;
     opt[0].integer = &pm.res;
     opt[1].real = &pm.end_tau;
