@@ -9,7 +9,7 @@ set grid
 sim(r, n2) = sprintf("%s/res%d/dam_break_n2-%d.csv", simdir, r, n2)
 
 set output outdir."/dam_break_front.png"
-set title "Surge front: SPH against Martin & Moyce (1952)"
+set title "Surge front: SPH against Martin and Moyce (1952)"
 set xlabel "T = n t sqrt(g/a)"
 set ylabel "Z = z / a"
 set key top left
@@ -23,7 +23,7 @@ plot datadir."/mm1952_n2-2_a2.25in_front_table2.csv" using 1:2 with points pt 7 
      sim(res2, 1) using 2:3 with lines lw 2 dt 2 lc rgb "#d62728" title sprintf("SPH a x a, %d across a", res2)
 
 set output outdir."/dam_break_height.png"
-set title "Residual column height at the back wall: SPH against Martin & Moyce (1952)"
+set title "Residual column height at the back wall: SPH against Martin and Moyce (1952)"
 set xlabel "tau = t sqrt(g/a)"
 set ylabel "H = eta / (n^2 a)"
 set key top right
