@@ -3,6 +3,7 @@
 #                   C++/nvcc/CMake compile checks; ends with "N passed, N failed"
 #   make demo       builds and runs the main example
 #   make plots      redraws the PNG plots in docs/ (needs gnuplot)
+#   make report     error against run time of every operator: docs/report.md, docs/report/
 #   make install PREFIX=/usr/local   header + pkg-config file
 CC      ?= cc
 CFLAGS  ?= -O2 -std=c99 -Wall -Wextra -pedantic -Werror
@@ -11,7 +12,7 @@ PREFIX  ?= /usr/local
 VERSION := $(shell sed -n 's/^\#define SPH_KERNEL_VERSION_STRING "\(.*\)"/\1/p' sph_kernel.h)
 BUILD   := build
 
-.PHONY: all test demo plots install uninstall clean
+.PHONY: all test demo plots install uninstall clean report report-full plots-report report-plots-if-gnuplot
 
 all: $(BUILD)/kernel_table $(BUILD)/kernel_plots $(BUILD)/quickstart
 
@@ -26,7 +27,7 @@ demo: $(BUILD)/kernel_table
 	./$(BUILD)/kernel_table
 
 # Data from examples/kernel_plots.c into build/plots, PNGs into docs/plots.
-plots: $(BUILD)/kernel_plots
+plots: $(BUILD)/kernel_plots plots-report
 	@command -v gnuplot > /dev/null 2>&1 || { \
 	    echo "make plots: gnuplot is not installed (Debian/Ubuntu: apt-get install gnuplot-nox);"; \
 	    echo "            the PNGs in docs/plots were left as they are."; exit 1; }
@@ -34,6 +35,37 @@ plots: $(BUILD)/kernel_plots
 	./$(BUILD)/kernel_plots $(BUILD)/plots
 	gnuplot -e "datadir='$(BUILD)/plots'; outdir='docs/plots'" docs/plots/kernels.gp
 	@ls docs/plots/*.png
+
+# Accuracy/cost report (report, report-full, plots-report): examples/error_vs_runtime.c
+# writes docs/report.md and the CSVs of docs/report/ (one OpenMP thread, so
+# times are per core); gnuplot draws the PNGs from the CSVs where it exists.
+REPORT_OMP := $(shell printf 'int main(void){return 0;}\n' | $(CC) -fopenmp -x c - -o /dev/null > /dev/null 2>&1 && echo -fopenmp)
+
+$(BUILD)/error_vs_runtime: examples/error_vs_runtime.c sph_kernel.h
+	@mkdir -p $(BUILD)
+	$(CC) $(CFLAGS) $(REPORT_OMP) -I. $< -o $@ $(LDLIBS)
+
+report: $(BUILD)/error_vs_runtime
+	@mkdir -p docs/report
+	OMP_NUM_THREADS=1 ./$(BUILD)/error_vs_runtime --out docs
+	@$(MAKE) --no-print-directory report-plots-if-gnuplot
+
+report-full: $(BUILD)/error_vs_runtime
+	@mkdir -p docs/report
+	OMP_NUM_THREADS=1 ./$(BUILD)/error_vs_runtime --full --out docs
+	@$(MAKE) --no-print-directory report-plots-if-gnuplot
+
+report-plots-if-gnuplot:
+	@if command -v gnuplot > /dev/null 2>&1; then $(MAKE) --no-print-directory plots-report; else \
+	    echo "make report: gnuplot is not installed (Debian/Ubuntu: apt-get install gnuplot-nox);"; \
+	    echo "             docs/report.md and the CSVs are new, the PNGs in docs/report were NOT redrawn."; fi
+
+plots-report:
+	@command -v gnuplot > /dev/null 2>&1 || { \
+	    echo "make plots-report: gnuplot is not installed (Debian/Ubuntu: apt-get install gnuplot-nox);"; \
+	    echo "                   the PNGs in docs/report were left as they are."; exit 1; }
+	gnuplot -e "dir='docs/report'" docs/report/report.gp
+	@ls docs/report/*.png
 
 install:
 	install -d $(DESTDIR)$(PREFIX)/include $(DESTDIR)$(PREFIX)/lib/pkgconfig
