@@ -3,6 +3,7 @@
 #                   C++/nvcc/CMake compile checks; ends with "N passed, N failed"
 #   make demo       builds and runs the main example
 #   make plots      redraws the PNG plots in docs/ (needs gnuplot)
+#   make report     error against run time of every operator: docs/report.md, docs/report/
 #   make install PREFIX=/usr/local   header + pkg-config file
 CC      ?= cc
 CFLAGS  ?= -O2 -std=c99 -Wall -Wextra -pedantic -Werror
@@ -10,8 +11,11 @@ LDLIBS  ?= -lm
 PREFIX  ?= /usr/local
 VERSION := $(shell sed -n 's/^\#define SPH_KERNEL_VERSION_STRING "\(.*\)"/\1/p' sph_kernel.h)
 BUILD   := build
+# -fopenmp where the compiler has it (examples run multi-threaded; results do
+# not depend on the thread count)
+OPENMP  := $(shell printf 'int main(void){return 0;}\n' | $(CC) -fopenmp -x c - -o /dev/null > /dev/null 2>&1 && echo -fopenmp)
 
-.PHONY: all test demo plots install uninstall clean
+.PHONY: all test demo plots install uninstall clean report report-full plots-report report-plots-if-gnuplot
 
 all: $(BUILD)/kernel_table $(BUILD)/kernel_plots $(BUILD)/quickstart
 
@@ -26,7 +30,7 @@ demo: $(BUILD)/kernel_table
 	./$(BUILD)/kernel_table
 
 # Data from examples/kernel_plots.c into build/plots, PNGs into docs/plots.
-plots: $(BUILD)/kernel_plots plots-dambreak
+plots: $(BUILD)/kernel_plots plots-dambreak plots-report
 	@command -v gnuplot > /dev/null 2>&1 || { \
 	    echo "make plots: gnuplot is not installed (Debian/Ubuntu: apt-get install gnuplot-nox);"; \
 	    echo "            the PNGs in docs/plots were left as they are."; exit 1; }
@@ -38,7 +42,6 @@ plots: $(BUILD)/kernel_plots plots-dambreak
 # Dam break example (examples/dam_break.c): run-dam-break, plots-dambreak.
 # Built with OpenMP when the compiler has it; the measurements are read from
 # ../shared/data/dam_break (or shared/data/dam_break; DAM_BREAK_DATA=dir overrides).
-DAM_BREAK_OMP := $(shell echo 'int main(void){return 0;}' | $(CC) -fopenmp -x c - -o /dev/null 2>/dev/null && echo -fopenmp)
 DAM_BREAK_DATA ?=
 # plots-dambreak runs on one thread: the run times it reports stay comparable on a
 # shared machine (results are the same for any thread count).
@@ -48,7 +51,7 @@ DAM_BREAK_ARGS := $(if $(DAM_BREAK_DATA),--data $(DAM_BREAK_DATA))
 
 $(BUILD)/dam_break: examples/dam_break.c examples/example_io.h sph_kernel.h
 	@mkdir -p $(BUILD)
-	$(CC) $(CFLAGS) $(DAM_BREAK_OMP) -I. $< -o $@ $(LDLIBS)
+	$(CC) $(CFLAGS) $(OPENMP) -I. $< -o $@ $(LDLIBS)
 
 run-dam-break: $(BUILD)/dam_break
 	./$(BUILD)/dam_break --out $(BUILD)/dam_break_out $(DAM_BREAK_ARGS)
@@ -63,6 +66,35 @@ plots-dambreak: $(BUILD)/dam_break
 	./$(BUILD)/dam_break $(DAM_BREAK_ARGS) --threads $(DAM_BREAK_THREADS) --res 40 --vtk-every 0 --out $(BUILD)/dam_break_out/res40 --summary docs/dam_break_resolution.md --report docs/dam_break_results.md
 	./$(BUILD)/dam_break $(DAM_BREAK_ARGS) --threads $(DAM_BREAK_THREADS) --res 60 --vtk-every 0 --out $(BUILD)/dam_break_out/res60 --summary docs/dam_break_resolution.md
 	gnuplot -e "datadir='$(or $(DAM_BREAK_DATA),$(firstword $(wildcard ../shared/data/dam_break shared/data/dam_break ../../shared/data/dam_break)))'; simdir='$(BUILD)/dam_break_out'; outdir='docs/plots'; res1=40; res2=60" docs/plots/dam_break.gp
+
+# Accuracy/cost report (report, report-full, plots-report): examples/error_vs_runtime.c
+# writes docs/report.md and the CSVs of docs/report/ (one OpenMP thread, so
+# times are per core); gnuplot draws the PNGs from the CSVs where it exists.
+$(BUILD)/error_vs_runtime: examples/error_vs_runtime.c sph_kernel.h
+	@mkdir -p $(BUILD)
+	$(CC) $(CFLAGS) $(OPENMP) -I. $< -o $@ $(LDLIBS)
+
+report: $(BUILD)/error_vs_runtime
+	@mkdir -p docs/report
+	OMP_NUM_THREADS=1 ./$(BUILD)/error_vs_runtime --out docs
+	@$(MAKE) --no-print-directory report-plots-if-gnuplot
+
+report-full: $(BUILD)/error_vs_runtime
+	@mkdir -p docs/report
+	OMP_NUM_THREADS=1 ./$(BUILD)/error_vs_runtime --full --out docs
+	@$(MAKE) --no-print-directory report-plots-if-gnuplot
+
+report-plots-if-gnuplot:
+	@if command -v gnuplot > /dev/null 2>&1; then $(MAKE) --no-print-directory plots-report; else \
+	    echo "make report: gnuplot is not installed (Debian/Ubuntu: apt-get install gnuplot-nox);"; \
+	    echo "             docs/report.md and the CSVs are new, the PNGs in docs/report were NOT redrawn."; fi
+
+plots-report:
+	@command -v gnuplot > /dev/null 2>&1 || { \
+	    echo "make plots-report: gnuplot is not installed (Debian/Ubuntu: apt-get install gnuplot-nox);"; \
+	    echo "                   the PNGs in docs/report were left as they are."; exit 1; }
+	gnuplot -e "dir='docs/report'" docs/report/report.gp
+	@ls docs/report/*.png
 
 install:
 	install -d $(DESTDIR)$(PREFIX)/include $(DESTDIR)$(PREFIX)/lib/pkgconfig
