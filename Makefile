@@ -30,7 +30,7 @@ demo: $(BUILD)/kernel_table
 	./$(BUILD)/kernel_table
 
 # Data from examples/kernel_plots.c into build/plots, PNGs into docs/plots.
-plots: $(BUILD)/kernel_plots plots-dambreak plots-report
+plots: $(BUILD)/kernel_plots plots-dambreak plots-report plots-flows
 	@command -v gnuplot > /dev/null 2>&1 || { \
 	    echo "make plots: gnuplot is not installed (Debian/Ubuntu: apt-get install gnuplot-nox);"; \
 	    echo "            the PNGs in docs/plots were left as they are."; exit 1; }
@@ -107,3 +107,24 @@ uninstall:
 
 clean:
 	rm -rf $(BUILD)
+
+# Flow examples: run-taylor-green, run-heat-conduction, plots-flows
+# (examples/taylor_green.c, examples/heat_conduction.c; docs/examples.md).
+.PHONY: run-taylor-green run-heat-conduction plots-flows
+
+$(BUILD)/flows/%: examples/%.c examples/example_io.h sph_kernel.h
+	@mkdir -p $(BUILD)/flows
+	$(CC) $(CFLAGS) $(OPENMP) -I. $< -o $@ $(LDLIBS)
+
+run-taylor-green: $(BUILD)/flows/taylor_green
+	./$(BUILD)/flows/taylor_green --out $(BUILD)/taylor_green
+
+run-heat-conduction: $(BUILD)/flows/heat_conduction
+	./$(BUILD)/flows/heat_conduction --out $(BUILD)/heat_conduction
+
+# The --study runs write docs/*_results.md and the CSVs the plots read (a few minutes).
+plots-flows: $(BUILD)/flows/taylor_green $(BUILD)/flows/heat_conduction
+	@command -v gnuplot > /dev/null 2>&1 || { echo "make plots-flows: gnuplot is not installed"; exit 1; }
+	./$(BUILD)/flows/taylor_green --study docs --out $(BUILD)/flows/data
+	./$(BUILD)/flows/heat_conduction --study docs --out $(BUILD)/flows/data
+	gnuplot -e "datadir='$(BUILD)/flows/data'; outdir='docs/plots'" docs/plots/flows.gp

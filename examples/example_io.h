@@ -199,4 +199,64 @@ static inline int ex_write_vtk(const char *path, sph_idx n, int dim, sph_view x,
     return fclose(out) == 0 ? 0 : -1;
 }
 
+/* ---- neighbour lists that follow moving particles ---- */
+
+/* The grid, its workspace and the CSR arrays of sph_nsearch (section 7 of
+ * sph_kernel.h), kept between steps and grown when a step needs more. */
+typedef struct {
+    sph_nsearch g;
+    void *work;
+    size_t work_bytes;
+    sph_off *offset;
+    sph_idx *index;
+    sph_idx n_targets_cap;
+    sph_off index_cap;
+    sph_neighbours list;
+} ex_neighbours;
+
+/* Rebuilds the gather lists (R = kappa h) of targets 0..nt-1 = the first nt
+ * of the ns sources at positions x (dim components), cells of kappa h / 2.
+ * Returns SPH_OK or the search's status (or SPH_ESIZE when out of memory). */
+static inline int ex_neighbours_update(ex_neighbours *L, int dim, sph_view x, sph_idx ns, sph_idx nt,
+                                       sph_real h, sph_real kappa, const sph_box *box)
+{
+    const sph_real cell = kappa * h / 2;
+    size_t bytes;
+    int st = sph_nsearch_workspace_size(dim, x, ns, sph_view_none(), cell, box, &bytes);
+    if (st != SPH_OK) return st;
+    if (bytes > L->work_bytes) {
+        free(L->work);
+        L->work = malloc(bytes);
+        L->work_bytes = L->work != NULL ? bytes : 0;
+        if (L->work == NULL) return SPH_ESIZE;
+    }
+    if (nt + 1 > L->n_targets_cap) {
+        free(L->offset);
+        L->offset = (sph_off *)malloc(sizeof(sph_off) * (size_t)(nt + 1));
+        L->n_targets_cap = L->offset != NULL ? nt + 1 : 0;
+        if (L->offset == NULL) return SPH_ESIZE;
+    }
+    if ((st = sph_nsearch_build(&L->g, dim, x, ns, sph_view_none(), cell, box, L->work, L->work_bytes)) != SPH_OK ||
+        (st = sph_nsearch_count(&L->g, x, nt, sph_view_none(), h, kappa, SPH_NSEARCH_GATHER, L->offset)) != SPH_OK)
+        return st;
+    if (L->offset[nt] > L->index_cap) {
+        free(L->index);
+        L->index_cap = L->offset[nt] + L->offset[nt] / 4 + 1;
+        L->index = (sph_idx *)malloc(sizeof(sph_idx) * (size_t)L->index_cap);
+        if (L->index == NULL) return L->index_cap = 0, SPH_ESIZE;
+    }
+    st = sph_nsearch_fill(&L->g, x, nt, sph_view_none(), h, kappa, SPH_NSEARCH_GATHER, L->offset, L->index,
+                          L->index_cap);
+    L->list = sph_nsearch_list(&L->g, nt, L->offset, L->index);
+    return st;
+}
+
+static inline void ex_neighbours_free(ex_neighbours *L)
+{
+    free(L->work);
+    free(L->offset);
+    free(L->index);
+    memset(L, 0, sizeof *L);
+}
+
 #endif
