@@ -11,7 +11,7 @@ PREFIX  ?= /usr/local
 VERSION := $(shell sed -n 's/^\#define SPH_KERNEL_VERSION_STRING "\(.*\)"/\1/p' sph_kernel.h)
 BUILD   := build
 
-.PHONY: all test demo plots install uninstall clean
+.PHONY: all test demo plots install uninstall clean stability
 
 all: $(BUILD)/kernel_table $(BUILD)/kernel_plots $(BUILD)/quickstart
 
@@ -34,6 +34,13 @@ plots: $(BUILD)/kernel_plots
 	./$(BUILD)/kernel_plots $(BUILD)/plots
 	gnuplot -e "datadir='$(BUILD)/plots'; outdir='docs/plots'" docs/plots/kernels.gp
 	@ls docs/plots/*.png
+
+# stability: builds examples/stability.c and rewrites docs/stability.md with
+# its measurements (a few minutes, one core: its scenes are small, threads would
+# not pay; `./build/stability --quick out.md` is a fast pass, `--check` the
+# short assertion run that `make test` does).
+stability: $(BUILD)/stability
+	./$(BUILD)/stability docs/stability.md
 
 install:
 	install -d $(DESTDIR)$(PREFIX)/include $(DESTDIR)$(PREFIX)/lib/pkgconfig
