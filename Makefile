@@ -15,7 +15,7 @@ BUILD   := build
 # not depend on the thread count)
 OPENMP  := $(shell printf 'int main(void){return 0;}\n' | $(CC) -fopenmp -x c - -o /dev/null > /dev/null 2>&1 && echo -fopenmp)
 
-.PHONY: all test demo plots install uninstall clean report report-full plots-report report-plots-if-gnuplot
+.PHONY: all test demo plots install uninstall clean stability report report-full plots-report report-plots-if-gnuplot
 
 all: $(BUILD)/kernel_table $(BUILD)/kernel_plots $(BUILD)/quickstart
 
@@ -95,6 +95,13 @@ plots-report:
 	    echo "                   the PNGs in docs/report were left as they are."; exit 1; }
 	gnuplot -e "dir='docs/report'" docs/report/report.gp
 	@ls docs/report/*.png
+
+# stability: builds examples/stability.c and rewrites docs/stability.md with
+# its measurements (a few minutes, one core: its scenes are small, threads would
+# not pay; `./build/stability --quick out.md` is a fast pass, `--check` the
+# short assertion run that `make test` does).
+stability: $(BUILD)/stability
+	./$(BUILD)/stability docs/stability.md
 
 install:
 	install -d $(DESTDIR)$(PREFIX)/include $(DESTDIR)$(PREFIX)/lib/pkgconfig
