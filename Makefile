@@ -11,7 +11,7 @@ PREFIX  ?= /usr/local
 VERSION := $(shell sed -n 's/^\#define SPH_KERNEL_VERSION_STRING "\(.*\)"/\1/p' sph_kernel.h)
 BUILD   := build
 
-.PHONY: all test demo plots install uninstall clean
+.PHONY: all test demo plots install uninstall clean fuzz
 
 all: $(BUILD)/kernel_table $(BUILD)/kernel_plots $(BUILD)/quickstart
 
@@ -46,3 +46,25 @@ uninstall:
 
 clean:
 	rm -rf $(BUILD)
+
+# ---- fuzz: operator and neighbour-search invariants (tests/fuzz_body.h) ----
+# make fuzz [FUZZ_SECONDS=60]: libFuzzer (clang -fsanitize=fuzzer,address,
+# undefined) when clang has it, otherwise the seeded random driver
+# tests/test_fuzz_seeded.c under ASan/UBSan, for FUZZ_SECONDS.
+FUZZ_SECONDS ?= 60
+fuzz:
+	@mkdir -p $(BUILD)/fuzz/corpus
+	@printf 'int LLVMFuzzerTestOneInput(const unsigned char *d, unsigned long n){(void)d;(void)n;return 0;}\n' > $(BUILD)/fuzz/probe.c
+	@if command -v clang > /dev/null 2>&1 && \
+	    clang -fsanitize=fuzzer $(BUILD)/fuzz/probe.c -o $(BUILD)/fuzz/probe > /dev/null 2>&1; then \
+	    echo "make fuzz: libFuzzer (clang -fsanitize=fuzzer,address,undefined), $(FUZZ_SECONDS) s"; \
+	    clang -std=c99 -O1 -g -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=all -I. \
+	        tests/fuzz_operators.c -o $(BUILD)/fuzz/fuzz_operators -lm && \
+	    ./$(BUILD)/fuzz/fuzz_operators -max_total_time=$(FUZZ_SECONDS) -max_len=256 \
+	        -artifact_prefix=$(BUILD)/fuzz/ $(BUILD)/fuzz/corpus; \
+	else \
+	    echo "make fuzz: libFuzzer not available; seeded random driver (ASan/UBSan), $(FUZZ_SECONDS) s"; \
+	    $(CC) -std=c99 -O1 -g -fsanitize=address,undefined -fno-sanitize-recover=all \
+	        tests/test_fuzz_seeded.c -o $(BUILD)/fuzz/test_fuzz_seeded -lm && \
+	    ./$(BUILD)/fuzz/test_fuzz_seeded $(FUZZ_SECONDS); \
+	fi
