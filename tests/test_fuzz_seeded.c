@@ -5,8 +5,8 @@
  * Each batch of cases is one harness case. */
 #include <time.h>
 
-/* The kernel read at run time keeps this build quick; tests/fuzz_operators.c
- * (libFuzzer) runs the default kernel-specialised loops. */
+/* The kernel read at run time keeps this build quick (tests/test_op_dispatch.c
+ * proves the kernel-specialised loops give the same bits). */
 #define SPH_OP_SPECIALISE 0
 #include "harness.h"
 #include "fuzz_body.h"
