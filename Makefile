@@ -15,7 +15,7 @@ BUILD   := build
 # not depend on the thread count)
 OPENMP  := $(shell printf 'int main(void){return 0;}\n' | $(CC) -fopenmp -x c - -o /dev/null > /dev/null 2>&1 && echo -fopenmp)
 
-.PHONY: all test demo plots install uninstall clean stability report report-full plots-report report-plots-if-gnuplot
+.PHONY: all test demo plots install uninstall clean fuzz stability report report-full plots-report report-plots-if-gnuplot
 
 all: $(BUILD)/kernel_table $(BUILD)/kernel_plots $(BUILD)/quickstart
 
@@ -135,3 +135,25 @@ plots-flows: $(BUILD)/flows/taylor_green $(BUILD)/flows/heat_conduction
 	./$(BUILD)/flows/taylor_green --study docs --out $(BUILD)/flows/data
 	./$(BUILD)/flows/heat_conduction --study docs --out $(BUILD)/flows/data
 	gnuplot -e "datadir='$(BUILD)/flows/data'; outdir='docs/plots'" docs/plots/flows.gp
+
+# ---- fuzz: operator and neighbour-search invariants (tests/fuzz_body.h) ----
+# make fuzz [FUZZ_SECONDS=60]: libFuzzer (clang -fsanitize=fuzzer,address,
+# undefined) when clang has it, otherwise the seeded random driver
+# tests/test_fuzz_seeded.c under ASan/UBSan, for FUZZ_SECONDS.
+FUZZ_SECONDS ?= 60
+fuzz:
+	@mkdir -p $(BUILD)/fuzz/corpus
+	@printf 'int LLVMFuzzerTestOneInput(const unsigned char *d, unsigned long n){(void)d;(void)n;return 0;}\n' > $(BUILD)/fuzz/probe.c
+	@if command -v clang > /dev/null 2>&1 && \
+	    clang -fsanitize=fuzzer $(BUILD)/fuzz/probe.c -o $(BUILD)/fuzz/probe > /dev/null 2>&1; then \
+	    echo "make fuzz: libFuzzer (clang -fsanitize=fuzzer,address,undefined), $(FUZZ_SECONDS) s"; \
+	    clang -std=c99 -O1 -g -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=all -I. \
+	        tests/fuzz_operators.c -o $(BUILD)/fuzz/fuzz_operators -lm && \
+	    ./$(BUILD)/fuzz/fuzz_operators -max_total_time=$(FUZZ_SECONDS) -max_len=256 \
+	        -artifact_prefix=$(BUILD)/fuzz/ $(BUILD)/fuzz/corpus; \
+	else \
+	    echo "make fuzz: libFuzzer not available; seeded random driver (ASan/UBSan), $(FUZZ_SECONDS) s"; \
+	    $(CC) -std=c99 -O1 -g -fsanitize=address,undefined -fno-sanitize-recover=all \
+	        tests/test_fuzz_seeded.c -o $(BUILD)/fuzz/test_fuzz_seeded -lm && \
+	    ./$(BUILD)/fuzz/test_fuzz_seeded $(FUZZ_SECONDS); \
+	fi
