@@ -498,6 +498,9 @@ SPH_API const sph__kdim *sph__prep(sph_kernel k, int dim, sph_real r, sph_real h
     if (kd == NULL || sph_check_h(h) != SPH_OK || !(r >= 0 && r <= SPH__REAL_MAX)) return NULL;
     *hinv = 1 / h;
     *q = r / h; /* one rounding: r = kappa h gives q = kappa exactly */
+    /* beyond the support (r / h may even overflow to Inf): q = kappa selects
+     * the zero row and keeps every product with q finite */
+    if (!(*q < sph__shapes[kd->shape].kappa)) *q = sph__shapes[kd->shape].kappa;
     return kd;
 }
 
