@@ -9,6 +9,7 @@
 #ifndef SPH_TEST_PARTICLES_H
 #define SPH_TEST_PARTICLES_H
 
+#include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
 
@@ -166,6 +167,26 @@ static inline int tp_brute_list(int dim, const sph_real *xt, int nt, const sph_r
     out->list.offset = out->offset;
     out->list.index = out->index;
     return 0;
+}
+
+/* Lattice second moment mu = -sum over offsets k != 0 of dx^d F(|k| dx, h)
+ * (k_x dx)^2 on a lattice of spacing dx: the factor by which every
+ * uncorrected operator differs from the exact derivative on a lattice (1 for
+ * the continuous kernel; docs/operators.md, "Consistency and truncation
+ * error"). From the scalar kernel function sph_kernel_f over integer offsets,
+ * independent of lists and operators. */
+static inline double tp_lattice_moment(sph_kernel k, int dim, double dx, double h)
+{
+    const int R = (int)(sph_kernel_support(k) * h / dx) + 1;
+    double m = 0;
+    int i, j, l;
+    for (i = -R; i <= R; ++i)
+        for (j = (dim > 1 ? -R : 0); j <= (dim > 1 ? R : 0); ++j)
+            for (l = (dim > 2 ? -R : 0); l <= (dim > 2 ? R : 0); ++l) {
+                const double r = dx * sqrt((double)(i * i + j * j + l * l));
+                m -= pow(dx, dim) * (double)sph_kernel_f(k, dim, (sph_real)r, (sph_real)h) * (i * dx) * (i * dx);
+            }
+    return m;
 }
 
 #endif

@@ -18,20 +18,6 @@
 
 static const double ORDER_LO = 1.8, ORDER_HI = 2.3;
 
-static double lattice_moment(sph_kernel k, int dim, double dx, double h)
-{
-    const int R = (int)(sph_kernel_support(k) * h / dx) + 1;
-    double m = 0;
-    int i, j, l;
-    for (i = -R; i <= R; ++i)
-        for (j = (dim > 1 ? -R : 0); j <= (dim > 1 ? R : 0); ++j)
-            for (l = (dim > 2 ? -R : 0); l <= (dim > 2 ? R : 0); ++l) {
-                const double r = dx * sqrt((double)(i * i + j * j + l * l));
-                m -= pow(dx, dim) * (double)sph_kernel_f(k, dim, (sph_real)r, (sph_real)h) * (i * dx) * (i * dx);
-            }
-    return m;
-}
-
 enum { Q_GRAD_STD, Q_GRAD_DIFF, Q_GRAD_SYM, Q_GRAD_CORR, Q_GRAD_PRES, Q_DIV_STD, Q_DIV_DIFF, Q_DIV_CORR,
        Q_CURL_STD, Q_CURL_DIFF, Q_LAP, Q_COUNT };
 static const char *q_name[Q_COUNT] = {"grad standard", "grad difference", "grad symmetric", "grad corrected",
@@ -53,7 +39,7 @@ static void errors(sph_kernel k, int dim, int n, double *e)
         box.periodic[a] = 1;
     }
     ts_lattice(&s, k, dim, n, 1.0 / n, 1.3, 0, 1, &box);
-    mu = lattice_moment(k, dim, s.dx, s.h);
+    mu = tp_lattice_moment(k, dim, s.dx, s.h);
     f = ts_vec(s.n), v = ts_vec(3 * s.n), w = ts_vec(3 * s.n), one = ts_vec(s.n);
     g = (double *)calloc((size_t)s.n * 3, sizeof(double));
     lap = (double *)calloc((size_t)s.n, sizeof(double));

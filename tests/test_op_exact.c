@@ -225,23 +225,6 @@ static void test_disordered(void)
     th_end();
 }
 
-/* -sum over lattice offsets k != 0 of dx^d F(|k| dx) (k_x dx)^2: the lattice
- * second moment (1 for the continuous kernel), from the scalar kernel function
- * sph_kernel_f over integer offsets (independent of lists and operators). */
-static double lattice_moment(sph_kernel k, int dim, double dx, double h)
-{
-    const int R = (int)(sph_kernel_support(k) * h / dx) + 1;
-    double m = 0;
-    int i, j, l;
-    for (i = -R; i <= R; ++i)
-        for (j = (dim > 1 ? -R : 0); j <= (dim > 1 ? R : 0); ++j)
-            for (l = (dim > 2 ? -R : 0); l <= (dim > 2 ? R : 0); ++l) {
-                const double r = dx * sqrt((double)(i * i + j * j + l * l));
-                m -= pow(dx, dim) * (double)sph_kernel_f(k, dim, (sph_real)r, (sph_real)h) * (i * dx) * (i * dx);
-            }
-    return m;
-}
-
 static void test_laplacian_lattice(void)
 {
     /* Interior of a perfect lattice, h/dx = 1.3: lap(g.x) = 0 (pair terms cancel
@@ -266,7 +249,7 @@ static void test_laplacian_lattice(void)
         st = sph_laplacian(&s.c, sph_view_soa(f, NULL, NULL), sph_view_none(), sph_out_soa(lf, NULL, NULL));
         st |= sph_laplacian(&s.c, sph_view_soa(q, NULL, NULL), sph_view_none(), sph_out_soa(lq, NULL, NULL));
         TH_CHECK(st == SPH_OK, "status %d", st);
-        mom = lattice_moment(k, dim, s.dx, s.h);
+        mom = tp_lattice_moment(k, dim, s.dx, s.h);
         TH_CHECK(fabs(mom - 1) < 0.05, "lattice moment %.6f", mom);
         scale = 2.0 / (s.h * s.h); /* size of the individual terms of lap f for |grad f| ~ 1 */
         for (i = 0; i < s.n; ++i) {
