@@ -422,9 +422,12 @@ static void progress(const char *what, int dim, sph_kernel k, double t0)
 
 static int arr_in(unsigned set, int arr) { return (set >> arr) & 1u; }
 
-/* sweep A: N in the list, h = h_over_dx dx for the cubic */
-static void sweep_a(table *t, const options *o, int dim, const int *Ns, int nN, double h_over_dx, int es0,
-                    unsigned arrs, double t0)
+/* The two sweeps over N in the list, for every kernel (at equal h and, from
+ * es0, at equal sigma) and arrangement in arrs:
+ *   'A': h = hval dx for the cubic (h -> 0 at fixed dx/h);
+ *   'B': h = hval for the cubic (dx/h -> 0 at fixed h). */
+static void sweep_n(table *t, const options *o, char which, int dim, const int *Ns, int nN, double hval,
+                    int es0, unsigned arrs, double t0)
 {
     int es, k, arr, i;
     for (k = 0; k < NK; ++k) {
@@ -434,33 +437,13 @@ static void sweep_a(table *t, const options *o, int dim, const int *Ns, int nN, 
                 double prev[NOP][NFIELD][2];
                 memset(prev, 0, sizeof prev);
                 for (i = 0; arr_in(arrs, arr) && i < nN; ++i) {
-                    const double h = kernel_h((sph_kernel)k, dim, h_over_dx / Ns[i], es);
-                    run_scene(t, o, 'A', es, dim, arr, Ns[i], (sph_kernel)k, h, h, prev);
+                    const double h = kernel_h((sph_kernel)k, dim, which == 'A' ? hval / Ns[i] : hval, es);
+                    run_scene(t, o, which, es, dim, arr, Ns[i], (sph_kernel)k, h,
+                              which == 'A' ? h : (1.0 / Ns[i]) / h, prev);
                 }
             }
         }
-        progress("sweep A", dim, (sph_kernel)k, t0);
-    }
-}
-
-/* sweep B: h fixed (for the cubic), N in the list */
-static void sweep_b(table *t, const options *o, int dim, const int *Ns, int nN, double h_ref, int es0,
-                    unsigned arrs, double t0)
-{
-    int es, k, arr, i;
-    for (k = 0; k < NK; ++k) {
-        for (es = k == SPH_KERNEL_CUBIC ? 0 : es0; es < 2; ++es) {
-            if (es == 1 && k == SPH_KERNEL_CUBIC) continue; /* equal sigma = equal h for the reference */
-            for (arr = 0; arr < NARR; ++arr) {
-                double prev[NOP][NFIELD][2];
-                memset(prev, 0, sizeof prev);
-                for (i = 0; arr_in(arrs, arr) && i < nN; ++i) {
-                    const double h = kernel_h((sph_kernel)k, dim, h_ref, es);
-                    run_scene(t, o, 'B', es, dim, arr, Ns[i], (sph_kernel)k, h, (1.0 / Ns[i]) / h, prev);
-                }
-            }
-        }
-        progress("sweep B", dim, (sph_kernel)k, t0);
+        progress(which == 'A' ? "sweep A" : "sweep B", dim, (sph_kernel)k, t0);
     }
 }
 
@@ -910,10 +893,10 @@ int main(int argc, char **argv)
         char la2[64], la3[64], lb2[64], lb3[64], lp2[96], lp3[96];
         fprintf(stderr, "error_vs_runtime: %s run, %d thread(s), %d / %d repeats\n", o.full ? "full" : "default", threads,
                 o.repeats, o.repeats_sweep);
-        sweep_a(&t, &o, 2, A2, na2, 1.3, 0, 15u, t0);
-        sweep_a(&t, &o, 3, a3, na3, 1.3, es_a3, s3arrs, t0);
-        sweep_b(&t, &o, 2, b2, nb2, 1.0 / 12, es_b, 15u, t0);
-        sweep_b(&t, &o, 3, b3, nb3, 1.0 / 8, es_b, s3arrs, t0);
+        sweep_n(&t, &o, 'A', 2, A2, na2, 1.3, 0, 15u, t0);
+        sweep_n(&t, &o, 'A', 3, a3, na3, 1.3, es_a3, s3arrs, t0);
+        sweep_n(&t, &o, 'B', 2, b2, nb2, 1.0 / 12, es_b, 15u, t0);
+        sweep_n(&t, &o, 'B', 3, b3, nb3, 1.0 / 8, es_b, s3arrs, t0);
         sweep_p(&t, &o, 2, np2, l2, nl2, 15u, t0);
         sweep_p(&t, &o, 3, np3, l3, nl3, p3arrs, t0);
         list_int(la2, sizeof la2, A2, na2), list_int(la3, sizeof la3, a3, na3);
