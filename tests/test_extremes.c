@@ -53,6 +53,12 @@ typedef struct {
     xo_in in;
 } xs;
 
+/* Two particles that see each other whatever their distance (the reference
+ * search would leave out a pair at r >= kappa h): the full 2 x 2 list. */
+static const sph_off xs_pair_off[3] = {0, 2, 4};
+static const sph_idx xs_pair_idx[4] = {0, 1, 0, 1};
+static const sph_neighbours xs_pair_list = {2, 2, xs_pair_off, xs_pair_idx};
+
 static void xs_make(xs *s, sph_kernel k, int dim, int n, const sph_real *x, double h, double vol)
 {
     int i, a;
@@ -262,11 +268,7 @@ static void test_support_edge(void)
         xs_make(&s, K(k), 1, 2, x, h, 1);
         /* the reference list leaves it out (r < kappa h fails): put it in by hand */
         {
-            sph_off off[3] = {0, 2, 4};
-            sph_idx idx[4] = {0, 1, 0, 1};
-            sph_neighbours L;
-            L.n_targets = L.n_sources = 2, L.offset = off, L.index = idx;
-            s.c.list = &L;
+            s.c.list = &xs_pair_list;
             xo_alloc(&R, 2, 0);
             xo_run(&s.c, &s.in, &R);
             check_all_finite(&R, 1, "edge");
@@ -411,11 +413,7 @@ static void test_range_limits(void)
     x[0] = (sph_real)-x_ok, x[3] = (sph_real)x_ok;
     xs_make(&s, SPH_KERNEL_CUBIC, 3, 2, x, 1, 1);
     {
-        sph_off off[3] = {0, 2, 4};
-        sph_idx idx[4] = {0, 1, 0, 1};
-        sph_neighbours L;
-        L.n_targets = L.n_sources = 2, L.offset = off, L.index = idx;
-        s.c.list = &L;
+        s.c.list = &xs_pair_list;
         xo_alloc(&R, 2, 0);
         xo_run(&s.c, &s.in, &R);
         check_all_finite(&R, 3, "x far apart");
