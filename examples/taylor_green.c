@@ -15,18 +15,24 @@
  *   p_i = c0^2 (rho_i - rho0) + p_b         linear equation of state, c0 = 10 U
  * Default: the particles stay on their start positions (an Eulerian frame),
  * the convective terms -v.grad v and -v.grad rho come from the gradient
- * operators (O17 / O5 / O7). --lagrangian moves the particles with the flow
- * instead (with particle shifting, --shift); the hyperbolic stagnation points
- * of this flow squeeze a lattice into lines within t ~ 0.2, and the table in
- * docs shows what that does to standard WCSPH.
+ * operators (O17 / O5 / O7). --lagrangian moves the particles with the
+ * transport-velocity formulation of Adami, Hu & Adams (2013, J. Comput.
+ * Phys. 241, 292-307): density by summation (O2), particles advected with
+ * v~ = v + (dt/2) b, b the background-pressure term, and the extra momentum
+ * term of A = rho v (v~ - v) (tg_tvf_pairs); h = 2 dx by default there.
+ * --lagrangian --plain is standard WCSPH on moving particles (continuity,
+ * particle shifting --shift): the hyperbolic stagnation points of this flow
+ * squeeze a lattice into lines within t ~ 0.2, and the table in docs shows
+ * what that does.
  * Symplectic kick-drift-kick (Adami et al. 2013 ordering): v by dt/2, x by dt,
  * rho by dt with the mid-step velocity, forces, v by dt/2;
- * dt = min(0.25 h / (c0 + U), 0.125 h^2 / nu). Neighbour lists from the
+ * dt = min(cfl h / (c0 + U), 0.125 h^2 / nu), cfl = 0.25. Neighbour lists from the
  * library's cell-list search in the periodic box (rebuilt every step when the
  * particles move).
  *
  *   ./taylor_green                    default run: 40 x 40, Wendland C2, pressure form, fixed particles
- *   ./taylor_green --check            short coarse run with validation bounds (make test)
+ *   ./taylor_green --lagrangian       moving particles (transport velocity)
+ *   ./taylor_green --check            short coarse runs (fixed, moving) with validation bounds (make test)
  *   ./taylor_green --study docs       resolution / kernel / scheme table into docs/
  */
 #include "example_io.h"
