@@ -7,16 +7,16 @@ set key top right
 set grid
 
 set output outdir.'/taylor_green_energy.png'
-set title "Taylor-Green vortex, Re = 100: kinetic energy (Wendland C2, pressure form)"
+set title "Taylor-Green vortex, Re = 100: kinetic energy (Wendland C2)"
 set xlabel "t U / L"
 set ylabel "E(t) / E(0)"
 set logscale y
-plot datadir.'/tg_48_wendland_c2_pressure_lattice.csv' every 8 using 1:3 with lines lw 2 lc rgb "black" title "exact exp(-16 pi^2 nu t)", \
-     datadir.'/tg_24_wendland_c2_pressure_lattice.csv' every 4 using 1:2 with points pt 6 title "24^2 fixed", \
-     datadir.'/tg_48_wendland_c2_pressure_lattice.csv' every 8 using 1:2 with points pt 7 ps 0.6 title "48^2 fixed", \
-     datadir.'/tg_32_cubic_pressure_lattice.csv' every 6 using 1:2 with points pt 4 title "32^2 fixed, cubic", \
-     datadir.'/tg_32_wendland_c2_pressure_perturbed.csv' every 6 using 1:2 with points pt 8 title "32^2 fixed, perturbed start", \
-     datadir.'/tg_32_wendland_c2_pressure_lattice_moving.csv' every 6 using 1:2 with lines lw 2 dt 2 title "32^2 moving + shifting"
+plot datadir.'/tg_48_wendland_c2_pressure_lattice_tvf.csv' every 8 using 1:3 with lines lw 2 lc rgb "black" title "exact exp(-16 pi^2 nu t)", \
+     datadir.'/tg_24_wendland_c2_pressure_lattice_tvf.csv' every 4 using 1:2 with points pt 6 title "24^2 moving, transport velocity", \
+     datadir.'/tg_48_wendland_c2_pressure_lattice_tvf.csv' every 8 using 1:2 with points pt 7 ps 0.6 title "48^2 moving, transport velocity", \
+     datadir.'/tg_32_wendland_c2_pressure_perturbed_tvf.csv' every 6 using 1:2 with points pt 8 title "32^2 moving, perturbed start", \
+     datadir.'/tg_48_wendland_c2_pressure_lattice.csv' every 8 using 1:2 with points pt 4 ps 0.6 title "48^2 fixed", \
+     datadir.'/tg_32_wendland_c2_pressure_lattice_plain.csv' every 6 using 1:2 with lines lw 2 dt 2 title "32^2 moving, plain + shifting"
 unset logscale y
 
 set output outdir.'/taylor_green_l2.png'
@@ -24,11 +24,12 @@ set title "Taylor-Green vortex: relative L2 velocity error"
 set ylabel "||v - v_exact|| / ||v_exact||"
 set logscale y
 set key top left
-plot datadir.'/tg_24_wendland_c2_pressure_lattice.csv' using 1:4 with lines lw 2 title "24^2 Wendland C2", \
-     datadir.'/tg_48_wendland_c2_pressure_lattice.csv' using 1:4 with lines lw 2 title "48^2 Wendland C2", \
-     datadir.'/tg_32_cubic_pressure_lattice.csv' using 1:4 with lines lw 2 title "32^2 cubic", \
-     datadir.'/tg_32_quintic_pressure_lattice.csv' using 1:4 with lines lw 2 title "32^2 quintic", \
-     datadir.'/tg_32_wendland_c2_pressure_perturbed.csv' using 1:4 with lines lw 2 title "32^2 perturbed start"
+plot datadir.'/tg_24_wendland_c2_pressure_lattice_tvf.csv' using 1:4 with lines lw 2 title "24^2 moving (transport velocity)", \
+     datadir.'/tg_32_wendland_c2_pressure_lattice_tvf.csv' using 1:4 with lines lw 2 title "32^2 moving", \
+     datadir.'/tg_48_wendland_c2_pressure_lattice_tvf.csv' using 1:4 with lines lw 2 title "48^2 moving", \
+     datadir.'/tg_32_wendland_c2_corrected_lattice_tvf.csv' using 1:4 with lines lw 2 title "32^2 moving, corrected", \
+     datadir.'/tg_48_wendland_c2_pressure_lattice.csv' using 1:4 with lines lw 2 title "48^2 fixed", \
+     datadir.'/tg_32_wendland_c2_pressure_lattice_plain.csv' using 1:4 with lines lw 2 dt 2 title "32^2 moving, plain + shifting"
 unset logscale y
 
 set output outdir.'/heat_two_layer.png'
