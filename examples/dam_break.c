@@ -236,9 +236,13 @@ static void delta(const sim *s, sph_idx i, sph_idx j, double *dx)
     dx[1] = s->x[2 * i + 1] - s->x[2 * j + 1];
 }
 
-/* W and F of every listed pair (O1), once per step for the three pair loops. */
+/* W and F of every listed pair (O1), once per step for the three pair loops.
+ * Wall-wall pairs are never used and pairs in the skin (beyond kappa h) have
+ * W = F = 0: both are set to 0 without evaluating the kernel (most of the
+ * listed pairs are one or the other). */
 static void pair_kernels(sim *s)
 {
+    const double rmax2 = s->kappa * s->h * s->kappa * s->h;
     sph_idx i;
 #ifdef _OPENMP
 #pragma omp parallel for schedule(static)
@@ -246,9 +250,14 @@ static void pair_kernels(sim *s)
     for (i = 0; i < s->n; ++i) {
         sph_off o;
         for (o = s->list.offset[i]; o < s->list.offset[i + 1]; ++o) {
+            const sph_idx j = s->list.index[o];
             double dx[2];
             sph_pair pr;
-            delta(s, i, s->list.index[o], dx);
+            delta(s, i, j, dx);
+            if ((i >= s->nf && j >= s->nf) || dx[0] * dx[0] + dx[1] * dx[1] >= rmax2) {
+                s->W[o] = s->F[o] = 0;
+                continue;
+            }
             pr = sph_pair_kernel(s->k, 2, dx, s->h);
             s->W[o] = pr.W;
             s->F[o] = pr.F;
