@@ -101,6 +101,13 @@ typedef struct {
     double *x, *v, *rho, *p, *P, *m, *acc, *drho, *vh;
     sph_kernel k;
     double kappa, alpha, delta;
+    double nu;     /* laminar kinematic viscosity (m^2/s), 0: none */
+    int noslip;    /* walls: 1 no-slip (viscous term with the extrapolated wall velocity), 0 free slip */
+    int front_k;   /* front: fluid neighbours a floor particle needs to count (measure) */
+    double *vw;    /* wall velocity for the viscous term (Adami et al. 2012) */
+    int stokes;    /* 1: friction of the unresolved laminar layer on the floor and back wall (wall_friction) */
+    int ncell;     /* floor cells of width dx ... */
+    double *wet;   /* ... and the time each got wet (-1: still dry) */
     /* neighbour search */
     sph_nsearch g;
     void *work;
@@ -155,6 +162,10 @@ static void setup(sim *s, int res, double a, double n2, double tank_len, double 
     s->P = (double *)xalloc(sizeof(double) * (size_t)s->n);
     s->m = (double *)xalloc(sizeof(double) * (size_t)s->n);
     s->drho = (double *)xalloc(sizeof(double) * (size_t)s->n);
+    s->vw = (double *)xalloc(2 * sizeof(double) * (size_t)s->n);
+    s->ncell = nfloor;
+    s->wet = (double *)xalloc(sizeof(double) * (size_t)nfloor);
+    for (i = 0; i < nfloor; ++i) s->wet[i] = i < nx ? 0 : -1; /* under the column: wet from the start */
     s->offset = (sph_off *)xalloc(sizeof(sph_off) * (size_t)(s->n + 1));
     s->x0 = (double *)xalloc(2 * sizeof(double) * (size_t)s->n);
     for (j = 0; j < ny; ++j)
@@ -293,15 +304,17 @@ static void continuity(sim *s, const double *vel)
 /* Wall pressure (Adami, Hu & Adams 2012, stationary wall, gravity (0, -g)):
  * p_w = (sum_f p_f W_wf + g . sum_f rho_f (x_w - x_f) W_wf) / sum_f W_wf,
  * each sum a Shepard interpolation (O3, V = 1) over the fluid neighbours;
- * clamped at 0 (no suction) and turned into a density by the inverse EOS. */
-static void wall_pressure(sim *s)
+ * clamped at 0 (no suction) and turned into a density by the inverse EOS.
+ * Wall velocity for the viscous term (same paper, no-slip at a wall at rest):
+ * v_w = -sum_f v_f W_wf / sum_f W_wf (fluid velocities vel). */
+static void wall_pressure(sim *s, const double *vel)
 {
     sph_idx w;
 #ifdef _OPENMP
 #pragma omp parallel for schedule(static)
 #endif
     for (w = s->nf; w < s->n; ++w) {
-        double sw = 0, sp = 0;
+        double sw = 0, sp = 0, su = 0, sv = 0;
         sph_off o;
         for (o = s->list.offset[w]; o < s->list.offset[w + 1]; ++o) {
             const sph_idx f = s->list.index[o];
@@ -310,8 +323,12 @@ static void wall_pressure(sim *s)
             delta(s, w, f, dx);
             sw += sph_pair_interpolate(1, 1, s->W[o]);
             sp += sph_pair_interpolate(1, s->p[f] - GRAV * s->rho[f] * dx[1], s->W[o]);
+            su += sph_pair_interpolate(1, vel[2 * f], s->W[o]);
+            sv += sph_pair_interpolate(1, vel[2 * f + 1], s->W[o]);
         }
         s->p[w] = sw > 0 && sp > 0 ? sp / sw : 0;
+        s->vw[2 * w] = sw > 0 ? -su / sw : 0;
+        s->vw[2 * w + 1] = sw > 0 ? -sv / sw : 0;
         s->rho[w] = tait_rho(s, s->p[w]);
         s->P[w] = sph_pressure_factor(s->p[w], s->rho[w]);
     }
@@ -320,7 +337,9 @@ static void wall_pressure(sim *s)
 /* Accelerations of the fluid: pressure (O8), Monaghan's artificial viscosity
  * Pi_ij = -alpha c0 h mu_ij / rho_ij, mu_ij = v_ij . x_ij / (r^2 + 0.01 h^2)
  * for approaching fluid pairs (also in the pressure form of (O8): it adds
- * m_j Pi_ij grad_i W_ij), gravity. Returns max |a|. */
+ * m_j Pi_ij grad_i W_ij), laminar viscosity nu lap v (Morris, Fox & Zhu 1997:
+ * (O12) per component, V_j = m_j / rho_j; with no-slip walls also over the
+ * wall particles with their velocity v_w), gravity. Returns max |a|. */
 static double momentum(sim *s, const double *vel)
 {
     double amax = 0;
@@ -329,13 +348,18 @@ static double momentum(sim *s, const double *vel)
 #pragma omp parallel for schedule(static) reduction(max : amax)
 #endif
     for (i = 0; i < s->nf; ++i) {
-        double acc[2] = {0, 0}, an;
+        double acc[2] = {0, 0}, visc[2] = {0, 0}, an;
         sph_off o;
         for (o = s->list.offset[i]; o < s->list.offset[i + 1]; ++o) {
             const sph_idx j = s->list.index[o];
             double dx[2], Pi = 0;
             if (j == i) continue;
             delta(s, i, j, dx);
+            if (s->nu > 0 && (j < s->nf || s->noslip)) {
+                const double *vj = j < s->nf ? vel + 2 * j : s->vw + 2 * j, Vj = s->m[j] / s->rho[j];
+                visc[0] += sph_pair_laplacian(Vj, vel[2 * i], vj[0], s->F[o]); /* (O12) */
+                visc[1] += sph_pair_laplacian(Vj, vel[2 * i + 1], vj[1], s->F[o]);
+            }
             if (j < s->nf) {
                 const double vr = (vel[2 * i] - vel[2 * j]) * dx[0] + (vel[2 * i + 1] - vel[2 * j + 1]) * dx[1];
                 if (vr < 0) {
@@ -345,12 +369,40 @@ static double momentum(sim *s, const double *vel)
             }
             sph_pair_grad_pressure(2, s->m[j], s->P[i] + 0.5 * Pi, s->P[j] + 0.5 * Pi, s->F[o], dx, acc);
         }
-        s->acc[2 * i] = -acc[0];
-        s->acc[2 * i + 1] = -acc[1] - GRAV;
+        s->acc[2 * i] = -acc[0] + s->nu * visc[0];
+        s->acc[2 * i + 1] = -acc[1] + s->nu * visc[1] - GRAV;
         an = sqrt(s->acc[2 * i] * s->acc[2 * i] + s->acc[2 * i + 1] * s->acc[2 * i + 1]);
         if (an > amax) amax = an;
     }
     return amax;
+}
+
+/* Wall friction of the laminar boundary layer the particles do not resolve
+ * (its thickness sqrt(pi nu t) stays far below dx over the run): Stokes'
+ * first problem (Schlichting, Boundary-Layer Theory, ch. 5) gives the wall
+ * shear stress tau_w = rho u sqrt(nu / (pi t_w)) of a layer that started
+ * t_w ago at slip velocity u. Each fluid particle whose centre lies within dx
+ * of the floor (back wall) takes its share tau_w dx / m of the stress on its
+ * strip, against its velocity along the wall; t_w is the time since the
+ * fluid reached the particle's floor cell (since the release for the back
+ * wall and the floor under the column), at least one time step. Only
+ * physical constants: nu (water) and the real scale a. */
+static void wall_friction(sim *s, const double *vel, double t, double dt)
+{
+    sph_idx i;
+    for (i = 0; i < s->nf; ++i) { /* floor cells reached by the fluid */
+        const int cell = (int)floor(s->x[2 * i] / s->dx);
+        if (s->x[2 * i + 1] < s->dx && cell >= 0 && cell < s->ncell && s->wet[cell] < 0) s->wet[cell] = t;
+    }
+    for (i = 0; i < s->nf; ++i) {
+        const double share = RHO0 * s->dx / s->m[i] * sqrt(s->nu / 3.14159265358979323846);
+        if (s->x[2 * i + 1] < s->dx) {
+            const int cell = (int)floor(s->x[2 * i] / s->dx);
+            const double age = cell >= 0 && cell < s->ncell && s->wet[cell] >= 0 ? t - s->wet[cell] : 0;
+            s->acc[2 * i] -= share * vel[2 * i] / sqrt(age > dt ? age : dt);
+        }
+        if (s->x[2 * i] < s->dx) s->acc[2 * i + 1] -= share * vel[2 * i + 1] / sqrt(t > dt ? t : dt);
+    }
 }
 
 static void fluid_pressure(sim *s)
@@ -362,18 +414,33 @@ static void fluid_pressure(sim *s)
     }
 }
 
-/* Surge front x/a (furthest fluid particle plus half a spacing) and residual
- * height at the back wall eta / (n^2 a) (highest fluid particle within two
- * spacings of the wall plus half a spacing). */
-static void measure(const sim *s, double *Z, double *H)
+/* Fluid neighbours of fluid particle i inside the kernel support (W > 0). */
+static int fluid_neighbours(const sim *s, sph_idx i)
 {
-    double xf = 0, yh = 0;
+    int c = 0;
+    sph_off o;
+    for (o = s->list.offset[i]; o < s->list.offset[i + 1]; ++o)
+        c += s->list.index[o] != i && s->list.index[o] < s->nf && s->W[o] > 0;
+    return c;
+}
+
+/* Surge front x/a: the furthest fluid particle lying on the floor (centre
+ * within 2 spacings of it) with at least front_k fluid neighbours in its
+ * kernel support, plus half a spacing; drops and thin spray that have left the
+ * layer do not count. Zraw: the furthest fluid particle plus half a spacing.
+ * Residual height at the back wall eta / (n^2 a): highest fluid particle
+ * within two spacings of the wall plus half a spacing. */
+static void measure(const sim *s, double *Z, double *Zraw, double *H)
+{
+    double xf = 0, xr = 0, yh = 0;
     sph_idx i;
     for (i = 0; i < s->nf; ++i) {
-        if (s->x[2 * i] > xf) xf = s->x[2 * i];
+        if (s->x[2 * i] > xr) xr = s->x[2 * i];
+        if (s->x[2 * i] > xf && s->x[2 * i + 1] < 2 * s->dx && fluid_neighbours(s, i) >= s->front_k) xf = s->x[2 * i];
         if (s->x[2 * i] < 2 * s->dx && s->x[2 * i + 1] > yh) yh = s->x[2 * i + 1];
     }
     *Z = (xf + 0.5 * s->dx) / s->a;
+    *Zraw = (xr + 0.5 * s->dx) / s->a;
     *H = (yh + 0.5 * s->dx) / (s->n2 * s->a);
 }
 
@@ -398,33 +465,35 @@ static void write_vtk(const sim *s, const char *dir, int frame)
 /* ---- one simulation ---- */
 
 typedef struct {
-    int res, vtk_every;
-    double end_tau, tank, hfac, alpha, delta, a, skin;
+    int res, vtk_every, noslip, front_k, stokes;
+    double end_tau, tank, hfac, alpha, delta, a, skin, nu;
     const char *kernel, *out;
 } params;
 
 typedef struct {
     int n, cap;
-    double *tau, *Z, *H;
+    double *tau, *Z, *Zraw, *H;
     int particles, fluid;
     long steps, searches;
     double seconds;
 } history;
 
-static void history_push(history *h, double tau, double Z, double H)
+static void history_push(history *h, double tau, double Z, double Zraw, double H)
 {
     if (h->n == h->cap) {
         h->cap = h->cap ? 2 * h->cap : 1024;
         h->tau = (double *)realloc(h->tau, sizeof(double) * (size_t)h->cap);
         h->Z = (double *)realloc(h->Z, sizeof(double) * (size_t)h->cap);
+        h->Zraw = (double *)realloc(h->Zraw, sizeof(double) * (size_t)h->cap);
         h->H = (double *)realloc(h->H, sizeof(double) * (size_t)h->cap);
-        if (!h->tau || !h->Z || !h->H) {
+        if (!h->tau || !h->Z || !h->Zraw || !h->H) {
             fprintf(stderr, "dam_break: out of memory\n");
             exit(2);
         }
     }
     h->tau[h->n] = tau;
     h->Z[h->n] = Z;
+    h->Zraw[h->n] = Zraw;
     h->H[h->n] = H;
     ++h->n;
 }
@@ -434,7 +503,7 @@ static void run(const params *pm, double n2, history *hist, int quiet)
 {
     sim s;
     const double tscale = sqrt(pm->a / GRAV); /* tau = t / tscale */
-    double t = 0, amax, dt, Z, H;
+    double t = 0, amax, dt, Z, Zraw, H;
     long step = 0;
     int frame = 0;
     char label[64];
@@ -444,6 +513,10 @@ static void run(const params *pm, double n2, history *hist, int quiet)
     s.k = (sph_kernel)sph_kernel_from_name(pm->kernel);
     s.kappa = sph_kernel_support(s.k);
     s.alpha = pm->alpha;
+    s.nu = pm->nu;
+    s.noslip = pm->noslip;
+    s.front_k = pm->front_k;
+    s.stokes = pm->stokes;
     s.delta = pm->delta;
     s.skin = pm->skin;
     setup(&s, pm->res, pm->a, n2, pm->tank * pm->a, pm->hfac);
@@ -453,10 +526,10 @@ static void run(const params *pm, double n2, history *hist, int quiet)
     search(&s);
     pair_kernels(&s);
     fluid_pressure(&s);
-    wall_pressure(&s);
+    wall_pressure(&s, s.v);
     amax = momentum(&s, s.v);
-    measure(&s, &Z, &H);
-    history_push(hist, 0, Z, H);
+    measure(&s, &Z, &Zraw, &H);
+    history_push(hist, 0, Z, Zraw, H);
     if (pm->out && pm->vtk_every > 0) write_vtk(&s, pm->out, frame++);
     while (t < pm->end_tau * tscale) {
         double vmax = 0;
@@ -468,6 +541,7 @@ static void run(const params *pm, double n2, history *hist, int quiet)
         if (amax > 0 && 0.25 * sqrt(s.h / amax) < dt) dt = 0.25 * sqrt(s.h / amax); /* force */
         if (s.alpha > 0 && 0.125 * 8 * s.h / (s.alpha * s.c0) < dt)            /* viscous: nu = alpha h c0 / 8 */
             dt = 0.125 * 8 * s.h / (s.alpha * s.c0);
+        if (s.nu > 0 && 0.125 * s.h * s.h / s.nu < dt) dt = 0.125 * s.h * s.h / s.nu; /* laminar viscous */
         for (i = 0; i < s.nf; ++i) { /* kick, drift */
             s.vh[2 * i] = s.v[2 * i] + 0.5 * dt * s.acc[2 * i];
             s.vh[2 * i + 1] = s.v[2 * i + 1] + 0.5 * dt * s.acc[2 * i + 1];
@@ -479,20 +553,21 @@ static void run(const params *pm, double n2, history *hist, int quiet)
         continuity(&s, s.vh); /* density at the new positions with the mid-step velocity */
         for (i = 0; i < s.nf; ++i) s.rho[i] += dt * s.drho[i];
         fluid_pressure(&s);
-        wall_pressure(&s);
+        wall_pressure(&s, s.vh);
         amax = momentum(&s, s.vh);
+        if (s.stokes) wall_friction(&s, s.vh, t + dt, dt);
         for (i = 0; i < s.nf; ++i) { /* kick */
             s.v[2 * i] = s.vh[2 * i] + 0.5 * dt * s.acc[2 * i];
             s.v[2 * i + 1] = s.vh[2 * i + 1] + 0.5 * dt * s.acc[2 * i + 1];
         }
         t += dt;
         ++step;
-        measure(&s, &Z, &H);
+        measure(&s, &Z, &Zraw, &H);
         if (!(Z == Z) || !(H == H)) {
             fprintf(stderr, "dam_break: non-finite state at step %ld\n", step);
             exit(2);
         }
-        history_push(hist, t / tscale, Z, H);
+        history_push(hist, t / tscale, Z, Zraw, H);
         if (pm->out && pm->vtk_every > 0 && step % pm->vtk_every == 0) write_vtk(&s, pm->out, frame++);
         if (!quiet) ex_progress_update(&prog, label, t / (pm->end_tau * tscale));
     }
@@ -500,7 +575,7 @@ static void run(const params *pm, double n2, history *hist, int quiet)
     hist->steps = step;
     hist->searches = s.searches;
     hist->seconds = ex_now() - prog.start;
-    free(s.x), free(s.v), free(s.vh), free(s.acc), free(s.rho), free(s.p), free(s.P), free(s.m), free(s.drho);
+    free(s.x), free(s.v), free(s.vh), free(s.acc), free(s.rho), free(s.p), free(s.P), free(s.m), free(s.drho), free(s.vw), free(s.wet);
     free(s.offset), free(s.index), free(s.work), free(s.W), free(s.F), free(s.x0);
 }
 
@@ -554,21 +629,41 @@ static double deviation(const series *m, const double *tau, const double *val, i
 }
 
 /* First time at which the simulated front reaches Z (NAN if it never does). */
-static double reach_time(const history *h, double Z)
+static double reach_time(const history *h, const double *val, double Z)
 {
     int k;
     for (k = 1; k < h->n; ++k)
-        if (h->Z[k] >= Z) return h->tau[k - 1] + (h->tau[k] - h->tau[k - 1]) * (Z - h->Z[k - 1]) / (h->Z[k] - h->Z[k - 1]);
+        if (val[k] >= Z) return h->tau[k - 1] + (h->tau[k] - h->tau[k - 1]) * (Z - val[k - 1]) / (val[k] - val[k - 1]);
     return NAN;
 }
 
-/* Prints (and writes to md, when not NULL, as a markdown table) simulated
- * against measured values at the measured times; returns the largest deviation. */
-static double compare(FILE *md, const char *what, double n, const series *m, const history *h, const double *val)
+/* Median of x[0..n-1] (n <= 64; x is reordered). */
+static double median(double *x, int n)
 {
+    int i, j;
+    for (i = 1; i < n; ++i)
+        for (j = i; j > 0 && x[j] < x[j - 1]; --j) {
+            const double t = x[j];
+            x[j] = x[j - 1];
+            x[j - 1] = t;
+        }
+    return n == 0 ? NAN : n % 2 ? x[n / 2] : 0.5 * (x[n / 2 - 1] + x[n / 2]);
+}
+
+/* Prints (and writes to md, when not NULL, as a markdown table) simulated
+ * against measured values at the measured times; returns the largest
+ * deviation. For the front also: the median lag (measured time minus the
+ * time the simulated front reached the same Z, in T and in milliseconds for
+ * the column width a) and the largest deviation of the front taken as the
+ * furthest particle (no layer condition). */
+static double compare(FILE *md, const char *what, double n, double a, const series *m, const history *h,
+                      const double *val)
+{
+    double lags[64];
+    int nlag = 0;
     double lo, hi, worst;
     int k, count;
-    const int front = val == h->Z;
+    const int front = val != h->H;
     worst = deviation(m, h->tau, val, h->n, &lo, &hi, &count);
     printf("  %s (%d points, tau = %.3g .. %.3g):\n", what, count, lo, hi);
     printf("    %8s %8s %10s %10s %8s %s\n", "tau", "T", "measured", "simulated", "dev %", front ? "  lag T" : "");
@@ -581,16 +676,33 @@ static double compare(FILE *md, const char *what, double n, const series *m, con
         sim = interp(h->tau, val, h->n, m->tau[k]);
         printf("    %8.3f %8.3f %10.3f %10.3f %8.1f", m->tau[k], n * m->tau[k], m->val[k], sim,
                100 * (sim - m->val[k]) / m->val[k]);
-        if (front) printf(" %8.3f", n * (m->tau[k] - reach_time(h, m->val[k])));
+        if (front) {
+            lags[nlag] = n * (m->tau[k] - reach_time(h, val, m->val[k]));
+            printf(" %8.3f", lags[nlag]);
+            nlag += lags[nlag] == lags[nlag];
+        }
         printf("\n");
         if (md) {
             fprintf(md, "| %.3f | %.3f | %.3f | %.3f | %+.1f %% |", m->tau[k], n * m->tau[k], m->val[k], sim,
                     100 * (sim - m->val[k]) / m->val[k]);
-            if (front) fprintf(md, " %.3f |", n * (m->tau[k] - reach_time(h, m->val[k])));
+            if (front) fprintf(md, " %.3f |", n * (m->tau[k] - reach_time(h, val, m->val[k])));
             fprintf(md, "\n");
         }
     }
     printf("    largest deviation %.1f %%\n", 100 * worst);
+    if (front) {
+        double lo2, hi2, lag;
+        int count2;
+        const double raw = deviation(m, h->tau, h->Zraw, h->n, &lo2, &hi2, &count2);
+        lag = median(lags, nlag);
+        printf("    median lag %.3f in T = %.1f ms; front as the furthest particle: largest deviation %.1f %%\n", lag,
+               1e3 * lag / n * sqrt(a / GRAV), 100 * raw);
+        if (md)
+            fprintf(md, "\nLargest deviation %.1f %%. Median lag %.3f in T (%.1f ms). The front taken as the furthest "
+                        "particle (no layer condition): largest deviation %.1f %%.\n",
+                    100 * worst, lag, 1e3 * lag / n * sqrt(a / GRAV), 100 * raw);
+    } else if (md)
+        fprintf(md, "\nLargest deviation %.1f %%.\n", 100 * worst);
     return count > 0 ? worst : NAN;
 }
 
@@ -669,6 +781,12 @@ int main(int argc, char **argv)
          NULL, NULL},
         {"report", "write the comparison tables as markdown to this file", NULL, NULL, NULL, NULL},
         {"summary", "append one line of largest deviations (markdown table row) to this file", NULL, NULL, NULL, NULL},
+        {"nu", "laminar kinematic viscosity in m^2/s (water 1e-6; 0: none)", NULL, NULL, NULL, NULL},
+        {"noslip", "walls: 1 no-slip (viscous term over wall particles), 0 free slip", NULL, NULL, NULL, NULL},
+        {"front-k", "fluid neighbours a floor particle needs to count as the front (0: furthest particle)", NULL,
+         NULL, NULL, NULL},
+        {"stokes", "1: friction of the unresolved laminar wall layer (Stokes' first problem, needs --nu)", NULL,
+         NULL, NULL, NULL},
         {"check", "coarse short run (res 20, tau <= 2.4) against loose bounds; exit 1 on a miss", NULL, NULL, NULL,
          NULL},
     };
@@ -683,6 +801,10 @@ int main(int argc, char **argv)
     pm.a = 0.05715;
     pm.out = "build/dam_break_out";
     pm.vtk_every = 500;
+    pm.nu = 1e-6;
+    pm.noslip = 0;
+    pm.front_k = 4;
+    pm.stokes = 1;
     opt[0].integer = &pm.res;
     opt[1].real = &pm.end_tau;
     opt[2].integer = &columns;
@@ -699,7 +821,11 @@ int main(int argc, char **argv)
     opt[13].text = &data;
     opt[14].text = &report;
     opt[15].text = &summary;
-    opt[16].flag = &check;
+    opt[16].real = &pm.nu;
+    opt[17].integer = &pm.noslip;
+    opt[18].integer = &pm.front_k;
+    opt[19].integer = &pm.stokes;
+    opt[20].flag = &check;
     c = ex_parse(argc, argv, "2-D SPH dam break against Martin & Moyce (1952)", opt,
                  (int)(sizeof opt / sizeof opt[0]));
     if (c != 0) return c > 0 ? 0 : 2;
@@ -711,7 +837,8 @@ int main(int argc, char **argv)
         if (threads == 0) threads = 1; /* the bound is on one core; a loaded machine slows OpenMP barriers badly */
     }
     if (sph_kernel_from_name(pm.kernel) < 0 || pm.res < 4 || !(pm.end_tau > 0) || !(pm.hfac > 0.5) ||
-        !(pm.tank >= 2) || !(pm.skin >= 0) || !(pm.a > 0) || (columns != 0 && columns != 1 && columns != 2)) {
+        !(pm.tank >= 2) || !(pm.skin >= 0) || !(pm.a > 0) || !(pm.nu >= 0) || pm.front_k < 0 ||
+        (pm.noslip && pm.stokes) || (columns != 0 && columns != 1 && columns != 2)) {
         fprintf(stderr, "dam_break: bad parameter (try --help)\n");
         return 2;
     }
@@ -763,8 +890,8 @@ int main(int argc, char **argv)
                         n2, n2, hist[c].particles, hist[c].fluid, hist[c].steps, hist[c].seconds, threads);
         if (pm.out) write_csv(pm.out, &ex[c], &hist[c]);
         if (!ex[c].have) continue;
-        dev[c][0] = compare(md, "surge front Z = z/a", sqrt(n2), &ex[c].front, &hist[c], hist[c].Z);
-        dev[c][1] = compare(md, "residual height H = eta/(n^2 a)", sqrt(n2), &ex[c].height, &hist[c], hist[c].H);
+        dev[c][0] = compare(md, "surge front Z = z/a", sqrt(n2), pm.a, &ex[c].front, &hist[c], hist[c].Z);
+        dev[c][1] = compare(md, "residual height H = eta/(n^2 a)", sqrt(n2), pm.a, &ex[c].height, &hist[c], hist[c].H);
     }
     if (md) fclose(md);
     if (summary) {
@@ -781,12 +908,12 @@ int main(int argc, char **argv)
         }
     }
     if (check) {
-        /* Loose bounds at res 20, tau <= 2.4 (measured there: front 16.7 % and
-         * 13.6 % ahead of the experiment, height within 2.3 % and 3.6 %; the
-         * converged front leads Martin & Moyce's, see docs/examples.md): the
-         * front of both columns within 25 %, the heights within 8 %. A broken
-         * pressure force, wall or time step misses these by far. */
-        const double bound[2][2] = {{0.25, 0.08}, {0.25, 0.08}};
+        /* Loose bounds at res 20, tau <= 2.4 (measured there: front 16.5 % and
+         * 12.1 % ahead of the experiment at its worst, early in the surge;
+         * height within 3.7 % and 2.9 %; docs/examples.md explains the early
+         * lead): the fronts within 20 % and 16 %, the heights within 6 %. A
+         * broken pressure force, wall, friction or time step misses these. */
+        const double bound[2][2] = {{0.20, 0.06}, {0.16, 0.06}};
         for (c = 0; c < 2; ++c) {
             int q;
             for (q = 0; q < 2; ++q) {
@@ -799,6 +926,6 @@ int main(int argc, char **argv)
         }
         printf("dam_break --check: %s\n", fail ? "FAILED" : "passed");
     }
-    for (c = 0; c < 2; ++c) free(hist[c].tau), free(hist[c].Z), free(hist[c].H);
+    for (c = 0; c < 2; ++c) free(hist[c].tau), free(hist[c].Z), free(hist[c].Zraw), free(hist[c].H);
     return fail;
 }
