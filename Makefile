@@ -56,15 +56,18 @@ $(BUILD)/dam_break: examples/dam_break.c examples/example_io.h sph_kernel.h
 run-dam-break: $(BUILD)/dam_break
 	./$(BUILD)/dam_break --out $(BUILD)/dam_break_out $(DAM_BREAK_ARGS)
 
-# Runs 20, 40 (default) and 60 particles across the column: comparison tables
+# Runs 20, 30, 40 (default) and 60 (a x 2a only) particles across the column,
+# and 40 without the wall-friction model: comparison tables
 # (docs/dam_break_results.md), resolution table (docs/dam_break_resolution.md),
 # front and height plots (docs/plots/dam_break_*.png).
 plots-dambreak: $(BUILD)/dam_break
 	@command -v gnuplot > /dev/null 2>&1 || { echo "make plots-dambreak: gnuplot is not installed"; exit 1; }
 	rm -f docs/dam_break_resolution.md
 	./$(BUILD)/dam_break $(DAM_BREAK_ARGS) --threads $(DAM_BREAK_THREADS) --res 20 --vtk-every 0 --out $(BUILD)/dam_break_out/res20 --summary docs/dam_break_resolution.md
+	./$(BUILD)/dam_break $(DAM_BREAK_ARGS) --threads $(DAM_BREAK_THREADS) --res 30 --vtk-every 0 --out $(BUILD)/dam_break_out/res30 --summary docs/dam_break_resolution.md
 	./$(BUILD)/dam_break $(DAM_BREAK_ARGS) --threads $(DAM_BREAK_THREADS) --res 40 --vtk-every 0 --out $(BUILD)/dam_break_out/res40 --summary docs/dam_break_resolution.md --report docs/dam_break_results.md
-	./$(BUILD)/dam_break $(DAM_BREAK_ARGS) --threads $(DAM_BREAK_THREADS) --res 60 --vtk-every 0 --out $(BUILD)/dam_break_out/res60 --summary docs/dam_break_resolution.md
+	./$(BUILD)/dam_break $(DAM_BREAK_ARGS) --threads $(DAM_BREAK_THREADS) --res 60 --column 2 --vtk-every 0 --out $(BUILD)/dam_break_out/res60 --summary docs/dam_break_resolution.md
+	./$(BUILD)/dam_break $(DAM_BREAK_ARGS) --threads $(DAM_BREAK_THREADS) --res 40 --stokes 0 --vtk-every 0 --out $(BUILD)/dam_break_out/res40_nofriction --summary docs/dam_break_resolution.md
 	gnuplot -e "datadir='$(or $(DAM_BREAK_DATA),$(firstword $(wildcard ../shared/data/dam_break shared/data/dam_break ../../shared/data/dam_break)))'; simdir='$(BUILD)/dam_break_out'; outdir='docs/plots'; res1=40; res2=60" docs/plots/dam_break.gp
 
 # Accuracy/cost report (report, report-full, plots-report): examples/error_vs_runtime.c
