@@ -29,7 +29,12 @@
  * about 25 % pairs, and the particles move at most 0.05 h per step (CFL with
  * c0 >= 5 |v|), so the lists last a few steps. --skin 0 searches every step.
  *
- * Usage: dam_break [--res 40] [--end 3.5] [--out build/dam_break] ...; --help
+ * OpenMP: on a machine whose cores are busy with other work, run with
+ * OMP_WAIT_POLICY=passive (make run-dam-break does): threads spinning at the
+ * barriers of the pair loops made a 2-thread run 5-6 times slower than one
+ * thread there (measured; passive: faster than one thread).
+ *
+ * Usage: dam_break [--res 30] [--end 3.5] [--out build/dam_break] ...; --help
  * lists every option. --check runs a coarse short case against loose bounds. */
 #include "example_io.h"
 
@@ -664,7 +669,7 @@ static double median(double *x, int n)
  * the column width a) and the largest deviation of the front taken as the
  * furthest particle (no layer condition). */
 static double compare(FILE *md, const char *what, double n, double a, const series *m, const history *h,
-                      const double *val)
+                      const double *val, double *lag_ms)
 {
     double lags[64];
     int nlag = 0;
@@ -702,6 +707,7 @@ static double compare(FILE *md, const char *what, double n, double a, const seri
         int count2;
         const double raw = deviation(m, h->tau, h->Zraw, h->n, &lo2, &hi2, &count2);
         lag = median(lags, nlag);
+        *lag_ms = 1e3 * lag / n * sqrt(a / GRAV);
         printf("    median lag %.3f in T = %.1f ms; front as the furthest particle: largest deviation %.1f %%\n", lag,
                1e3 * lag / n * sqrt(a / GRAV), 100 * raw);
         if (md)
@@ -743,6 +749,32 @@ static void write_csv(const char *dir, const experiment *e, const history *h)
     fclose(f);
 }
 
+/* The model options of pm that differ from the defaults def, as text
+ * ("default" when none do): the resolution table's model column. */
+static void describe_variant(const params *pm, const params *def, char *out, size_t size)
+{
+    size_t len = 0;
+    out[0] = '\0';
+#define DB_VARIANT(cond, ...)                                                                   \
+    do {                                                                                       \
+        if ((cond) && len < size) {                                                            \
+            len += (size_t)snprintf(out + len, size - len, "%s", len ? ", " : "");             \
+            if (len < size) len += (size_t)snprintf(out + len, size - len, __VA_ARGS__);       \
+        }                                                                                      \
+    } while (0)
+    DB_VARIANT(pm->stokes != def->stokes, "%s", pm->stokes ? "wall-layer friction" : "no wall-layer friction");
+    DB_VARIANT(pm->noslip != def->noslip, "%s", pm->noslip ? "no-slip walls" : "free-slip walls");
+    DB_VARIANT(pm->nu != def->nu, "nu = %g m^2/s", pm->nu);
+    DB_VARIANT(pm->c0fac != def->c0fac, "c0 = %g sqrt(g n^2 a)", pm->c0fac);
+    DB_VARIANT(pm->alpha != def->alpha, "alpha = %g", pm->alpha);
+    DB_VARIANT(pm->delta != def->delta, "delta = %g", pm->delta);
+    DB_VARIANT(pm->hfac != def->hfac, "h = %g dx", pm->hfac);
+    DB_VARIANT(strcmp(pm->kernel, def->kernel) != 0, "kernel %s", pm->kernel);
+    DB_VARIANT(pm->front_k != def->front_k, "front: >= %d neighbours", pm->front_k);
+#undef DB_VARIANT
+    if (len == 0) snprintf(out, size, "default");
+}
+
 static const char *find_data(const char *given)
 {
     static const char *candidates[] = {"../shared/data/dam_break", "shared/data/dam_break",
@@ -763,10 +795,11 @@ static const char *find_data(const char *given)
 
 int main(int argc, char **argv)
 {
-    params pm;
+    params pm, def;
+    char variant[256];
     int check = 0, threads = 0, columns = 0, c, fail = 0;
     const char *data = NULL, *report = NULL, *summary = NULL, *walls;
-    double dev[2][2] = {{NAN, NAN}, {NAN, NAN}}, seconds = 0;
+    double dev[2][2] = {{NAN, NAN}, {NAN, NAN}}, lag[2] = {NAN, NAN}, seconds = 0;
     history hist[2];
     experiment ex[2];
     FILE *md = NULL;
@@ -798,7 +831,7 @@ int main(int argc, char **argv)
         {"check", "coarse short run (res 20, tau <= 2.4) against loose bounds; exit 1 on a miss", NULL, NULL, NULL,
          NULL},
     };
-    pm.res = 40;
+    pm.res = 30;
     pm.end_tau = 3.5;
     pm.kernel = "wendland_c2";
     pm.hfac = 1.3;
@@ -836,6 +869,7 @@ int main(int argc, char **argv)
     opt[19].integer = &pm.stokes;
     opt[20].real = &pm.c0fac;
     opt[21].flag = &check;
+    def = pm;
     c = ex_parse(argc, argv, "2-D SPH dam break against Martin & Moyce (1952)", opt,
                  (int)(sizeof opt / sizeof opt[0]));
     if (c != 0) return c > 0 ? 0 : 2;
@@ -876,6 +910,7 @@ int main(int argc, char **argv)
         return 2;
     }
     walls = pm.stokes ? "free slip + laminar wall-layer friction" : pm.noslip ? "no-slip" : "free slip";
+    describe_variant(&pm, &def, variant, sizeof variant);
     if (report && (md = fopen(report, "w")) == NULL) {
         fprintf(stderr, "dam_break: cannot write %s\n", report);
         return 2;
@@ -905,8 +940,9 @@ int main(int argc, char **argv)
                         n2, n2, hist[c].particles, hist[c].fluid, hist[c].steps, hist[c].seconds, threads);
         if (pm.out) write_csv(pm.out, &ex[c], &hist[c]);
         if (!ex[c].have) continue;
-        dev[c][0] = compare(md, "surge front Z = z/a", sqrt(n2), pm.a, &ex[c].front, &hist[c], hist[c].Z);
-        dev[c][1] = compare(md, "residual height H = eta/(n^2 a)", sqrt(n2), pm.a, &ex[c].height, &hist[c], hist[c].H);
+        dev[c][0] = compare(md, "surge front Z = z/a", sqrt(n2), pm.a, &ex[c].front, &hist[c], hist[c].Z, &lag[c]);
+        dev[c][1] = compare(md, "residual height H = eta/(n^2 a)", sqrt(n2), pm.a, &ex[c].height, &hist[c], hist[c].H,
+                            &lag[c]);
     }
     if (md) fclose(md);
     if (summary) {
@@ -914,20 +950,19 @@ int main(int argc, char **argv)
         const int fresh = f == NULL;
         if (f) fclose(f);
         if ((f = fopen(summary, "a")) != NULL) {
-            char cell[4][32];
+            char cell[6][32];
             int q;
-            for (q = 0; q < 4; ++q) {
-                const double d = dev[q / 2][q % 2];
-                if (d == d) snprintf(cell[q], sizeof cell[q], "%.1f %%", 100 * d);
+            for (q = 0; q < 6; ++q) {
+                const double d = q < 4 ? 100 * dev[q / 2][q % 2] : lag[q - 4];
+                if (d == d) snprintf(cell[q], sizeof cell[q], q < 4 ? "%.1f %%" : "%.1f", d);
                 else snprintf(cell[q], sizeof cell[q], "-");
             }
             if (fresh)
-                fprintf(f, "| particles across a | wall friction | particles (a x 2a) | front a x 2a | height a x 2a | "
-                           "front a x a | height a x a | run time (s), threads |\n"
-                           "|---:|:---|---:|---:|---:|---:|---:|---:|\n");
-            fprintf(f, "| %d | %s | %d | %s | %s | %s | %s | %.1f, %d |\n", pm.res,
-                    pm.stokes ? "laminar layer" : pm.noslip ? "no-slip" : "none (free slip)", hist[0].particles,
-                    cell[0], cell[1], cell[2], cell[3], seconds, threads);
+                fprintf(f, "| particles across a | model (default unless listed) | particles (a x 2a) | front a x 2a | "
+                           "height a x 2a | front a x a | height a x a | front lag a x 2a (ms) | front lag a x a (ms) "
+                           "| run time (s), threads |\n|---:|:---|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+            fprintf(f, "| %d | %s | %d | %s | %s | %s | %s | %s | %s | %.1f, %d |\n", pm.res, variant,
+                    hist[0].particles, cell[0], cell[1], cell[2], cell[3], cell[4], cell[5], seconds, threads);
             fclose(f);
         }
     }
