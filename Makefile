@@ -46,6 +46,10 @@ DAM_BREAK_DATA ?=
 # plots-dambreak runs on one thread: the run times it reports stay comparable on a
 # shared machine (results are the same for any thread count).
 DAM_BREAK_THREADS ?= 1
+# Threads that wait at a barrier sleep instead of spinning: on a machine whose
+# cores are busy with other work, spinning made a 2-thread run 5-6 times slower
+# than one thread (the thread being waited for had lost its core).
+DAM_BREAK_WAIT ?= $(or $(OMP_WAIT_POLICY),passive)
 DAM_BREAK_ARGS := $(if $(DAM_BREAK_DATA),--data $(DAM_BREAK_DATA))
 .PHONY: run-dam-break plots-dambreak
 
@@ -54,18 +58,25 @@ $(BUILD)/dam_break: examples/dam_break.c examples/example_io.h sph_kernel.h
 	$(CC) $(CFLAGS) $(OPENMP) -I. $< -o $@ $(LDLIBS)
 
 run-dam-break: $(BUILD)/dam_break
-	./$(BUILD)/dam_break --out $(BUILD)/dam_break_out $(DAM_BREAK_ARGS)
+	OMP_WAIT_POLICY=$(DAM_BREAK_WAIT) ./$(BUILD)/dam_break --out $(BUILD)/dam_break_out $(DAM_BREAK_ARGS)
 
-# Runs 20, 40 (default) and 60 particles across the column: comparison tables
+# Runs 20, 30 (default), 40 and 60 (a x 2a only) particles across the column,
+# 30 without the wall-friction model, and variants of the model at 30 (a x 2a
+# only: no-slip walls, c0, alpha, h): comparison tables
 # (docs/dam_break_results.md), resolution table (docs/dam_break_resolution.md),
 # front and height plots (docs/plots/dam_break_*.png).
 plots-dambreak: $(BUILD)/dam_break
 	@command -v gnuplot > /dev/null 2>&1 || { echo "make plots-dambreak: gnuplot is not installed"; exit 1; }
 	rm -f docs/dam_break_resolution.md
 	./$(BUILD)/dam_break $(DAM_BREAK_ARGS) --threads $(DAM_BREAK_THREADS) --res 20 --vtk-every 0 --out $(BUILD)/dam_break_out/res20 --summary docs/dam_break_resolution.md
-	./$(BUILD)/dam_break $(DAM_BREAK_ARGS) --threads $(DAM_BREAK_THREADS) --res 40 --vtk-every 0 --out $(BUILD)/dam_break_out/res40 --summary docs/dam_break_resolution.md --report docs/dam_break_results.md
-	./$(BUILD)/dam_break $(DAM_BREAK_ARGS) --threads $(DAM_BREAK_THREADS) --res 60 --vtk-every 0 --out $(BUILD)/dam_break_out/res60 --summary docs/dam_break_resolution.md
-	gnuplot -e "datadir='$(or $(DAM_BREAK_DATA),$(firstword $(wildcard ../shared/data/dam_break shared/data/dam_break ../../shared/data/dam_break)))'; simdir='$(BUILD)/dam_break_out'; outdir='docs/plots'; res1=40; res2=60" docs/plots/dam_break.gp
+	./$(BUILD)/dam_break $(DAM_BREAK_ARGS) --threads $(DAM_BREAK_THREADS) --res 30 --vtk-every 0 --out $(BUILD)/dam_break_out/res30 --summary docs/dam_break_resolution.md --report docs/dam_break_results.md
+	./$(BUILD)/dam_break $(DAM_BREAK_ARGS) --threads $(DAM_BREAK_THREADS) --res 40 --vtk-every 0 --out $(BUILD)/dam_break_out/res40 --summary docs/dam_break_resolution.md
+	./$(BUILD)/dam_break $(DAM_BREAK_ARGS) --threads $(DAM_BREAK_THREADS) --res 60 --column 2 --vtk-every 0 --out $(BUILD)/dam_break_out/res60 --summary docs/dam_break_resolution.md
+	./$(BUILD)/dam_break $(DAM_BREAK_ARGS) --threads $(DAM_BREAK_THREADS) --res 30 --stokes 0 --vtk-every 0 --out $(BUILD)/dam_break_out/res30_nofriction --summary docs/dam_break_resolution.md
+	for v in "--stokes 0 --noslip 1" "--c0 20" "--alpha 0.05" "--hfac 1.6"; do \
+	    ./$(BUILD)/dam_break $(DAM_BREAK_ARGS) --threads $(DAM_BREAK_THREADS) --res 30 --column 2 $$v --vtk-every 0 --out $(BUILD)/dam_break_out/variants --summary docs/dam_break_resolution.md || exit 1; \
+	done
+	gnuplot -e "datadir='$(or $(DAM_BREAK_DATA),$(firstword $(wildcard ../shared/data/dam_break shared/data/dam_break ../../shared/data/dam_break)))'; simdir='$(BUILD)/dam_break_out'; outdir='docs/plots'; res1=30; res2=60" docs/plots/dam_break.gp
 
 # Accuracy/cost report (report, report-full, plots-report): examples/error_vs_runtime.c
 # writes docs/report.md and the CSVs of docs/report/ (one OpenMP thread, so

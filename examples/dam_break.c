@@ -7,12 +7,19 @@
  *   continuity     drho_i/dt = -sum_j m_j (v_j - v_i) . grad_i W_ij              (O10) with m_j
  *                              + delta h c0 lap(rho)_i      (Molteni & Colagrossi 2009, (O12))
  *   momentum       dv_i/dt  = -sum_j m_j (p_i/rho_i^2 + p_j/rho_j^2 + Pi_ij) grad_i W_ij + g   (O8)
- *                  Pi_ij: artificial viscosity of Monaghan (1992), fluid-fluid pairs
+ *                              + nu lap(v)_i        (Morris, Fox & Zhu 1997, (O12)) + f_wall
+ *                  Pi_ij: artificial viscosity of Monaghan (1992), fluid-fluid pairs;
+ *                  nu = 1e-6 m^2/s (water) at the experiment's scale a = 2.25 in
  *   state          p = rho0 c0^2 / gamma ((rho/rho0)^gamma - 1), gamma = 7 (Tait)
  *   walls          several layers of fixed wall particles whose pressure is
  *                  extrapolated from the fluid with the hydrostatic term
- *                  (Adami, Hu & Adams 2012, J. Comput. Phys. 231, 7057),
- *                  free slip (no viscous force from the walls)
+ *                  (Adami, Hu & Adams 2012, J. Comput. Phys. 231, 7057);
+ *                  the particle viscous terms see free-slip walls (--noslip 1:
+ *                  no-slip through the wall velocity of Adami et al.), and
+ *                  f_wall is the shear stress of the laminar wall layer, far
+ *                  thinner than dx, from Stokes' first problem (wall_friction)
+ *   front          furthest fluid particle on the floor that has >= 4 fluid
+ *                  neighbours (a connected layer, not a drop), + dx/2
  *   time stepping  kick-drift-kick (velocity Verlet) with the CFL, force and
  *                  viscous limits on dt
  * Kernel sums: the library's pair terms over lists from its neighbour search.
@@ -22,7 +29,12 @@
  * about 25 % pairs, and the particles move at most 0.05 h per step (CFL with
  * c0 >= 5 |v|), so the lists last a few steps. --skin 0 searches every step.
  *
- * Usage: dam_break [--res 40] [--end 3.5] [--out build/dam_break] ...; --help
+ * OpenMP: on a machine whose cores are busy with other work, run with
+ * OMP_WAIT_POLICY=passive (make run-dam-break does): threads spinning at the
+ * barriers of the pair loops made a 2-thread run 5-6 times slower than one
+ * thread there (measured; passive: faster than one thread).
+ *
+ * Usage: dam_break [--res 30] [--end 3.5] [--out build/dam_break] ...; --help
  * lists every option. --check runs a coarse short case against loose bounds. */
 #include "example_io.h"
 
@@ -101,6 +113,13 @@ typedef struct {
     double *x, *v, *rho, *p, *P, *m, *acc, *drho, *vh;
     sph_kernel k;
     double kappa, alpha, delta;
+    double nu;     /* laminar kinematic viscosity (m^2/s), 0: none */
+    int noslip;    /* walls: 1 no-slip (viscous term with the extrapolated wall velocity), 0 free slip */
+    int front_k;   /* front: fluid neighbours a floor particle needs to count (measure) */
+    double *vw;    /* wall velocity for the viscous term (Adami et al. 2012) */
+    int stokes;    /* 1: friction of the unresolved laminar layer on the floor and back wall (wall_friction) */
+    int ncell;     /* floor cells of width dx ... */
+    double *wet;   /* ... and the time each got wet (-1: still dry) */
     /* neighbour search */
     sph_nsearch g;
     void *work;
@@ -132,7 +151,7 @@ static double tait_rho(const sim *s, double p) { return RHO0 * pow(1 + GAMMA * p
 /* Lays out the column (nx x ny fluid particles, hydrostatic density) and the
  * tank walls (layers thick enough to fill the kernel support kappa h of the
  * fluid next to them, under the floor and outside both side walls). */
-static void setup(sim *s, int res, double a, double n2, double tank_len, double hfac)
+static void setup(sim *s, int res, double a, double n2, double tank_len, double hfac, double c0fac)
 {
     const int layers = (int)ceil(s->kappa * hfac - 1e-9);
     const double dx = a / res, H = n2 * a, wall_h = 1.5 * H;
@@ -143,7 +162,7 @@ static void setup(sim *s, int res, double a, double n2, double tank_len, double 
     s->n2 = n2;
     s->dx = dx;
     s->h = hfac * dx;
-    s->c0 = 10 * sqrt(GRAV * H);
+    s->c0 = c0fac * sqrt(GRAV * H);
     s->nf = nx * ny;
     s->n = s->nf + layers * (nfloor + 2 * layers) + 2 * layers * nside;
     s->x = (double *)xalloc(2 * sizeof(double) * (size_t)s->n);
@@ -155,6 +174,10 @@ static void setup(sim *s, int res, double a, double n2, double tank_len, double 
     s->P = (double *)xalloc(sizeof(double) * (size_t)s->n);
     s->m = (double *)xalloc(sizeof(double) * (size_t)s->n);
     s->drho = (double *)xalloc(sizeof(double) * (size_t)s->n);
+    s->vw = (double *)xalloc(2 * sizeof(double) * (size_t)s->n);
+    s->ncell = nfloor;
+    s->wet = (double *)xalloc(sizeof(double) * (size_t)nfloor);
+    for (i = 0; i < nfloor; ++i) s->wet[i] = i < nx ? 0 : -1; /* under the column: wet from the start */
     s->offset = (sph_off *)xalloc(sizeof(sph_off) * (size_t)(s->n + 1));
     s->x0 = (double *)xalloc(2 * sizeof(double) * (size_t)s->n);
     for (j = 0; j < ny; ++j)
@@ -236,9 +259,13 @@ static void delta(const sim *s, sph_idx i, sph_idx j, double *dx)
     dx[1] = s->x[2 * i + 1] - s->x[2 * j + 1];
 }
 
-/* W and F of every listed pair (O1), once per step for the three pair loops. */
+/* W and F of every listed pair (O1), once per step for the three pair loops.
+ * Wall-wall pairs are never used and pairs in the skin (beyond kappa h) have
+ * W = F = 0: both are set to 0 without evaluating the kernel (most of the
+ * listed pairs are one or the other). */
 static void pair_kernels(sim *s)
 {
+    const double rmax2 = s->kappa * s->h * s->kappa * s->h;
     sph_idx i;
 #ifdef _OPENMP
 #pragma omp parallel for schedule(static)
@@ -246,9 +273,14 @@ static void pair_kernels(sim *s)
     for (i = 0; i < s->n; ++i) {
         sph_off o;
         for (o = s->list.offset[i]; o < s->list.offset[i + 1]; ++o) {
+            const sph_idx j = s->list.index[o];
             double dx[2];
             sph_pair pr;
-            delta(s, i, s->list.index[o], dx);
+            delta(s, i, j, dx);
+            if ((i >= s->nf && j >= s->nf) || dx[0] * dx[0] + dx[1] * dx[1] >= rmax2) {
+                s->W[o] = s->F[o] = 0;
+                continue;
+            }
             pr = sph_pair_kernel(s->k, 2, dx, s->h);
             s->W[o] = pr.W;
             s->F[o] = pr.F;
@@ -284,15 +316,17 @@ static void continuity(sim *s, const double *vel)
 /* Wall pressure (Adami, Hu & Adams 2012, stationary wall, gravity (0, -g)):
  * p_w = (sum_f p_f W_wf + g . sum_f rho_f (x_w - x_f) W_wf) / sum_f W_wf,
  * each sum a Shepard interpolation (O3, V = 1) over the fluid neighbours;
- * clamped at 0 (no suction) and turned into a density by the inverse EOS. */
-static void wall_pressure(sim *s)
+ * clamped at 0 (no suction) and turned into a density by the inverse EOS.
+ * Wall velocity for the viscous term (same paper, no-slip at a wall at rest):
+ * v_w = -sum_f v_f W_wf / sum_f W_wf (fluid velocities vel). */
+static void wall_pressure(sim *s, const double *vel)
 {
     sph_idx w;
 #ifdef _OPENMP
 #pragma omp parallel for schedule(static)
 #endif
     for (w = s->nf; w < s->n; ++w) {
-        double sw = 0, sp = 0;
+        double sw = 0, sp = 0, su = 0, sv = 0;
         sph_off o;
         for (o = s->list.offset[w]; o < s->list.offset[w + 1]; ++o) {
             const sph_idx f = s->list.index[o];
@@ -301,8 +335,12 @@ static void wall_pressure(sim *s)
             delta(s, w, f, dx);
             sw += sph_pair_interpolate(1, 1, s->W[o]);
             sp += sph_pair_interpolate(1, s->p[f] - GRAV * s->rho[f] * dx[1], s->W[o]);
+            su += sph_pair_interpolate(1, vel[2 * f], s->W[o]);
+            sv += sph_pair_interpolate(1, vel[2 * f + 1], s->W[o]);
         }
         s->p[w] = sw > 0 && sp > 0 ? sp / sw : 0;
+        s->vw[2 * w] = sw > 0 ? -su / sw : 0;
+        s->vw[2 * w + 1] = sw > 0 ? -sv / sw : 0;
         s->rho[w] = tait_rho(s, s->p[w]);
         s->P[w] = sph_pressure_factor(s->p[w], s->rho[w]);
     }
@@ -311,7 +349,9 @@ static void wall_pressure(sim *s)
 /* Accelerations of the fluid: pressure (O8), Monaghan's artificial viscosity
  * Pi_ij = -alpha c0 h mu_ij / rho_ij, mu_ij = v_ij . x_ij / (r^2 + 0.01 h^2)
  * for approaching fluid pairs (also in the pressure form of (O8): it adds
- * m_j Pi_ij grad_i W_ij), gravity. Returns max |a|. */
+ * m_j Pi_ij grad_i W_ij), laminar viscosity nu lap v (Morris, Fox & Zhu 1997:
+ * (O12) per component, V_j = m_j / rho_j; with no-slip walls also over the
+ * wall particles with their velocity v_w), gravity. Returns max |a|. */
 static double momentum(sim *s, const double *vel)
 {
     double amax = 0;
@@ -320,13 +360,18 @@ static double momentum(sim *s, const double *vel)
 #pragma omp parallel for schedule(static) reduction(max : amax)
 #endif
     for (i = 0; i < s->nf; ++i) {
-        double acc[2] = {0, 0}, an;
+        double acc[2] = {0, 0}, visc[2] = {0, 0}, an;
         sph_off o;
         for (o = s->list.offset[i]; o < s->list.offset[i + 1]; ++o) {
             const sph_idx j = s->list.index[o];
             double dx[2], Pi = 0;
             if (j == i) continue;
             delta(s, i, j, dx);
+            if (s->nu > 0 && (j < s->nf || s->noslip)) {
+                const double *vj = j < s->nf ? vel + 2 * j : s->vw + 2 * j, Vj = s->m[j] / s->rho[j];
+                visc[0] += sph_pair_laplacian(Vj, vel[2 * i], vj[0], s->F[o]); /* (O12) */
+                visc[1] += sph_pair_laplacian(Vj, vel[2 * i + 1], vj[1], s->F[o]);
+            }
             if (j < s->nf) {
                 const double vr = (vel[2 * i] - vel[2 * j]) * dx[0] + (vel[2 * i + 1] - vel[2 * j + 1]) * dx[1];
                 if (vr < 0) {
@@ -336,12 +381,42 @@ static double momentum(sim *s, const double *vel)
             }
             sph_pair_grad_pressure(2, s->m[j], s->P[i] + 0.5 * Pi, s->P[j] + 0.5 * Pi, s->F[o], dx, acc);
         }
-        s->acc[2 * i] = -acc[0];
-        s->acc[2 * i + 1] = -acc[1] - GRAV;
+        s->acc[2 * i] = -acc[0] + s->nu * visc[0];
+        s->acc[2 * i + 1] = -acc[1] + s->nu * visc[1] - GRAV;
         an = sqrt(s->acc[2 * i] * s->acc[2 * i] + s->acc[2 * i + 1] * s->acc[2 * i + 1]);
         if (an > amax) amax = an;
     }
     return amax;
+}
+
+/* Wall friction of the laminar boundary layer the particles do not resolve
+ * (its thickness sqrt(pi nu t) stays below dx / 2 up to tau = 3.5 at the
+ * default resolution, and far below near the front, where the floor has just
+ * got wet; the model assumes it is thinner than dx): Stokes'
+ * first problem (Schlichting, Boundary-Layer Theory, ch. 5) gives the wall
+ * shear stress tau_w = rho u sqrt(nu / (pi t_w)) of a layer that started
+ * t_w ago at slip velocity u. Each fluid particle whose centre lies within dx
+ * of the floor (back wall) takes its share tau_w dx / m of the stress on its
+ * strip, against its velocity along the wall; t_w is the time since the
+ * fluid reached the particle's floor cell (since the release for the back
+ * wall and the floor under the column), at least one time step. Only
+ * physical constants: nu (water) and the real scale a. */
+static void wall_friction(sim *s, const double *vel, double t, double dt)
+{
+    sph_idx i;
+    for (i = 0; i < s->nf; ++i) { /* floor cells reached by the fluid */
+        const int cell = (int)floor(s->x[2 * i] / s->dx);
+        if (s->x[2 * i + 1] < s->dx && cell >= 0 && cell < s->ncell && s->wet[cell] < 0) s->wet[cell] = t;
+    }
+    for (i = 0; i < s->nf; ++i) {
+        const double share = RHO0 * s->dx / s->m[i] * sqrt(s->nu / 3.14159265358979323846);
+        if (s->x[2 * i + 1] < s->dx) {
+            const int cell = (int)floor(s->x[2 * i] / s->dx);
+            const double age = cell >= 0 && cell < s->ncell && s->wet[cell] >= 0 ? t - s->wet[cell] : 0;
+            s->acc[2 * i] -= share * vel[2 * i] / sqrt(age > dt ? age : dt);
+        }
+        if (s->x[2 * i] < s->dx) s->acc[2 * i + 1] -= share * vel[2 * i + 1] / sqrt(t > dt ? t : dt);
+    }
 }
 
 static void fluid_pressure(sim *s)
@@ -353,18 +428,33 @@ static void fluid_pressure(sim *s)
     }
 }
 
-/* Surge front x/a (furthest fluid particle plus half a spacing) and residual
- * height at the back wall eta / (n^2 a) (highest fluid particle within two
- * spacings of the wall plus half a spacing). */
-static void measure(const sim *s, double *Z, double *H)
+/* Fluid neighbours of fluid particle i inside the kernel support (W > 0). */
+static int fluid_neighbours(const sim *s, sph_idx i)
 {
-    double xf = 0, yh = 0;
+    int c = 0;
+    sph_off o;
+    for (o = s->list.offset[i]; o < s->list.offset[i + 1]; ++o)
+        c += s->list.index[o] != i && s->list.index[o] < s->nf && s->W[o] > 0;
+    return c;
+}
+
+/* Surge front x/a: the furthest fluid particle lying on the floor (centre
+ * within 2 spacings of it) with at least front_k fluid neighbours in its
+ * kernel support, plus half a spacing; drops and thin spray that have left the
+ * layer do not count. Zraw: the furthest fluid particle plus half a spacing.
+ * Residual height at the back wall eta / (n^2 a): highest fluid particle
+ * within two spacings of the wall plus half a spacing. */
+static void measure(const sim *s, double *Z, double *Zraw, double *H)
+{
+    double xf = 0, xr = 0, yh = 0;
     sph_idx i;
     for (i = 0; i < s->nf; ++i) {
-        if (s->x[2 * i] > xf) xf = s->x[2 * i];
+        if (s->x[2 * i] > xr) xr = s->x[2 * i];
+        if (s->x[2 * i] > xf && s->x[2 * i + 1] < 2 * s->dx && fluid_neighbours(s, i) >= s->front_k) xf = s->x[2 * i];
         if (s->x[2 * i] < 2 * s->dx && s->x[2 * i + 1] > yh) yh = s->x[2 * i + 1];
     }
     *Z = (xf + 0.5 * s->dx) / s->a;
+    *Zraw = (xr + 0.5 * s->dx) / s->a;
     *H = (yh + 0.5 * s->dx) / (s->n2 * s->a);
 }
 
@@ -389,33 +479,35 @@ static void write_vtk(const sim *s, const char *dir, int frame)
 /* ---- one simulation ---- */
 
 typedef struct {
-    int res, vtk_every;
-    double end_tau, tank, hfac, alpha, delta, a, skin;
+    int res, vtk_every, noslip, front_k, stokes;
+    double end_tau, tank, hfac, alpha, delta, a, skin, nu, c0fac;
     const char *kernel, *out;
 } params;
 
 typedef struct {
     int n, cap;
-    double *tau, *Z, *H;
+    double *tau, *Z, *Zraw, *H;
     int particles, fluid;
     long steps, searches;
     double seconds;
 } history;
 
-static void history_push(history *h, double tau, double Z, double H)
+static void history_push(history *h, double tau, double Z, double Zraw, double H)
 {
     if (h->n == h->cap) {
         h->cap = h->cap ? 2 * h->cap : 1024;
         h->tau = (double *)realloc(h->tau, sizeof(double) * (size_t)h->cap);
         h->Z = (double *)realloc(h->Z, sizeof(double) * (size_t)h->cap);
+        h->Zraw = (double *)realloc(h->Zraw, sizeof(double) * (size_t)h->cap);
         h->H = (double *)realloc(h->H, sizeof(double) * (size_t)h->cap);
-        if (!h->tau || !h->Z || !h->H) {
+        if (!h->tau || !h->Z || !h->Zraw || !h->H) {
             fprintf(stderr, "dam_break: out of memory\n");
             exit(2);
         }
     }
     h->tau[h->n] = tau;
     h->Z[h->n] = Z;
+    h->Zraw[h->n] = Zraw;
     h->H[h->n] = H;
     ++h->n;
 }
@@ -425,7 +517,7 @@ static void run(const params *pm, double n2, history *hist, int quiet)
 {
     sim s;
     const double tscale = sqrt(pm->a / GRAV); /* tau = t / tscale */
-    double t = 0, amax, dt, Z, H;
+    double t = 0, amax, dt, Z, Zraw, H;
     long step = 0;
     int frame = 0;
     char label[64];
@@ -435,19 +527,23 @@ static void run(const params *pm, double n2, history *hist, int quiet)
     s.k = (sph_kernel)sph_kernel_from_name(pm->kernel);
     s.kappa = sph_kernel_support(s.k);
     s.alpha = pm->alpha;
+    s.nu = pm->nu;
+    s.noslip = pm->noslip;
+    s.front_k = pm->front_k;
+    s.stokes = pm->stokes;
     s.delta = pm->delta;
     s.skin = pm->skin;
-    setup(&s, pm->res, pm->a, n2, pm->tank * pm->a, pm->hfac);
+    setup(&s, pm->res, pm->a, n2, pm->tank * pm->a, pm->hfac, pm->c0fac);
     hist->particles = s.n;
     hist->fluid = s.nf;
     snprintf(label, sizeof label, "dam_break n^2=%g res %d", n2, pm->res);
     search(&s);
     pair_kernels(&s);
     fluid_pressure(&s);
-    wall_pressure(&s);
+    wall_pressure(&s, s.v);
     amax = momentum(&s, s.v);
-    measure(&s, &Z, &H);
-    history_push(hist, 0, Z, H);
+    measure(&s, &Z, &Zraw, &H);
+    history_push(hist, 0, Z, Zraw, H);
     if (pm->out && pm->vtk_every > 0) write_vtk(&s, pm->out, frame++);
     while (t < pm->end_tau * tscale) {
         double vmax = 0;
@@ -459,6 +555,7 @@ static void run(const params *pm, double n2, history *hist, int quiet)
         if (amax > 0 && 0.25 * sqrt(s.h / amax) < dt) dt = 0.25 * sqrt(s.h / amax); /* force */
         if (s.alpha > 0 && 0.125 * 8 * s.h / (s.alpha * s.c0) < dt)            /* viscous: nu = alpha h c0 / 8 */
             dt = 0.125 * 8 * s.h / (s.alpha * s.c0);
+        if (s.nu > 0 && 0.125 * s.h * s.h / s.nu < dt) dt = 0.125 * s.h * s.h / s.nu; /* laminar viscous */
         for (i = 0; i < s.nf; ++i) { /* kick, drift */
             s.vh[2 * i] = s.v[2 * i] + 0.5 * dt * s.acc[2 * i];
             s.vh[2 * i + 1] = s.v[2 * i + 1] + 0.5 * dt * s.acc[2 * i + 1];
@@ -470,20 +567,21 @@ static void run(const params *pm, double n2, history *hist, int quiet)
         continuity(&s, s.vh); /* density at the new positions with the mid-step velocity */
         for (i = 0; i < s.nf; ++i) s.rho[i] += dt * s.drho[i];
         fluid_pressure(&s);
-        wall_pressure(&s);
+        wall_pressure(&s, s.vh);
         amax = momentum(&s, s.vh);
+        if (s.stokes) wall_friction(&s, s.vh, t + dt, dt);
         for (i = 0; i < s.nf; ++i) { /* kick */
             s.v[2 * i] = s.vh[2 * i] + 0.5 * dt * s.acc[2 * i];
             s.v[2 * i + 1] = s.vh[2 * i + 1] + 0.5 * dt * s.acc[2 * i + 1];
         }
         t += dt;
         ++step;
-        measure(&s, &Z, &H);
+        measure(&s, &Z, &Zraw, &H);
         if (!(Z == Z) || !(H == H)) {
             fprintf(stderr, "dam_break: non-finite state at step %ld\n", step);
             exit(2);
         }
-        history_push(hist, t / tscale, Z, H);
+        history_push(hist, t / tscale, Z, Zraw, H);
         if (pm->out && pm->vtk_every > 0 && step % pm->vtk_every == 0) write_vtk(&s, pm->out, frame++);
         if (!quiet) ex_progress_update(&prog, label, t / (pm->end_tau * tscale));
     }
@@ -491,7 +589,7 @@ static void run(const params *pm, double n2, history *hist, int quiet)
     hist->steps = step;
     hist->searches = s.searches;
     hist->seconds = ex_now() - prog.start;
-    free(s.x), free(s.v), free(s.vh), free(s.acc), free(s.rho), free(s.p), free(s.P), free(s.m), free(s.drho);
+    free(s.x), free(s.v), free(s.vh), free(s.acc), free(s.rho), free(s.p), free(s.P), free(s.m), free(s.drho), free(s.vw), free(s.wet);
     free(s.offset), free(s.index), free(s.work), free(s.W), free(s.F), free(s.x0);
 }
 
@@ -545,21 +643,58 @@ static double deviation(const series *m, const double *tau, const double *val, i
 }
 
 /* First time at which the simulated front reaches Z (NAN if it never does). */
-static double reach_time(const history *h, double Z)
+static double reach_time(const history *h, const double *val, double Z)
 {
     int k;
     for (k = 1; k < h->n; ++k)
-        if (h->Z[k] >= Z) return h->tau[k - 1] + (h->tau[k] - h->tau[k - 1]) * (Z - h->Z[k - 1]) / (h->Z[k] - h->Z[k - 1]);
+        if (val[k] >= Z) return h->tau[k - 1] + (h->tau[k] - h->tau[k - 1]) * (Z - val[k - 1]) / (val[k] - val[k - 1]);
     return NAN;
 }
 
-/* Prints (and writes to md, when not NULL, as a markdown table) simulated
- * against measured values at the measured times; returns the largest deviation. */
-static double compare(FILE *md, const char *what, double n, const series *m, const history *h, const double *val)
+/* Least-squares slope dZ/dT over the measured times k = ka..kb of m (T = n
+ * tau): of m's own values when htau is NULL, else of the series (htau, z,
+ * hn) interpolated at those times. */
+static double slope(const series *m, int ka, int kb, double n, const double *z, const double *htau, int hn)
 {
+    double st = 0, sz = 0, stt = 0, stz = 0;
+    int k, c = 0;
+    for (k = ka; k <= kb; ++k, ++c) {
+        const double T = n * m->tau[k], Z = htau ? interp(htau, z, hn, m->tau[k]) : z[k];
+        st += T, sz += Z, stt += T * T, stz += T * Z;
+    }
+    return (c * stz - st * sz) / (c * stt - st * st);
+}
+
+/* Median of x[0..n-1] (n <= 64; x is reordered). */
+static double median(double *x, int n)
+{
+    int i, j;
+    for (i = 1; i < n; ++i)
+        for (j = i; j > 0 && x[j] < x[j - 1]; --j) {
+            const double t = x[j];
+            x[j] = x[j - 1];
+            x[j - 1] = t;
+        }
+    return n == 0 ? NAN : n % 2 ? x[n / 2] : 0.5 * (x[n / 2 - 1] + x[n / 2]);
+}
+
+/* Prints (and writes to md, when not NULL, as a markdown table) simulated
+ * against measured values at the measured times; returns the largest
+ * deviation. For the front also: the median lag (measured time minus the
+ * time the simulated front reached the same Z, in T and in milliseconds for
+ * the column width a), the mean front speed dZ/dT (least-squares slope of Z
+ * against T over the measured points from the second on), measured and
+ * simulated at the same times (independent of the time origin; *speed_dev:
+ * relative deviation), and the largest deviation of the front taken as the
+ * furthest particle (no layer condition). */
+static double compare(FILE *md, const char *what, double n, double a, const series *m, const history *h,
+                      const double *val, double *lag_ms, double *speed_dev)
+{
+    double lags[64];
+    int nlag = 0;
     double lo, hi, worst;
     int k, count;
-    const int front = val == h->Z;
+    const int front = val != h->H;
     worst = deviation(m, h->tau, val, h->n, &lo, &hi, &count);
     printf("  %s (%d points, tau = %.3g .. %.3g):\n", what, count, lo, hi);
     printf("    %8s %8s %10s %10s %8s %s\n", "tau", "T", "measured", "simulated", "dev %", front ? "  lag T" : "");
@@ -572,16 +707,50 @@ static double compare(FILE *md, const char *what, double n, const series *m, con
         sim = interp(h->tau, val, h->n, m->tau[k]);
         printf("    %8.3f %8.3f %10.3f %10.3f %8.1f", m->tau[k], n * m->tau[k], m->val[k], sim,
                100 * (sim - m->val[k]) / m->val[k]);
-        if (front) printf(" %8.3f", n * (m->tau[k] - reach_time(h, m->val[k])));
+        if (front) {
+            lags[nlag] = n * (m->tau[k] - reach_time(h, val, m->val[k]));
+            printf(" %8.3f", lags[nlag]);
+            nlag += lags[nlag] == lags[nlag];
+        }
         printf("\n");
         if (md) {
             fprintf(md, "| %.3f | %.3f | %.3f | %.3f | %+.1f %% |", m->tau[k], n * m->tau[k], m->val[k], sim,
                     100 * (sim - m->val[k]) / m->val[k]);
-            if (front) fprintf(md, " %.3f |", n * (m->tau[k] - reach_time(h, m->val[k])));
+            if (front) fprintf(md, " %.3f |", n * (m->tau[k] - reach_time(h, val, m->val[k])));
             fprintf(md, "\n");
         }
     }
     printf("    largest deviation %.1f %%\n", 100 * worst);
+    if (front) {
+        double lo2, hi2, lag, um = NAN, us = NAN;
+        int count2, ka = -1, kb = -1, seen = 0;
+        const double raw = deviation(m, h->tau, h->Zraw, h->n, &lo2, &hi2, &count2);
+        lag = median(lags, nlag);
+        *lag_ms = 1e3 * lag / n * sqrt(a / GRAV);
+        for (k = 0; k < m->n; ++k) { /* second and last compared points */
+            if (m->tau[k] > h->tau[h->n - 1]) continue;
+            if (++seen == 2) ka = k;
+            kb = k;
+        }
+        if (ka >= 0 && kb > ka) {
+            um = slope(m, ka, kb, n, m->val, NULL, 0);
+            us = slope(m, ka, kb, n, val, h->tau, h->n);
+            printf("    front speed dZ/dT, T = %.2f .. %.2f: measured %.3f, simulated %.3f (%+.1f %%)\n", n * m->tau[ka],
+                   n * m->tau[kb], um, us, 100 * (us - um) / um);
+            if (md)
+                fprintf(md, "\nMean front speed dZ/dT (least-squares slope over T = %.2f .. %.2f, independent of the time "
+                            "origin): measured %.3f, simulated %.3f (%+.1f %%).\n",
+                        n * m->tau[ka], n * m->tau[kb], um, us, 100 * (us - um) / um);
+        }
+        *speed_dev = (us - um) / um;
+        printf("    median lag %.3f in T = %.1f ms; front as the furthest particle: largest deviation %.1f %%\n", lag,
+               1e3 * lag / n * sqrt(a / GRAV), 100 * raw);
+        if (md)
+            fprintf(md, "\nLargest deviation %.1f %%. Median lag %.3f in T (%.1f ms). The front taken as the furthest "
+                        "particle (no layer condition): largest deviation %.1f %%.\n",
+                    100 * worst, lag, 1e3 * lag / n * sqrt(a / GRAV), 100 * raw);
+    } else if (md)
+        fprintf(md, "\nLargest deviation %.1f %%.\n", 100 * worst);
     return count > 0 ? worst : NAN;
 }
 
@@ -599,7 +768,7 @@ static void write_csv(const char *dir, const experiment *e, const history *h)
         return;
     }
     fprintf(f, "# dam break n^2 = %g: tau = t sqrt(g/a), T = n tau, Z = front/a, H = height/(n^2 a); *_exp: "
-               "Martin & Moyce 1952 interpolated\ntau,T,Z_sim,H_sim,Z_exp,H_exp\n", e->n2);
+               "Martin & Moyce 1952 interpolated; Z_sim_furthest: furthest particle\ntau,T,Z_sim,H_sim,Z_exp,H_exp,Z_sim_furthest\n", e->n2);
     for (k = 0; k < h->n; ++k) {
         double ze, he;
         if (h->tau[k] < next && k != h->n - 1) continue;
@@ -610,9 +779,35 @@ static void write_csv(const char *dir, const experiment *e, const history *h)
         if (ze == ze) fprintf(f, "%.5f", ze);
         fputc(',', f);
         if (he == he) fprintf(f, "%.5f", he);
-        fputc('\n', f);
+        fprintf(f, ",%.5f\n", h->Zraw[k]);
     }
     fclose(f);
+}
+
+/* The model options of pm that differ from the defaults def, as text
+ * ("default" when none do): the resolution table's model column. */
+static void describe_variant(const params *pm, const params *def, char *out, size_t size)
+{
+    size_t len = 0;
+    out[0] = '\0';
+#define DB_VARIANT(cond, ...)                                                                   \
+    do {                                                                                       \
+        if ((cond) && len < size) {                                                            \
+            len += (size_t)snprintf(out + len, size - len, "%s", len ? ", " : "");             \
+            if (len < size) len += (size_t)snprintf(out + len, size - len, __VA_ARGS__);       \
+        }                                                                                      \
+    } while (0)
+    DB_VARIANT(pm->stokes != def->stokes, "%s", pm->stokes ? "wall-layer friction" : "no wall-layer friction");
+    DB_VARIANT(pm->noslip != def->noslip, "%s", pm->noslip ? "no-slip walls" : "free-slip walls");
+    DB_VARIANT(pm->nu != def->nu, "nu = %g m^2/s", pm->nu);
+    DB_VARIANT(pm->c0fac != def->c0fac, "c0 = %g sqrt(g n^2 a)", pm->c0fac);
+    DB_VARIANT(pm->alpha != def->alpha, "alpha = %g", pm->alpha);
+    DB_VARIANT(pm->delta != def->delta, "delta = %g", pm->delta);
+    DB_VARIANT(pm->hfac != def->hfac, "h = %g dx", pm->hfac);
+    DB_VARIANT(strcmp(pm->kernel, def->kernel) != 0, "kernel %s", pm->kernel);
+    DB_VARIANT(pm->front_k != def->front_k, "front: >= %d neighbours", pm->front_k);
+#undef DB_VARIANT
+    if (len == 0) snprintf(out, size, "default");
 }
 
 static const char *find_data(const char *given)
@@ -635,10 +830,11 @@ static const char *find_data(const char *given)
 
 int main(int argc, char **argv)
 {
-    params pm;
+    params pm, def;
+    char variant[256];
     int check = 0, threads = 0, columns = 0, c, fail = 0;
-    const char *data = NULL, *report = NULL, *summary = NULL;
-    double dev[2][2] = {{NAN, NAN}, {NAN, NAN}}, seconds = 0;
+    const char *data = NULL, *report = NULL, *summary = NULL, *walls;
+    double dev[2][2] = {{NAN, NAN}, {NAN, NAN}}, lag[2] = {NAN, NAN}, speed[2] = {NAN, NAN}, seconds = 0;
     history hist[2];
     experiment ex[2];
     FILE *md = NULL;
@@ -660,10 +856,17 @@ int main(int argc, char **argv)
          NULL, NULL},
         {"report", "write the comparison tables as markdown to this file", NULL, NULL, NULL, NULL},
         {"summary", "append one line of largest deviations (markdown table row) to this file", NULL, NULL, NULL, NULL},
+        {"nu", "laminar kinematic viscosity in m^2/s (water 1e-6; 0: none)", NULL, NULL, NULL, NULL},
+        {"noslip", "walls: 1 no-slip (viscous term over wall particles), 0 free slip", NULL, NULL, NULL, NULL},
+        {"front-k", "fluid neighbours a floor particle needs to count as the front (0: furthest particle)", NULL,
+         NULL, NULL, NULL},
+        {"stokes", "1: friction of the unresolved laminar wall layer (Stokes' first problem, needs --nu)", NULL,
+         NULL, NULL, NULL},
+        {"c0", "speed of sound / sqrt(g n^2 a)", NULL, NULL, NULL, NULL},
         {"check", "coarse short run (res 20, tau <= 2.4) against loose bounds; exit 1 on a miss", NULL, NULL, NULL,
          NULL},
     };
-    pm.res = 40;
+    pm.res = 30;
     pm.end_tau = 3.5;
     pm.kernel = "wendland_c2";
     pm.hfac = 1.3;
@@ -674,6 +877,11 @@ int main(int argc, char **argv)
     pm.a = 0.05715;
     pm.out = "build/dam_break_out";
     pm.vtk_every = 500;
+    pm.nu = 1e-6;
+    pm.noslip = 0;
+    pm.front_k = 4;
+    pm.stokes = 1;
+    pm.c0fac = 10;
     opt[0].integer = &pm.res;
     opt[1].real = &pm.end_tau;
     opt[2].integer = &columns;
@@ -690,7 +898,13 @@ int main(int argc, char **argv)
     opt[13].text = &data;
     opt[14].text = &report;
     opt[15].text = &summary;
-    opt[16].flag = &check;
+    opt[16].real = &pm.nu;
+    opt[17].integer = &pm.noslip;
+    opt[18].integer = &pm.front_k;
+    opt[19].integer = &pm.stokes;
+    opt[20].real = &pm.c0fac;
+    opt[21].flag = &check;
+    def = pm;
     c = ex_parse(argc, argv, "2-D SPH dam break against Martin & Moyce (1952)", opt,
                  (int)(sizeof opt / sizeof opt[0]));
     if (c != 0) return c > 0 ? 0 : 2;
@@ -702,7 +916,8 @@ int main(int argc, char **argv)
         if (threads == 0) threads = 1; /* the bound is on one core; a loaded machine slows OpenMP barriers badly */
     }
     if (sph_kernel_from_name(pm.kernel) < 0 || pm.res < 4 || !(pm.end_tau > 0) || !(pm.hfac > 0.5) ||
-        !(pm.tank >= 2) || !(pm.skin >= 0) || !(pm.a > 0) || (columns != 0 && columns != 1 && columns != 2)) {
+        !(pm.tank >= 2) || !(pm.skin >= 0) || !(pm.a > 0) || !(pm.nu >= 0) || !(pm.c0fac > 0) || pm.front_k < 0 ||
+        (pm.noslip && pm.stokes) || (columns != 0 && columns != 1 && columns != 2)) {
         fprintf(stderr, "dam_break: bad parameter (try --help)\n");
         return 2;
     }
@@ -729,19 +944,25 @@ int main(int argc, char **argv)
         fprintf(stderr, "dam_break: cannot create %s\n", pm.out);
         return 2;
     }
+    walls = pm.stokes ? "free slip + laminar wall-layer friction" : pm.noslip ? "no-slip" : "free slip";
+    describe_variant(&pm, &def, variant, sizeof variant);
     if (report && (md = fopen(report, "w")) == NULL) {
         fprintf(stderr, "dam_break: cannot write %s\n", report);
         return 2;
     }
-    printf("dam break: column a x n^2 a, a = %g m, %d particles across a, kernel %s, h = %g dx, alpha = %g, "
-           "delta = %g, tank %g a, end tau = %g, %d thread(s)\n",
-           pm.a, pm.res, pm.kernel, pm.hfac, pm.alpha, pm.delta, pm.tank, pm.end_tau, threads);
+    printf("dam break: column a x n^2 a, a = %g m, %d particles across a, kernel %s, h = %g dx, c0 = %g sqrt(g n^2 a), "
+           "alpha = %g, delta = %g, nu = %g m^2/s, walls: %s, front: >= %d neighbours, tank %g a, end tau = %g, "
+           "%d thread(s)\n",
+           pm.a, pm.res, pm.kernel, pm.hfac, pm.c0fac, pm.alpha, pm.delta, pm.nu, walls, pm.front_k, pm.tank,
+           pm.end_tau, threads);
     if (md)
         fprintf(md, "# Dam break: simulated against measured\n\nWritten by `examples/dam_break.c` (`make plots-dambreak`): "
-                    "%d particles across the column width a, kernel %s, h = %g dx, c0 = 10 sqrt(g n^2 a), "
-                    "alpha = %g, delta = %g, tank %g a, end tau = %g. Measurements: Martin & Moyce (1952), "
-                    "a = 2.25 in. Deviation = (simulated - measured) / measured.\n",
-                pm.res, pm.kernel, pm.hfac, pm.alpha, pm.delta, pm.tank, pm.end_tau);
+                    "%d particles across the column width a, kernel %s, h = %g dx, c0 = %g sqrt(g n^2 a), "
+                    "alpha = %g, delta = %g, nu = %g m^2/s, walls: %s, tank %g a, end tau = %g. Measurements: Martin & Moyce (1952), "
+                    "a = 2.25 in. Front: the furthest fluid particle on the floor with at least %d fluid "
+                    "neighbours, plus dx/2. Deviation = (simulated - measured) / measured; the simulated times are "
+                    "not shifted.\n",
+                pm.res, pm.kernel, pm.hfac, pm.c0fac, pm.alpha, pm.delta, pm.nu, walls, pm.tank, pm.end_tau, pm.front_k);
     for (c = 0; c < 2; ++c) {
         const double n2 = c == 0 ? 2 : 1;
         memset(&hist[c], 0, sizeof hist[c]);
@@ -754,8 +975,10 @@ int main(int argc, char **argv)
                         n2, n2, hist[c].particles, hist[c].fluid, hist[c].steps, hist[c].seconds, threads);
         if (pm.out) write_csv(pm.out, &ex[c], &hist[c]);
         if (!ex[c].have) continue;
-        dev[c][0] = compare(md, "surge front Z = z/a", sqrt(n2), &ex[c].front, &hist[c], hist[c].Z);
-        dev[c][1] = compare(md, "residual height H = eta/(n^2 a)", sqrt(n2), &ex[c].height, &hist[c], hist[c].H);
+        dev[c][0] = compare(md, "surge front Z = z/a", sqrt(n2), pm.a, &ex[c].front, &hist[c], hist[c].Z, &lag[c],
+                            &speed[c]);
+        dev[c][1] = compare(md, "residual height H = eta/(n^2 a)", sqrt(n2), pm.a, &ex[c].height, &hist[c], hist[c].H,
+                            &lag[c], &speed[c]);
     }
     if (md) fclose(md);
     if (summary) {
@@ -763,33 +986,46 @@ int main(int argc, char **argv)
         const int fresh = f == NULL;
         if (f) fclose(f);
         if ((f = fopen(summary, "a")) != NULL) {
+            char cell[8][32];
+            int q;
+            for (q = 0; q < 8; ++q) {
+                const double d = q < 4 ? 100 * dev[q / 2][q % 2] : q < 6 ? lag[q - 4] : 100 * speed[q - 6];
+                if (d == d) snprintf(cell[q], sizeof cell[q], q < 4 ? "%.1f %%" : q < 6 ? "%.1f" : "%+.1f %%", d);
+                else snprintf(cell[q], sizeof cell[q], "-");
+            }
             if (fresh)
-                fprintf(f, "| particles across a | particles (a x 2a) | front a x 2a | height a x 2a | front a x a | "
-                           "height a x a | run time (s), threads |\n|---:|---:|---:|---:|---:|---:|---:|\n");
-            fprintf(f, "| %d | %d | %.1f %% | %.1f %% | %.1f %% | %.1f %% | %.1f, %d |\n", pm.res, hist[0].particles,
-                    100 * dev[0][0], 100 * dev[0][1], 100 * dev[1][0], 100 * dev[1][1], seconds, threads);
+                fprintf(f, "| particles across a | model (default unless listed) | particles (a x 2a) | front a x 2a | "
+                           "height a x 2a | front a x a | height a x a | front lag a x 2a (ms) | front lag a x a (ms) "
+                           "| front speed a x 2a | front speed a x a | run time (s), threads |\n"
+                           "|---:|:---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+            fprintf(f, "| %d | %s | %d | %s | %s | %s | %s | %s | %s | %s | %s | %.1f, %d |\n", pm.res, variant,
+                    hist[0].particles, cell[0], cell[1], cell[2], cell[3], cell[4], cell[5], cell[6], cell[7], seconds,
+                    threads);
             fclose(f);
         }
     }
     if (check) {
-        /* Loose bounds at res 20, tau <= 2.4 (measured there: front 16.7 % and
-         * 13.6 % ahead of the experiment, height within 2.3 % and 3.6 %; the
-         * converged front leads Martin & Moyce's, see docs/examples.md): the
-         * front of both columns within 25 %, the heights within 8 %. A broken
-         * pressure force, wall or time step misses these by far. */
-        const double bound[2][2] = {{0.25, 0.08}, {0.25, 0.08}};
+        /* Loose bounds at res 20, tau <= 2.4 (measured there: front 16.5 % and
+         * 12.1 % ahead of the experiment at its worst, early in the surge;
+         * height within 3.7 % and 2.9 %; mean front speed 0.3 % and 1.8 %
+         * above the measured one, 4.7 % and 6.9 % without the wall friction;
+         * docs/examples.md explains the early lead): the fronts within 20 %
+         * and 16 %, the heights within 6 %, the front speeds within 4 %. A
+         * broken pressure force, wall, wall friction or time step misses these. */
+        const double bound[2][3] = {{0.20, 0.06, 0.04}, {0.16, 0.06, 0.04}};
+        static const char *what[3] = {"front", "height", "front speed"};
         for (c = 0; c < 2; ++c) {
             int q;
-            for (q = 0; q < 2; ++q) {
-                const int ok = dev[c][q] <= bound[c][q];
-                printf("check: %s of column a x %da: largest deviation %.1f %% (bound %.0f %%) %s\n",
-                       q == 0 ? "front" : "height", c == 0 ? 2 : 1, 100 * dev[c][q], 100 * bound[c][q],
-                       ok ? "ok" : "MISSED");
+            for (q = 0; q < 3; ++q) {
+                const double d = q < 2 ? dev[c][q] : fabs(speed[c]);
+                const int ok = d <= bound[c][q];
+                printf("check: %s of column a x %da: %s %.1f %% (bound %.0f %%) %s\n", what[q], c == 0 ? 2 : 1,
+                       q < 2 ? "largest deviation" : "deviation", 100 * d, 100 * bound[c][q], ok ? "ok" : "MISSED");
                 fail |= !ok;
             }
         }
         printf("dam_break --check: %s\n", fail ? "FAILED" : "passed");
     }
-    for (c = 0; c < 2; ++c) free(hist[c].tau), free(hist[c].Z), free(hist[c].H);
+    for (c = 0; c < 2; ++c) free(hist[c].tau), free(hist[c].Z), free(hist[c].Zraw), free(hist[c].H);
     return fail;
 }
