@@ -61,6 +61,7 @@ $(BUILD)/bench/%_float.o: examples/benchmark.c sph_kernel.h
 	@mkdir -p $(BUILD)/bench
 	$(CC) $(BENCH_FLAGS) -DSPH_REAL=float $(BENCH_$*) -c $< -o $@
 
+.PRECIOUS: $(BUILD)/bench/%.o
 BENCH_main   := -DBENCH_LINK_PARTS
 BENCH_pinned := -DBENCH_PART=bench_pinned $(BENCH_PIN)
 BENCH_spec0  := -DBENCH_PART=bench_spec0 -DSPH_OP_SPECIALISE=0

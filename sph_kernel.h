@@ -38,9 +38,10 @@
  *               0: one loop per dimension, the kernel's table row read at run
  *               time. Trade-off measured with gcc 12 -O2 (one translation unit
  *               calling sph_gradient): 1 costs ~6 s and a 275 KB object, 0
- *               ~0.9 s and 54 KB; at run time 0 is slower in the pair loop
- *               (numbers in README, "Performance"). Pinning SPH_KERNEL makes
- *               the choice moot: one kernel, one loop either way.
+ *               ~0.9 s and 54 KB; at run time 0 is 8-22 % slower in the pair
+ *               loop (examples/benchmark.c, README "Performance"): 1 for
+ *               production builds, 0 while developing. Pinning SPH_KERNEL
+ *               makes the choice moot: one kernel, one loop either way.
  *   SPH_NO_INTRINSICS  use only portable C: no SSE/AVX square-root helper in
  *               the operator loops (same results bit for bit, slower where the
  *               compiler cannot vectorise sqrt() because of errno).
