@@ -3,6 +3,7 @@
 #                   C++/nvcc/CMake compile checks; ends with "N passed, N failed"
 #   make demo       builds and runs the main example
 #   make plots      redraws the PNG plots in docs/ (needs gnuplot)
+#   make report     error against run time of every operator: docs/report.md, docs/report/
 #   make install PREFIX=/usr/local   header + pkg-config file
 #   make bench      operator and neighbour-search timings (examples/benchmark.c)
 CC      ?= cc
@@ -11,8 +12,11 @@ LDLIBS  ?= -lm
 PREFIX  ?= /usr/local
 VERSION := $(shell sed -n 's/^\#define SPH_KERNEL_VERSION_STRING "\(.*\)"/\1/p' sph_kernel.h)
 BUILD   := build
+# -fopenmp where the compiler has it (examples run multi-threaded; results do
+# not depend on the thread count)
+OPENMP  := $(shell printf 'int main(void){return 0;}\n' | $(CC) -fopenmp -x c - -o /dev/null > /dev/null 2>&1 && echo -fopenmp)
 
-.PHONY: all test demo plots install uninstall clean bench tiny-size
+.PHONY: all test demo plots install uninstall clean fuzz stability report report-full plots-report report-plots-if-gnuplot bench tiny-size
 
 all: $(BUILD)/kernel_table $(BUILD)/kernel_plots $(BUILD)/quickstart
 
@@ -27,7 +31,7 @@ demo: $(BUILD)/kernel_table
 	./$(BUILD)/kernel_table
 
 # Data from examples/kernel_plots.c into build/plots, PNGs into docs/plots.
-plots: $(BUILD)/kernel_plots
+plots: $(BUILD)/kernel_plots plots-dambreak plots-report plots-flows
 	@command -v gnuplot > /dev/null 2>&1 || { \
 	    echo "make plots: gnuplot is not installed (Debian/Ubuntu: apt-get install gnuplot-nox);"; \
 	    echo "            the PNGs in docs/plots were left as they are."; exit 1; }
@@ -35,6 +39,70 @@ plots: $(BUILD)/kernel_plots
 	./$(BUILD)/kernel_plots $(BUILD)/plots
 	gnuplot -e "datadir='$(BUILD)/plots'; outdir='docs/plots'" docs/plots/kernels.gp
 	@ls docs/plots/*.png
+
+# Dam break example (examples/dam_break.c): run-dam-break, plots-dambreak.
+# Built with OpenMP when the compiler has it; the measurements are read from
+# ../shared/data/dam_break (or shared/data/dam_break; DAM_BREAK_DATA=dir overrides).
+DAM_BREAK_DATA ?=
+# plots-dambreak runs on one thread: the run times it reports stay comparable on a
+# shared machine (results are the same for any thread count).
+DAM_BREAK_THREADS ?= 1
+DAM_BREAK_ARGS := $(if $(DAM_BREAK_DATA),--data $(DAM_BREAK_DATA))
+.PHONY: run-dam-break plots-dambreak
+
+$(BUILD)/dam_break: examples/dam_break.c examples/example_io.h sph_kernel.h
+	@mkdir -p $(BUILD)
+	$(CC) $(CFLAGS) $(OPENMP) -I. $< -o $@ $(LDLIBS)
+
+run-dam-break: $(BUILD)/dam_break
+	./$(BUILD)/dam_break --out $(BUILD)/dam_break_out $(DAM_BREAK_ARGS)
+
+# Runs 20, 40 (default) and 60 particles across the column: comparison tables
+# (docs/dam_break_results.md), resolution table (docs/dam_break_resolution.md),
+# front and height plots (docs/plots/dam_break_*.png).
+plots-dambreak: $(BUILD)/dam_break
+	@command -v gnuplot > /dev/null 2>&1 || { echo "make plots-dambreak: gnuplot is not installed"; exit 1; }
+	rm -f docs/dam_break_resolution.md
+	./$(BUILD)/dam_break $(DAM_BREAK_ARGS) --threads $(DAM_BREAK_THREADS) --res 20 --vtk-every 0 --out $(BUILD)/dam_break_out/res20 --summary docs/dam_break_resolution.md
+	./$(BUILD)/dam_break $(DAM_BREAK_ARGS) --threads $(DAM_BREAK_THREADS) --res 40 --vtk-every 0 --out $(BUILD)/dam_break_out/res40 --summary docs/dam_break_resolution.md --report docs/dam_break_results.md
+	./$(BUILD)/dam_break $(DAM_BREAK_ARGS) --threads $(DAM_BREAK_THREADS) --res 60 --vtk-every 0 --out $(BUILD)/dam_break_out/res60 --summary docs/dam_break_resolution.md
+	gnuplot -e "datadir='$(or $(DAM_BREAK_DATA),$(firstword $(wildcard ../shared/data/dam_break shared/data/dam_break ../../shared/data/dam_break)))'; simdir='$(BUILD)/dam_break_out'; outdir='docs/plots'; res1=40; res2=60" docs/plots/dam_break.gp
+
+# Accuracy/cost report (report, report-full, plots-report): examples/error_vs_runtime.c
+# writes docs/report.md and the CSVs of docs/report/ (one OpenMP thread, so
+# times are per core); gnuplot draws the PNGs from the CSVs where it exists.
+$(BUILD)/error_vs_runtime: examples/error_vs_runtime.c sph_kernel.h
+	@mkdir -p $(BUILD)
+	$(CC) $(CFLAGS) $(OPENMP) -I. $< -o $@ $(LDLIBS)
+
+report: $(BUILD)/error_vs_runtime
+	@mkdir -p docs/report
+	OMP_NUM_THREADS=1 ./$(BUILD)/error_vs_runtime --out docs
+	@$(MAKE) --no-print-directory report-plots-if-gnuplot
+
+report-full: $(BUILD)/error_vs_runtime
+	@mkdir -p docs/report
+	OMP_NUM_THREADS=1 ./$(BUILD)/error_vs_runtime --full --out docs
+	@$(MAKE) --no-print-directory report-plots-if-gnuplot
+
+report-plots-if-gnuplot:
+	@if command -v gnuplot > /dev/null 2>&1; then $(MAKE) --no-print-directory plots-report; else \
+	    echo "make report: gnuplot is not installed (Debian/Ubuntu: apt-get install gnuplot-nox);"; \
+	    echo "             docs/report.md and the CSVs are new, the PNGs in docs/report were NOT redrawn."; fi
+
+plots-report:
+	@command -v gnuplot > /dev/null 2>&1 || { \
+	    echo "make plots-report: gnuplot is not installed (Debian/Ubuntu: apt-get install gnuplot-nox);"; \
+	    echo "                   the PNGs in docs/report were left as they are."; exit 1; }
+	gnuplot -e "dir='docs/report'" docs/report/report.gp
+	@ls docs/report/*.png
+
+# stability: builds examples/stability.c and rewrites docs/stability.md with
+# its measurements (a few minutes, one core: its scenes are small, threads would
+# not pay; `./build/stability --quick out.md` is a fast pass, `--check` the
+# short assertion run that `make test` does).
+stability: $(BUILD)/stability
+	./$(BUILD)/stability docs/stability.md
 
 install:
 	install -d $(DESTDIR)$(PREFIX)/include $(DESTDIR)$(PREFIX)/lib/pkgconfig
@@ -47,6 +115,49 @@ uninstall:
 
 clean:
 	rm -rf $(BUILD)
+
+# Flow examples: run-taylor-green, run-heat-conduction, plots-flows
+# (examples/taylor_green.c, examples/heat_conduction.c; docs/examples.md).
+.PHONY: run-taylor-green run-heat-conduction plots-flows
+
+$(BUILD)/flows/%: examples/%.c examples/example_io.h sph_kernel.h
+	@mkdir -p $(BUILD)/flows
+	$(CC) $(CFLAGS) $(OPENMP) -I. $< -o $@ $(LDLIBS)
+
+run-taylor-green: $(BUILD)/flows/taylor_green
+	./$(BUILD)/flows/taylor_green --out $(BUILD)/taylor_green
+
+run-heat-conduction: $(BUILD)/flows/heat_conduction
+	./$(BUILD)/flows/heat_conduction --out $(BUILD)/heat_conduction
+
+# The --study runs write docs/*_results.md and the CSVs the plots read (a few minutes).
+plots-flows: $(BUILD)/flows/taylor_green $(BUILD)/flows/heat_conduction
+	@command -v gnuplot > /dev/null 2>&1 || { echo "make plots-flows: gnuplot is not installed"; exit 1; }
+	./$(BUILD)/flows/taylor_green --study docs --out $(BUILD)/flows/data
+	./$(BUILD)/flows/heat_conduction --study docs --out $(BUILD)/flows/data
+	gnuplot -e "datadir='$(BUILD)/flows/data'; outdir='docs/plots'" docs/plots/flows.gp
+
+# ---- fuzz: operator and neighbour-search invariants (tests/fuzz_body.h) ----
+# make fuzz [FUZZ_SECONDS=60]: libFuzzer (clang -fsanitize=fuzzer,address,
+# undefined) when clang has it, otherwise the seeded random driver
+# tests/test_fuzz_seeded.c under ASan/UBSan, for FUZZ_SECONDS.
+FUZZ_SECONDS ?= 60
+fuzz:
+	@mkdir -p $(BUILD)/fuzz/corpus
+	@printf 'int LLVMFuzzerTestOneInput(const unsigned char *d, unsigned long n){(void)d;(void)n;return 0;}\n' > $(BUILD)/fuzz/probe.c
+	@if command -v clang > /dev/null 2>&1 && \
+	    clang -fsanitize=fuzzer $(BUILD)/fuzz/probe.c -o $(BUILD)/fuzz/probe > /dev/null 2>&1; then \
+	    echo "make fuzz: libFuzzer (clang -fsanitize=fuzzer,address,undefined), $(FUZZ_SECONDS) s"; \
+	    clang -std=c99 -O1 -g -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=all -I. \
+	        tests/fuzz_operators.c -o $(BUILD)/fuzz/fuzz_operators -lm && \
+	    ./$(BUILD)/fuzz/fuzz_operators -max_total_time=$(FUZZ_SECONDS) -max_len=256 \
+	        -artifact_prefix=$(BUILD)/fuzz/ $(BUILD)/fuzz/corpus; \
+	else \
+	    echo "make fuzz: libFuzzer not available; seeded random driver (ASan/UBSan), $(FUZZ_SECONDS) s"; \
+	    $(CC) -std=c99 -O1 -g -fsanitize=address,undefined -fno-sanitize-recover=all \
+	        tests/test_fuzz_seeded.c -o $(BUILD)/fuzz/test_fuzz_seeded -lm && \
+	    ./$(BUILD)/fuzz/test_fuzz_seeded $(FUZZ_SECONDS); \
+	fi
 
 # ---- bench, tiny-size: timings (examples/benchmark.c) and the size of a
 # program pinned to 2-D cubic density (examples/tiny_density.c) ----

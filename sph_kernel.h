@@ -537,6 +537,9 @@ SPH_API const sph__kdim *sph__prep(sph_kernel k, int dim, sph_real r, sph_real h
     if (kd == NULL || sph_check_h(h) != SPH_OK || !(r >= 0 && r <= SPH__REAL_MAX)) return NULL;
     *hinv = 1 / h;
     *q = r / h; /* one rounding: r = kappa h gives q = kappa exactly */
+    /* beyond the support (r / h may even overflow to Inf): q = kappa selects
+     * the zero row and keeps every product with q finite */
+    if (!(*q < sph__shapes[kd->shape].kappa)) *q = sph__shapes[kd->shape].kappa;
     return kd;
 }
 
@@ -994,7 +997,7 @@ SPH__INLINE sph_real sph__norm1(int dim, const sph_real *A)
  * is used, the rest of B is set to zero. */
 SPH_API int sph_correction_invert(int dim, const sph_real *M, sph_real rcond_min, sph_real *B)
 {
-    sph_real A[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0}, det, ad, inv;
+    sph_real A[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0}, det, ad, nm, na, inv;
     int a, ok;
     if (dim == 1) {
         A[0] = 1;
@@ -1018,7 +1021,15 @@ SPH_API int sph_correction_invert(int dim, const sph_real *M, sph_real rcond_min
         det = M[0] * A[0] + M[1] * A[3] + M[2] * A[6];
     }
     ad = det < 0 ? -det : det;
-    ok = ad > 0 && ad <= SPH__REAL_MAX && ad >= rcond_min * sph__norm1(dim, M) * sph__norm1(dim, A);
+    nm = sph__norm1(dim, M);
+    na = sph__norm1(dim, A);
+    /* In 3-D a rank-1 M (one neighbour, collinear neighbours) has an adjugate
+     * of rounding noise, and noise / noise passes the rcond test: also require
+     * ||adj M||_1 >= rcond_min ||M||_1^2 / 16, which every M passing the
+     * exact rcond test meets (||adj M||_2 = s1 s2 with s2 / s1 >= rcond_min / 3;
+     * 1- and 2-norms agree within sqrt 3: 9 sqrt 3 < 16). */
+    ok = ad > 0 && ad <= SPH__REAL_MAX && ad >= rcond_min * nm * na &&
+         (dim < 3 || 16 * na >= rcond_min * nm * nm);
     inv = ok ? 1 / det : 0;
     for (a = 0; a < 9; ++a) B[a] = ok ? A[a] * inv : (a % 4 == 0 && a / 3 < dim ? 1 : 0);
     return ok;
@@ -1589,18 +1600,33 @@ SPH_API int sph__out_ok(sph_out v, int ncomp)
     return v.stride > 0 ? SPH_OK : SPH_EINVAL;
 }
 
+/* SPH_OK when h is usable by the operators in dim dimensions: sph_check_h,
+ * and 64 h^-(dim+2) finite, so alpha h^-(dim+2) and every F_ij are
+ * (docs/operators.md, "Extreme cases"); else SPH_EH. */
+SPH_API int sph__op_h(sph_real h, int dim)
+{
+    return sph_check_h(h) == SPH_OK && sph__hpow(64, 1 / h, dim + 2) <= SPH__REAL_MAX ? SPH_OK : SPH_EH;
+}
+
+/* Largest |coordinate| the operators take: twice it squared, times 3, stays
+ * finite, so no x_ij and no r^2 overflows (docs/operators.md, "Extreme cases"). */
+#define SPH__XMAX (sph__sqrt(SPH__REAL_MAX) / 4)
+
 /* Value checks of n entries, ncomp components: kind 0 finite (SPH_ENONFINITE),
- * 1 usable h (SPH_EH), 2 positive and finite (SPH_EINVAL; densities). */
-SPH_API int sph__scan(sph_view v, int ncomp, sph_idx n, int kind)
+ * 1 usable h in dim dimensions (SPH_EH), 2 positive (SPH_EINVAL; densities),
+ * 3 positions: |x| <= SPH__XMAX (SPH_EINVAL). NaN and Inf are SPH_ENONFINITE
+ * for every kind but h. */
+SPH_API int sph__scan(sph_view v, int ncomp, sph_idx n, int kind, int dim)
 {
     sph_idx i;
     int a;
     for (i = 0; i < n; ++i)
         for (a = 0; a < ncomp; ++a) {
             const sph_real y = SPH__AT(v, a, i);
-            if (kind == 1 && sph_check_h(y) != SPH_OK) return SPH_EH;
-            if (kind == 2 && !(y > 0)) return SPH_EINVAL;
+            if (kind == 1 && sph__op_h(y, dim) != SPH_OK) return SPH_EH;
             if (!(y - y == 0)) return SPH_ENONFINITE;
+            if (kind == 2 && !(y > 0)) return SPH_EINVAL;
+            if (kind == 3 && !(y <= SPH__XMAX && y >= -SPH__XMAX)) return SPH_EINVAL;
         }
     return SPH_OK;
 }
@@ -1617,8 +1643,8 @@ SPH_API int sph__field(const sph_ctx *c, sph_view src, sph_view tgt, int ncomp, 
     *t_out = (same && tgt.p[0] == NULL) ? src : tgt;
     if (st == SPH_OK && need_target) st = sph__view_ok(*t_out, ncomp);
     if (st != SPH_OK || c->validate == SPH_VALIDATE_ARGS) return st;
-    st = sph__scan(src, ncomp, c->list->n_sources, kind);
-    if (st == SPH_OK && need_target) st = sph__scan(*t_out, ncomp, c->list->n_targets, kind);
+    st = sph__scan(src, ncomp, c->list->n_sources, kind, c->dim);
+    if (st == SPH_OK && need_target) st = sph__scan(*t_out, ncomp, c->list->n_targets, kind, c->dim);
     return st;
 }
 
@@ -1664,9 +1690,9 @@ SPH_API int sph__setup(const sph_ctx *c, int need, int ncomp, sph_view f, sph_vi
     A->V = A->m = A->rho = A->rhot = A->f = A->ft = A->k = A->kt = A->hs = A->ht = none;
     A->T = NULL;
     A->Ts = 0;
-    if ((st = sph__field(c, c->x, c->x_target, c->dim, 1, 0, &A->x, &A->xt)) != SPH_OK) return st;
+    if ((st = sph__field(c, c->x, c->x_target, c->dim, 1, 3, &A->x, &A->xt)) != SPH_OK) return st;
     if (A->hv) st = sph__field(c, c->h_source, c->h_target, 1, 1, 1, &A->hs, &A->ht);
-    else st = sph_check_h(c->h);
+    else st = sph__op_h(c->h, c->dim);
     if (st != SPH_OK) return st;
     if ((need & SPH__N_V) && (st = sph__field(c, c->V, none, 1, 0, 0, &A->V, &unused)) != SPH_OK)
         return st;
@@ -1860,6 +1886,31 @@ SPH_API int sph_correction_matrix(const sph_ctx *c, sph_real *B, ptrdiff_t B_str
     A.T = B;
     A.Ts = B_stride;
     return sph__finish(st, &A, sph__run_correction, n_fallback);
+}
+
+/* The validator behind SPH_ENONFINITE (docs/operators.md, "Extreme cases"):
+ * scans components 0..ncomp-1 of particles 0..n-1 of f in particle order and
+ * returns SPH_ENONFINITE at the first NaN or Inf, its particle in *first_bad
+ * (may be NULL); SPH_OK and *first_bad = -1 when every value is finite.
+ * SPH_ENULL for an absent component, SPH_EINVAL for ncomp outside 1..3 or a
+ * stride <= 0, SPH_ESIZE for n < 0 (*first_bad untouched on those). */
+SPH_API int sph_check_field(sph_view f, int ncomp, sph_idx n, sph_idx *first_bad)
+{
+    sph_idx i;
+    int a, st;
+    if (ncomp < 1 || ncomp > 3) return SPH_EINVAL;
+    if ((st = sph__view_ok(f, ncomp)) != SPH_OK) return st;
+    if (n < 0) return SPH_ESIZE;
+    for (i = 0; i < n; ++i)
+        for (a = 0; a < ncomp; ++a) {
+            const sph_real y = SPH__AT(f, a, i);
+            if (!(y - y == 0)) {
+                if (first_bad != NULL) *first_bad = i;
+                return SPH_ENONFINITE;
+            }
+        }
+    if (first_bad != NULL) *first_bad = -1;
+    return SPH_OK;
 }
 
 

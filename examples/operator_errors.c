@@ -36,6 +36,24 @@ static double field(int sine, int surface, const sph_real *x, double *g)
     return 0.7 + g[0] * x[0] + g[1] * x[1];
 }
 
+/* Lattice second moment mu = -sum_k V F(|k|, h) k_x^2 over the offsets k of a
+ * unit lattice (V = 1): the factor by which every uncorrected operator
+ * differs from the exact derivative on a lattice (1 for the continuous
+ * kernel; docs/operators.md, "Consistency and truncation error"). */
+static double lattice_moment(sph_kernel k, int dim, double h)
+{
+    const int m = (int)ceil(sph_kernel_support(k) * h);
+    double mu = 0;
+    int a, b, c;
+    for (a = -m; a <= m; ++a)
+        for (b = (dim > 1 ? -m : 0); b <= (dim > 1 ? m : 0); ++b)
+            for (c = (dim > 2 ? -m : 0); c <= (dim > 2 ? m : 0); ++c) {
+                double r = sqrt((double)(a * a + b * b + c * c));
+                mu -= (double)sph_kernel_f(k, dim, (sph_real)r, (sph_real)h) * a * a;
+            }
+    return mu;
+}
+
 int main(void)
 {
     static const char *scheme[5] = {"standard", "difference", "symmetric", "corrected", "pressure"};
@@ -98,6 +116,11 @@ int main(void)
         for (cf = 0; cf < 3; ++cf) printf(" | %9.2e %9.2e      ", err[cf][0][sc], err[cf][1][sc]);
         printf("\n");
     }
+    printf("\nlattice second moment mu at h = 1.3 dx (1 for the continuous kernel)\n%-12s %9s %9s\n",
+           "kernel", "2-D", "3-D");
+    for (sc = 0; sc < SPH_KERNEL_COUNT; ++sc)
+        printf("%-12s %9.4f %9.4f\n", sph_kernel_name((sph_kernel)sc),
+               lattice_moment((sph_kernel)sc, 2, 1.3), lattice_moment((sph_kernel)sc, 3, 1.3));
     free(x), free(V), free(f), free(one), free(g[0]), free(g[1]), free(ge);
     return 0;
 }

@@ -90,6 +90,10 @@ static void test_invalid(void)
         for (dim = 1; dim <= 3; ++dim) {
             TH_CHECK(sph_kernel_check(k, dim) == SPH_OK, "check(%d)", dim);
             for (i = 0; i < 4; ++i) expect_fallback(k, dim, bad_r[i], 1, "bad r");
+            /* valid r and h whose quotient overflows: q = +Inf is outside the
+             * support, every value is 0 (it was NaN: 0 * Inf in the zero row) */
+            expect_fallback(k, dim, (sph_real)(TH_IS_FLOAT ? FLT_MAX / 2 : DBL_MAX / 2), (sph_real)1e-3,
+                            "r / h overflows");
             for (i = 0; i < 7; ++i) {
                 expect_fallback(k, dim, (sph_real)0.5 * (sph_real)1e-30, bad_h[i], "bad h");
                 TH_CHECK(sph_check_h(bad_h[i]) == SPH_EH, "sph_check_h(%g) = %d", (double)bad_h[i],

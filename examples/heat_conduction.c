@@ -1,0 +1,318 @@
+/* examples/heat_conduction.c - 2-D transient heat conduction through a slab
+ * 0 <= x <= 1 (periodic in y) with the variable-coefficient diffusion
+ * operator of sph_kernel.h (docs/examples.md, "Heat conduction through two
+ * layers").
+ *
+ *   dT_i/dt = div(k grad T)_i = sum_j V_j k_ij (T_i - T_j) F_ij     (O14)
+ *   k_ij = 4 k_i k_j / (k_i + k_j)                                   (O13)
+ * (rho c = 1). T(0) = 0 and T(1) = 1 are held by layers of fixed boundary
+ * particles beyond each end: "mirror" walls take T_w = 2 T_b - T_f of the
+ * fluid particle f they mirror (the linear continuation of the profile),
+ * "fixed" walls hold T_w = T_b. Forward Euler with dt = 0.9 / max_i D_i,
+ * D_i = sum_j V_j k_ij |F_ij| (Gershgorin: the operator's eigenvalues lie in
+ * [-2 D_max, 0], so dt < 1 / D_max is stable).
+ *
+ * Two cases, both from T = 0:
+ *   single     uniform k = 1; against the Fourier series of the heat equation
+ *              T(x, t) = x + sum_m 2 (-1)^m / (m pi) sin(m pi x) exp(-m^2 pi^2 t)
+ *   two-layer  k = 1 for x < 1/2, k = 100 for x > 1/2, to steady state; against
+ *              the piecewise linear profile with flux continuity:
+ *              T_i = k2 / (k1 + k2) at x = 1/2.
+ *
+ *   ./heat_conduction                 default: 30 particles across, Wendland C2, mirror walls
+ *   ./heat_conduction --check         coarse run with validation bounds (make test)
+ *   ./heat_conduction --study docs    resolution / kernel / wall table into docs/
+ */
+#include "example_io.h"
+
+#include <math.h>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+#define PI 3.14159265358979323846
+
+typedef struct {
+    int n;             /* particles across the slab */
+    const char *kernel;
+    const char *wall;  /* mirror | fixed */
+    double hdx, k_ratio, t_single, t_end;
+    int frames;
+} hc_param;
+
+typedef struct {
+    double l2, max;    /* errors of the case at its end time */
+    double seconds;
+    long steps;
+    double t_interface, t_interface_exact; /* two-layer: mean T of the two particle columns next to x = 1/2 */
+} hc_result;
+
+/* Single layer: the Fourier series of x on [0, 1] decaying mode by mode. */
+static double hc_single_exact(double x, double t)
+{
+    double T = x;
+    int m;
+    for (m = 1; m <= 400; ++m) {
+        const double e = exp(-(double)m * m * PI * PI * t);
+        if (e < 1e-17) break;
+        T += 2 * ((m & 1) ? -1.0 : 1.0) / (m * PI) * sin(m * PI * x) * e;
+    }
+    return T;
+}
+
+/* Two layers, steady: linear in each layer, k1 T' = k2 T' across x = 1/2. */
+static double hc_two_layer_exact(double x, double k1, double k2)
+{
+    const double Ti = k2 / (k1 + k2);
+    return x < 0.5 ? 2 * Ti * x : Ti + 2 * (1 - Ti) * (x - 0.5);
+}
+
+/* One case (two_layer 0 or 1). csv (may be NULL) receives the time series
+ * t, L2 error, max error (single) or t, T at the interface (two-layer) and,
+ * at the end, the profile x, T, exact T into profile (may be NULL). */
+static int hc_run(const hc_param *P, int two_layer, hc_result *R, FILE *csv, FILE *profile, const char *vtkdir,
+                  const char *label)
+{
+    const int kid = sph_kernel_from_name(P->kernel), n = P->n;
+    const double dx = 1.0 / n, h = P->hdx * dx, k1 = 1, k2 = two_layer ? P->k_ratio : 1;
+    const double t_end = two_layer ? P->t_end : P->t_single;
+    const int mirror = strcmp(P->wall, "mirror") == 0;
+    double kappa, dmax = 0, dt, t0 = ex_now();
+    int nl, ny, i, j, l, st = SPH_OK, frame = 0;
+    sph_idx nf, nw, ns, q;
+    sph_real *x, *y, *T, *k, *V, *dT;
+    sph_idx *img;
+    ex_neighbours NL;
+    ex_progress prog = ex_progress_start();
+    sph_box box;
+    sph_ctx c;
+    long s, steps;
+    if (kid < 0) return SPH_EKERNEL;
+    if (!mirror && strcmp(P->wall, "fixed") != 0) return SPH_EINVAL;
+    kappa = sph_kernel_support((sph_kernel)kid);
+    nl = (int)ceil(kappa * P->hdx);          /* wall layers: the support reaches nl dx */
+    ny = (int)ceil(2 * kappa * P->hdx) + 1;  /* periodic rows: the period exceeds 2 kappa h */
+    if (n < 2 * nl || !(P->hdx > 0) || !(t_end > 0)) return SPH_EINVAL;
+    nf = (sph_idx)n * ny, nw = (sph_idx)2 * nl * ny, ns = nf + nw;
+    x = (sph_real *)calloc((size_t)ns, sizeof *x), y = (sph_real *)calloc((size_t)ns, sizeof *y);
+    T = (sph_real *)calloc((size_t)ns, sizeof *T), k = (sph_real *)calloc((size_t)ns, sizeof *k);
+    V = (sph_real *)calloc((size_t)ns, sizeof *V), dT = (sph_real *)calloc((size_t)ns, sizeof *dT);
+    img = (sph_idx *)calloc((size_t)ns, sizeof *img);
+    memset(&NL, 0, sizeof NL);
+    for (j = 0; j < ny; ++j)
+        for (i = 0; i < n; ++i) { /* fluid: cell-centred lattice, T = 0 */
+            q = (sph_idx)j * n + i;
+            x[q] = (i + 0.5) * dx, y[q] = (j + 0.5) * dx;
+            k[q] = x[q] < 0.5 ? k1 : k2;
+        }
+    for (j = 0; j < ny; ++j)
+        for (l = 0; l < nl; ++l) { /* walls: left at -(l+1/2) dx, right at 1 + (l+1/2) dx, and their mirrors */
+            q = nf + ((sph_idx)j * nl + l) * 2;
+            x[q] = -(l + 0.5) * dx, y[q] = (j + 0.5) * dx, k[q] = k1, img[q] = (sph_idx)j * n + l;
+            x[q + 1] = 1 + (l + 0.5) * dx, y[q + 1] = (j + 0.5) * dx, k[q + 1] = k2;
+            img[q + 1] = (sph_idx)j * n + (n - 1 - l);
+        }
+    for (q = 0; q < ns; ++q) V[q] = dx * dx;
+    box.lo[0] = box.lo[1] = box.lo[2] = 0;
+    box.length[0] = 1, box.length[1] = ny * dx, box.length[2] = 1;
+    box.periodic[0] = 0, box.periodic[1] = 1, box.periodic[2] = 0;
+    st = ex_neighbours_update(&NL, 2, sph_view_soa(x, y, NULL), ns, nf, h, kappa, &box);
+    for (q = 0; st == SPH_OK && q < nf; ++q) { /* Gershgorin bound of the operator, from the pair terms */
+        double d = 0;
+        sph_off o;
+        for (o = NL.list.offset[q]; o < NL.list.offset[q + 1]; ++o) {
+            const sph_idx p = NL.list.index[o];
+            sph_real dxy[2];
+            dxy[0] = x[q] - x[p], dxy[1] = sph_box_delta(&box, 1, y[q] - y[p]);
+            d += sph_pair_diffusion(V[p], sph_harmonic_k(k[q], k[p]), 1, 0,
+                                    fabs(sph_pair_kernel((sph_kernel)kid, 2, dxy, h).F));
+        }
+        dmax = d > dmax ? d : dmax;
+    }
+    steps = (long)ceil(t_end / (0.9 / dmax));
+    dt = t_end / (double)steps;
+    c = sph_ctx_init((sph_kernel)kid, 2, h, &NL.list, sph_view_soa(x, y, NULL));
+    c.box = &box;
+    c.V = sph_view_soa(V, NULL, NULL);
+    for (s = 0; st == SPH_OK; ++s) {
+        const double t = (double)s * dt;
+        for (q = nf; q < ns; ++q) { /* wall temperatures */
+            const double Tb = x[q] < 0 ? 0 : 1;
+            T[q] = (sph_real)(mirror ? 2 * Tb - T[img[q]] : Tb);
+        }
+        if (csv != NULL && (s % (steps / 400 + 1) == 0 || s == steps)) {
+            double e2 = 0, em = 0, ti = 0;
+            for (q = 0; q < nf; ++q) {
+                const double e = fabs(T[q] - hc_single_exact(x[q], t));
+                e2 += e * e, em = e > em ? e : em;
+                if (fabs(x[q] - 0.5) < dx) ti += T[q] / (2.0 * ny);
+            }
+            if (two_layer) fprintf(csv, "%.6g,%.9g\n", t, ti);
+            else if (s > 0) fprintf(csv, "%.6g,%.6g,%.6g\n", t, sqrt(e2 / nf), em);
+        }
+        if (vtkdir != NULL && P->frames > 0 && (s * P->frames) / steps >= frame) {
+            char path[1100];
+            ex_field f[2];
+            f[0].name = "temperature", f[0].v = sph_view_soa(T, NULL, NULL), f[0].ncomp = 1;
+            f[1].name = "conductivity", f[1].v = sph_view_soa(k, NULL, NULL), f[1].ncomp = 1;
+            snprintf(path, sizeof path, "%s/heat_%s_%04d.vtk", vtkdir, two_layer ? "two_layer" : "single", frame++);
+            if (ex_write_vtk(path, ns, 2, sph_view_soa(x, y, NULL), f, 2) != 0) fprintf(stderr, "cannot write %s\n", path);
+        }
+        if (s == steps) break;
+        st = sph_diffusion(&c, sph_view_soa(k, NULL, NULL), sph_view_none(), sph_view_soa(T, NULL, NULL),
+                           sph_view_none(), sph_out_soa(dT, NULL, NULL)); /* (O13), (O14) */
+        c.validate = SPH_VALIDATE_ARGS; /* list and k checked once by the first call */
+        for (q = 0; q < nf; ++q) T[q] += dt * dT[q];
+        if (label != NULL) ex_progress_update(&prog, label, (double)(s + 1) / (double)steps);
+    }
+    if (label != NULL) ex_progress_done(&prog, label);
+    R->l2 = R->max = R->t_interface = R->t_interface_exact = 0;
+    for (q = 0; q < nf; ++q) {
+        const double Te = two_layer ? hc_two_layer_exact(x[q], k1, k2) : hc_single_exact(x[q], t_end);
+        const double e = fabs(T[q] - Te);
+        R->l2 += e * e / nf, R->max = e > R->max ? e : R->max;
+        if (fabs(x[q] - 0.5) < dx) R->t_interface += T[q] / (2.0 * ny), R->t_interface_exact += Te / (2.0 * ny);
+        if (profile != NULL && q < n) fprintf(profile, "%.6g,%.9g,%.9g\n", x[q], T[q], Te);
+    }
+    R->l2 = sqrt(R->l2);
+    R->steps = steps;
+    R->seconds = ex_now() - t0;
+    if (st == SPH_OK && !(R->l2 < 1e30)) st = SPH_ENONFINITE;
+    ex_neighbours_free(&NL);
+    free(x), free(y), free(T), free(k), free(V), free(dT), free(img);
+    return st;
+}
+
+static void hc_print(const hc_param *P, int two_layer, const hc_result *R)
+{
+    printf("%-9s n %3d  %-12s %-6s walls  t %.3g  steps %7ld  L2 error %.3e  max error %.3e", two_layer ? "two-layer" : "single",
+           P->n, P->kernel, P->wall, two_layer ? P->t_end : P->t_single, R->steps, R->l2, R->max);
+    if (two_layer) printf("  T next to x = 1/2 %.5f (exact %.5f)", R->t_interface, R->t_interface_exact);
+    printf("  %.1f s\n", R->seconds);
+    fflush(stdout);
+}
+
+/* docs/heat_results.md and the profiles of the plots (outdir/heat_*.csv). */
+static int hc_study(const hc_param *base, const char *docdir, const char *outdir)
+{
+    static const int res[3] = {20, 30, 40};
+    static const char *kern[5] = {"cubic", "wendland_c2", "wendland_c4", "quintic", "lucy"};
+    char path[1100];
+    FILE *md;
+    int q, two, bad = 0;
+    snprintf(path, sizeof path, "%s/heat_results.md", docdir);
+    if ((md = fopen(path, "w")) == NULL) return -1;
+    fprintf(md, "Written by `heat_conduction --study` (h = %g dx, rho c = 1, T = 0 at t = 0). Errors are "
+                "absolute (T runs from 0 to 1): L2 = root mean square over the particles, max = largest. Single "
+                "layer: k = 1, against the Fourier series at t = %g. Two layers: k = 1 | %g, against the steady "
+                "piecewise linear profile at t = %g (slowest mode decayed by exp(-4 pi^2 t)).\n\n",
+            base->hdx, base->t_single, base->k_ratio, base->t_end);
+    fprintf(md, "| particles across | kernel | walls | single: L2 | single: max | two layers: L2 | two layers: max | "
+                "T next to x = 1/2: SPH / exact | steps (two layers) | run time |\n|---|---|---|---|---|---|---|---|---|---|\n");
+    for (q = 0; q < 3 + 5 + 3; ++q) { /* resolutions; kernels; fixed walls at each resolution */
+        hc_param P = *base;
+        hc_result R[2];
+        int a = SPH_OK;
+        P.frames = 0;
+        P.n = q < 3 ? res[q] : q < 8 ? res[1] : res[q - 8];
+        if (q >= 3 && q < 8) P.kernel = kern[q - 3];
+        if (q >= 8) P.wall = "fixed";
+        if (q >= 3 && q < 8 && strcmp(P.kernel, base->kernel) == 0) continue;
+        for (two = 0; two < 2 && a == SPH_OK; ++two) {
+            FILE *prof;
+            char label[80];
+            snprintf(path, sizeof path, "%s/heat_%s_%d_%s_%s.csv", outdir, two ? "two_layer" : "single", P.n,
+                     P.kernel, P.wall);
+            prof = fopen(path, "w");
+            if (prof != NULL) fprintf(prof, "x,T,exact T\n");
+            snprintf(label, sizeof label, "heat %s %d %s %s", two ? "two-layer" : "single", P.n, P.kernel, P.wall);
+            a = hc_run(&P, two, &R[two], NULL, prof, NULL, label);
+            if (prof != NULL) fclose(prof);
+            if (a == SPH_OK) hc_print(&P, two, &R[two]);
+        }
+        if (a != SPH_OK) {
+            fprintf(md, "| %d | %s | %s | failed: %s | | | | | | |\n", P.n, P.kernel, P.wall, sph_strerror(a));
+            bad = 1;
+            continue;
+        }
+        fprintf(md, "| %d | %s | %s | %.2e | %.2e | %.2e | %.2e | %.5f / %.5f | %ld | %.1f s |\n", P.n, P.kernel, P.wall,
+                R[0].l2, R[0].max, R[1].l2, R[1].max, R[1].t_interface, R[1].t_interface_exact, R[1].steps, R[0].seconds + R[1].seconds);
+    }
+    return fclose(md) != 0 || bad ? -1 : 0;
+}
+
+int main(int argc, char **argv)
+{
+    hc_param P;
+    hc_result R[2];
+    const char *out = "build/heat_conduction", *study = NULL;
+    int threads = 0, check = 0, st, two;
+    ex_option opt[12];
+    P.n = 30, P.kernel = "wendland_c2", P.wall = "mirror", P.hdx = 1.3, P.k_ratio = 100, P.t_single = 0.1;
+    P.t_end = 0.3, P.frames = 10;
+    memset(opt, 0, sizeof opt);
+    opt[0].name = "n", opt[0].help = "particles across the slab (dx = 1/n)", opt[0].integer = &P.n;
+    opt[1].name = "kernel", opt[1].help = "cubic, lucy, new_quartic, quintic, wendland_c2/c4/c6", opt[1].text = &P.kernel;
+    opt[2].name = "wall", opt[2].help = "boundary particles: mirror (T_w = 2 T_b - T_f) or fixed (T_w = T_b)",
+    opt[2].text = &P.wall;
+    opt[3].name = "hdx", opt[3].help = "smoothing length h / dx", opt[3].real = &P.hdx;
+    opt[4].name = "k-ratio", opt[4].help = "conductivity of the right layer (left: 1)", opt[4].real = &P.k_ratio;
+    opt[5].name = "t-single", opt[5].help = "end time of the single-layer transient", opt[5].real = &P.t_single;
+    opt[6].name = "t-end", opt[6].help = "end time of the two-layer run (steady by then)", opt[6].real = &P.t_end;
+    opt[7].name = "out", opt[7].help = "output directory (VTK frames, CSV series and profiles)", opt[7].text = &out;
+    opt[8].name = "frames", opt[8].help = "VTK frames per case (0: none)", opt[8].integer = &P.frames;
+    opt[9].name = "threads", opt[9].help = "OpenMP threads (0: the runtime's default)", opt[9].integer = &threads;
+    opt[10].name = "check", opt[10].help = "coarse run; exit 1 if it misses its validation bounds", opt[10].flag = &check;
+    opt[11].name = "study", opt[11].help = "write the error table into this directory (docs)", opt[11].text = &study;
+    st = ex_parse(argc, argv, "2-D heat conduction through two layers (k 1:100) and one, against analytic solutions",
+                  opt, 12);
+    if (st != 0) return st > 0 ? 0 : 2;
+#ifdef _OPENMP
+    if (threads > 0) omp_set_num_threads(threads);
+#else
+    (void)threads;
+#endif
+    if (check) { /* coarse: 20 particles across */
+        hc_param C = P;
+        int ok = 1;
+        C.n = 20, C.frames = 0;
+        for (two = 0; two < 2; ++two) {
+            st = hc_run(&C, two, &R[two], NULL, NULL, NULL, NULL);
+            if (st != SPH_OK) {
+                printf("heat_conduction --check: run failed: %s\n", sph_strerror(st));
+                return 1;
+            }
+            hc_print(&C, two, &R[two]);
+        }
+        ok = R[0].max < 0.02 && R[1].max < 0.01 && fabs(R[1].t_interface - R[1].t_interface_exact) < 0.005;
+        printf("heat_conduction --check: single-layer max error %.2e (bound 2e-2), two-layer max error %.2e (bound "
+               "1e-2), error of T next to the interface %.2e (bound 5e-3): %s\n",
+               R[0].max, R[1].max, fabs(R[1].t_interface - R[1].t_interface_exact), ok ? "pass" : "FAIL");
+        return ok ? 0 : 1;
+    }
+    if (ex_mkdir_p(out) != 0) {
+        fprintf(stderr, "cannot create %s\n", out);
+        return 2;
+    }
+    if (study != NULL) return hc_study(&P, study, out) == 0 ? 0 : 1;
+    for (two = 0; two < 2; ++two) {
+        char path[1100];
+        FILE *csv, *prof;
+        snprintf(path, sizeof path, "%s/%s_series.csv", out, two ? "two_layer" : "single");
+        csv = fopen(path, "w");
+        if (csv != NULL) fprintf(csv, two ? "t,T at x = 1/2\n" : "t,L2 error,max error\n");
+        snprintf(path, sizeof path, "%s/%s_profile.csv", out, two ? "two_layer" : "single");
+        prof = fopen(path, "w");
+        if (prof != NULL) fprintf(prof, "x,T,exact T\n");
+        st = hc_run(&P, two, &R[two], csv, prof, out, two ? "heat two-layer" : "heat single");
+        if (csv != NULL) fclose(csv);
+        if (prof != NULL) fclose(prof);
+        if (st != SPH_OK) {
+            fprintf(stderr, "heat_conduction: %s\n", sph_strerror(st));
+            return 1;
+        }
+        hc_print(&P, two, &R[two]);
+    }
+    printf("wrote %s/{single,two_layer}_{series,profile}.csv and VTK frames %s/heat_*.vtk\n", out, out);
+    return 0;
+}
