@@ -1146,6 +1146,7 @@ enum {
 typedef struct {
     sph_kernel kernel;
     int dim, hv, pb; /* per-particle h; periodic box */
+    sph_real L[3], invL[3]; /* period and 1 / period per axis, 0 where not periodic */
     sph_idx nt;
     sph_real h, rcond_min;
     const sph_box *box;
@@ -1253,7 +1254,10 @@ SPH__INLINE void sph__tinit(const sph__args *A, const sph__kdim *kd, const int D
 }
 
 /* (O0), (O1) the n pairs of list positions o0..o0+n-1: dx = x_i - x_j
- * (minimum image), r, and W (at h_i) and/or F (at h_ij = (h_i + h_j) / 2 with
+ * (minimum image: sph_box_delta with 1/L taken once per call, so no division
+ * per pair; d * (1/L) and d / L round to the same integer, and the image is
+ * the same bit for bit, unless |image| is within an ulp of L/2, where both
+ * images are equally near and beyond the support of any list pair), r, and W (at h_i) and/or F (at h_ij = (h_i + h_j) / 2 with
  * per-particle h, else h), each from one table row. */
 SPH__INLINE void sph__chunk_eval(const sph__args *A, const sph__kdim *kd, const int D, const int GEN,
                                  const int WANT, const sph__tgt *t, sph_off o0, int n, sph__chunk *P)
@@ -1267,7 +1271,7 @@ SPH__INLINE void sph__chunk_eval(const sph__args *A, const sph__kdim *kd, const 
         sph_real r2 = 0;
         for (a = 0; a < D; ++a) {
             sph_real d = t->xi[a] - SPH__AT(A->x, a, j);
-            if (GEN && A->pb) d = sph_box_delta(A->box, a, d);
+            if (GEN && A->pb) d -= A->L[a] * sph__floor(d * A->invL[a] + (sph_real)0.5); /* (O0) */
             P->dx[a][k] = d;
             r2 += d * d;
         }
@@ -1680,7 +1684,12 @@ SPH_API int sph__setup(const sph_ctx *c, int need, int ncomp, sph_view f, sph_vi
     A->dim = c->dim;
     A->hv = c->h_source.p[0] != NULL;
     A->pb = 0;
-    for (a = 0; c->box != NULL && a < c->dim; ++a) A->pb |= c->box->periodic[a] != 0;
+    for (a = 0; a < 3; ++a) {
+        const int per = c->box != NULL && a < c->dim && c->box->periodic[a];
+        A->L[a] = per ? c->box->length[a] : 0;
+        A->invL[a] = per ? 1 / c->box->length[a] : 0;
+        A->pb |= per;
+    }
     A->nt = c->list->n_targets;
     A->h = c->h;
     A->rcond_min = c->rcond_min;
