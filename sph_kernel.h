@@ -1327,13 +1327,23 @@ SPH__INLINE void sph__tinit(const sph__args *A, const sph__kdim *kd, const int D
     t->cF = sph__hpow(kd->alpha, t->hinv, D + 2);
 }
 
+/* Complete unrolling of the short constant-count loops of the kernel forms
+ * (gcc's default limits leave the quintic's nest rolled, and unvectorised). */
+#if defined(__GNUC__) && !defined(__clang__) && __GNUC__ >= 8
+#define SPH__UNROLL _Pragma("GCC unroll 8")
+#else
+#define SPH__UNROLL
+#endif
+
 /* (b - q)^m P(q - e): one product form of sph__nshapes. */
 SPH__INLINE sph_real sph__pform_eval(const sph__pform *f, sph_real q)
 {
     const sph_real t = f->b - q, u = q - f->e;
     sph_real p = f->c[f->degree], tm = 1;
     int i;
+    SPH__UNROLL
     for (i = f->degree - 1; i >= 0; --i) p = p * u + f->c[i];
+    SPH__UNROLL
     for (i = 0; i < f->m; ++i) tm *= t;
     return tm * p;
 }
@@ -1346,6 +1356,7 @@ SPH__INLINE sph_real sph__nshape_pick(const sph__nshape *s, const int G, sph_rea
 {
     sph_real v = sph__pform_eval(G ? &s->piece[0].g : &s->piece[0].w, q);
     int p;
+    SPH__UNROLL
     for (p = 1; p < s->npiece; ++p) {
         const sph_real x = sph__pform_eval(G ? &s->piece[p].g : &s->piece[p].w, q);
         v = q >= s->lo[p] ? x : v;
