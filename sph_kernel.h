@@ -1329,7 +1329,7 @@ SPH__INLINE void sph__tinit(const sph__args *A, const sph__kdim *kd, const int D
 
 /* Complete unrolling of the short constant-count loops of the kernel forms
  * (gcc's default limits leave the quintic's nest rolled, and unvectorised). */
-#if defined(__GNUC__) && !defined(__clang__) && __GNUC__ >= 8
+#if defined(__GNUC__) && !defined(__clang__) && !defined(__CUDACC__) && !defined(__INTEL_COMPILER) && __GNUC__ >= 8
 #define SPH__UNROLL _Pragma("GCC unroll 8")
 #else
 #define SPH__UNROLL
