@@ -5,6 +5,7 @@
 #   make plots      redraws the PNG plots in docs/ (needs gnuplot)
 #   make report     error against run time of every operator: docs/report.md, docs/report/
 #   make install PREFIX=/usr/local   header + pkg-config file
+#   make bench      operator and neighbour-search timings (examples/benchmark.c)
 CC      ?= cc
 CFLAGS  ?= -O2 -std=c99 -Wall -Wextra -pedantic -Werror
 LDLIBS  ?= -lm
@@ -15,7 +16,7 @@ BUILD   := build
 # not depend on the thread count)
 OPENMP  := $(shell printf 'int main(void){return 0;}\n' | $(CC) -fopenmp -x c - -o /dev/null > /dev/null 2>&1 && echo -fopenmp)
 
-.PHONY: all test demo plots install uninstall clean fuzz stability report report-full plots-report report-plots-if-gnuplot
+.PHONY: all test demo plots install uninstall clean fuzz stability report report-full plots-report report-plots-if-gnuplot bench tiny-size
 
 all: $(BUILD)/kernel_table $(BUILD)/kernel_plots $(BUILD)/quickstart
 
@@ -168,3 +169,35 @@ fuzz:
 	        tests/test_fuzz_seeded.c -o $(BUILD)/fuzz/test_fuzz_seeded -lm && \
 	    ./$(BUILD)/fuzz/test_fuzz_seeded $(FUZZ_SECONDS); \
 	fi
+
+# ---- bench, tiny-size: timings (examples/benchmark.c) and the size of a
+# program pinned to 2-D cubic density (examples/tiny_density.c) ----
+BENCH_FLAGS := -O3 -march=native -fopenmp -std=c99 -Wall -Wextra -pedantic -Werror -I.
+BENCH_PIN   := -DSPH_DIM=3 -DSPH_KERNEL=SPH_KERNEL_CUBIC
+
+$(BUILD)/bench/%_double.o: examples/benchmark.c sph_kernel.h
+	@mkdir -p $(BUILD)/bench
+	$(CC) $(BENCH_FLAGS) $(BENCH_$*) -c $< -o $@
+
+$(BUILD)/bench/%_float.o: examples/benchmark.c sph_kernel.h
+	@mkdir -p $(BUILD)/bench
+	$(CC) $(BENCH_FLAGS) -DSPH_REAL=float $(BENCH_$*) -c $< -o $@
+
+.PRECIOUS: $(BUILD)/bench/%.o
+BENCH_main   := -DBENCH_LINK_PARTS
+BENCH_pinned := -DBENCH_PART=bench_pinned $(BENCH_PIN)
+BENCH_spec0  := -DBENCH_PART=bench_spec0 -DSPH_OP_SPECIALISE=0
+
+$(BUILD)/bench/benchmark_%: $(BUILD)/bench/main_%.o $(BUILD)/bench/pinned_%.o $(BUILD)/bench/spec0_%.o
+	$(CC) -fopenmp $^ -o $@ -lm
+
+bench: $(BUILD)/bench/benchmark_double $(BUILD)/bench/benchmark_float tiny-size
+	./$(BUILD)/bench/benchmark_double
+	@echo
+	./$(BUILD)/bench/benchmark_float
+
+tiny-size:
+	@mkdir -p $(BUILD)/bench
+	$(CC) -O2 -std=c99 -Wall -Wextra -pedantic -Werror -I. -c examples/tiny_density.c -o $(BUILD)/bench/tiny_density.o
+	@echo "examples/tiny_density.c (SPH_DIM 2, SPH_KERNEL cubic, sph_density), gcc -O2:"
+	@size $(BUILD)/bench/tiny_density.o

@@ -24,6 +24,27 @@
  *   SPH_REAL    floating type of every real number: double (default) or float.
  *   SPH_API     storage of every function; default `static inline`, plus
  *               `__host__ __device__` when compiled by nvcc.
+ *   SPH_DIM     pin the dimension of the array operators (1, 2 or 3): only
+ *               that dimension's loops are compiled; a context with another
+ *               dim gets SPH_EDIM. Default: all three, chosen at run time.
+ *   SPH_KERNEL  pin the kernel of the array operators (e.g. SPH_KERNEL_CUBIC):
+ *               only its loops are compiled; another ctx.kernel gets
+ *               SPH_EKERNEL. The scalar kernel functions take any kernel.
+ *               Pinning changes code size and compile time, not speed: the
+ *               run-time choice is made once per call, outside the pair loop
+ *               (examples/benchmark.c measures both).
+ *   SPH_OP_SPECIALISE  1 (default): one operator loop per kernel x dimension,
+ *               table rows and polynomial degrees folded at compile time.
+ *               0: one loop per dimension, the kernel's table row read at run
+ *               time. Trade-off measured with gcc 12 -O2 (one translation unit
+ *               calling sph_gradient): 1 costs ~6 s and a 275 KB object, 0
+ *               ~0.9 s and 54 KB; at run time 0 is 8-22 % slower in the pair
+ *               loop (examples/benchmark.c, README "Performance"): 1 for
+ *               production builds, 0 while developing. Pinning SPH_KERNEL
+ *               makes the choice moot: one kernel, one loop either way.
+ *   SPH_NO_INTRINSICS  use only portable C: no SSE/AVX square-root helper in
+ *               the operator loops (same results bit for bit, slower where the
+ *               compiler cannot vectorise sqrt() because of errno).
  *
  * The version is SPH_KERNEL_VERSION (major*10000 + minor*100 + patch) and
  * SPH_KERNEL_VERSION_STRING.
@@ -64,6 +85,24 @@ typedef SPH_REAL sph_real;
 
 #ifndef SPH_API
 #define SPH_API static inline SPH_HOSTDEV
+#endif
+
+/* Vector square roots for the operator loops (section 6): AVX (2), SSE2 (1),
+ * none (0: portable loop). */
+#if !defined(SPH_NO_INTRINSICS) && !defined(__CUDACC__) && (defined(__GNUC__) || defined(__clang__)) && \
+    (defined(__AVX__) || defined(__SSE2__))
+#include <immintrin.h>
+#if defined(__AVX__)
+#define SPH__SQRT_SIMD 2
+#else
+#define SPH__SQRT_SIMD 1
+#endif
+#else
+#define SPH__SQRT_SIMD 0
+#endif
+
+#ifndef SPH_OP_SPECIALISE
+#define SPH_OP_SPECIALISE 1
 #endif
 
 /* Tables are read by host and device code alike: under nvcc the device pass
@@ -160,6 +199,25 @@ typedef struct {
     sph_real alpha; /* alpha_d: W = alpha_d h^-d w(q) */
     sph_real sigma; /* standard deviation per coordinate, in units of h */
 } sph__kdim;
+
+/* One product form (b - q)^m P(q - e), P of the given degree, lowest power first. */
+typedef struct {
+    sph_real b, e;
+    int m, degree;
+    sph_real c[6];
+} sph__pform;
+
+/* A shape over its natural pieces (at most 3), each in product form, for
+ * evaluation without a per-pair table row: w, and g = w'(q)/q on the piece
+ * holding 0, w'(q) on the others (divided by q at run time). */
+typedef struct {
+    int npiece;
+    sph_real kappa;
+    sph_real lo[3]; /* piece p holds q in [lo[p], lo[p + 1]) */
+    struct {
+        sph__pform w, g;
+    } piece[3];
+} sph__nshape;
 
 enum { SPH__SHAPE_COUNT = 10 };
 
@@ -416,6 +474,61 @@ SPH__TABLE sph__kdim sph__kdims[SPH_KERNEL_COUNT][3] = {
         { 6, SPH__C(0.886720397226274013569), SPH__C(0.414039335605412530678) }, /* 2D: alpha = 39/(14*pi), sigma/h = sqrt(210)/35 */
         { 6, SPH__C(0.848619130157957552049), SPH__C(0.408248290463863016366) }  /* 3D: alpha = 1365/(512*pi), sigma/h = sqrt(6)/6 */
     }
+};
+
+/* The natural pieces in product form, per shape (same order as sph__shapes):
+   pieces, kappa, left ends, then per piece the forms of w and g,
+   { b, e, m, degree, P } means (b - q)^m P(q - e); W = w, F from g, where g
+   is w'(q)/q on the piece holding 0 and w'(q) (to divide by q) elsewhere. */
+SPH__TABLE sph__nshape sph__nshapes[] = {
+    { 2, SPH__Q(2, 1), { 0, SPH__Q(1, 1), 0 }, { /* cubic */
+        { { SPH__Q(1, 1), SPH__Q(1, 1), 0, 3, { SPH__Q(1, 6), SPH__Q(-1, 2), SPH__Q(1, 2), SPH__Q(1, 2), 0, 0 } },
+          { SPH__Q(1, 1), SPH__Q(1, 1), 0, 1, { SPH__Q(-1, 2), SPH__Q(3, 2), 0, 0, 0, 0 } } },
+        { { SPH__Q(2, 1), SPH__Q(1, 1), 3, 0, { SPH__Q(1, 6), 0, 0, 0, 0, 0 } },
+          { SPH__Q(2, 1), SPH__Q(1, 1), 2, 0, { SPH__Q(-1, 2), 0, 0, 0, 0, 0 } } }
+    } },
+    { 1, SPH__Q(1, 1), { 0, 0, 0 }, { /* lucy */
+        { { SPH__Q(1, 1), 0, 3, 1, { SPH__Q(1, 1), SPH__Q(3, 1), 0, 0, 0, 0 } },
+          { SPH__Q(1, 1), 0, 2, 0, { SPH__Q(-12, 1), 0, 0, 0, 0, 0 } } }
+    } },
+    { 2, SPH__Q(2, 1), { 0, SPH__Q(1, 1), 0 }, { /* new_quartic */
+        { { SPH__Q(2, 1), 0, 2, 2, { SPH__Q(1, 6), SPH__Q(1, 6), SPH__Q(-5, 32), 0, 0, 0 } },
+          { SPH__Q(2, 1), 0, 1, 1, { SPH__Q(-9, 8), SPH__Q(5, 8), 0, 0, 0, 0 } } },
+        { { SPH__Q(2, 1), SPH__Q(3, 2), 2, 2, { SPH__Q(25, 384), SPH__Q(-29, 96), SPH__Q(-5, 32), 0, 0, 0 } },
+          { SPH__Q(2, 1), SPH__Q(2, 1), 1, 2, { SPH__Q(1, 4), SPH__Q(11, 8), SPH__Q(5, 8), 0, 0, 0 } } }
+    } },
+    { 3, SPH__Q(3, 1), { 0, SPH__Q(1, 1), SPH__Q(2, 1) }, { /* quintic */
+        { { SPH__Q(1, 1), 0, 0, 5, { SPH__Q(66, 1), 0, SPH__Q(-60, 1), 0, SPH__Q(30, 1), SPH__Q(-10, 1) } },
+          { SPH__Q(1, 1), 0, 0, 3, { SPH__Q(-120, 1), 0, SPH__Q(120, 1), SPH__Q(-50, 1), 0, 0 } } },
+        { { SPH__Q(2, 1), SPH__Q(2, 1), 0, 5, { SPH__Q(1, 1), SPH__Q(-5, 1), SPH__Q(10, 1), SPH__Q(-10, 1), SPH__Q(5, 1), SPH__Q(5, 1) } },
+          { SPH__Q(2, 1), SPH__Q(2, 1), 0, 4, { SPH__Q(-5, 1), SPH__Q(20, 1), SPH__Q(-30, 1), SPH__Q(20, 1), SPH__Q(25, 1), 0 } } },
+        { { SPH__Q(3, 1), SPH__Q(2, 1), 5, 0, { SPH__Q(1, 1), 0, 0, 0, 0, 0 } },
+          { SPH__Q(3, 1), SPH__Q(2, 1), 4, 0, { SPH__Q(-5, 1), 0, 0, 0, 0, 0 } } }
+    } },
+    { 1, SPH__Q(2, 1), { 0, 0, 0 }, { /* wendland_c2 */
+        { { SPH__Q(2, 1), 0, 4, 1, { SPH__Q(1, 16), SPH__Q(1, 8), 0, 0, 0, 0 } },
+          { SPH__Q(2, 1), 0, 3, 0, { SPH__Q(-5, 8), 0, 0, 0, 0, 0 } } }
+    } },
+    { 1, SPH__Q(2, 1), { 0, 0, 0 }, { /* wendland_c4 */
+        { { SPH__Q(2, 1), 0, 6, 2, { SPH__Q(1, 64), SPH__Q(3, 64), SPH__Q(35, 768), 0, 0, 0 } },
+          { SPH__Q(2, 1), 0, 5, 1, { SPH__Q(-7, 48), SPH__Q(-35, 96), 0, 0, 0, 0 } } }
+    } },
+    { 1, SPH__Q(2, 1), { 0, 0, 0 }, { /* wendland_c6 */
+        { { SPH__Q(2, 1), 0, 8, 3, { SPH__Q(1, 256), SPH__Q(1, 64), SPH__Q(25, 1024), SPH__Q(1, 64), 0, 0 } },
+          { SPH__Q(2, 1), 0, 7, 2, { SPH__Q(-11, 256), SPH__Q(-77, 512), SPH__Q(-11, 64), 0, 0, 0 } } }
+    } },
+    { 1, SPH__Q(2, 1), { 0, 0, 0 }, { /* wendland_c2_1d */
+        { { SPH__Q(2, 1), 0, 3, 1, { SPH__Q(1, 8), SPH__Q(3, 16), 0, 0, 0, 0 } },
+          { SPH__Q(2, 1), 0, 2, 0, { SPH__Q(-3, 4), 0, 0, 0, 0, 0 } } }
+    } },
+    { 1, SPH__Q(2, 1), { 0, 0, 0 }, { /* wendland_c4_1d */
+        { { SPH__Q(2, 1), 0, 5, 2, { SPH__Q(1, 32), SPH__Q(5, 64), SPH__Q(1, 16), 0, 0, 0 } },
+          { SPH__Q(2, 1), 0, 4, 1, { SPH__Q(-7, 32), SPH__Q(-7, 16), 0, 0, 0, 0 } } }
+    } },
+    { 1, SPH__Q(2, 1), { 0, 0, 0 }, { /* wendland_c6_1d */
+        { { SPH__Q(2, 1), 0, 7, 3, { SPH__Q(1, 128), SPH__Q(7, 256), SPH__Q(19, 512), SPH__Q(21, 1024), 0, 0 } },
+          { SPH__Q(2, 1), 0, 6, 2, { SPH__Q(-9, 128), SPH__Q(-27, 128), SPH__Q(-105, 512), 0, 0, 0 } } }
+    } }
 };
 /* ---- end of GENERATED tables ---- */
 
@@ -1100,20 +1213,21 @@ enum {
     SPH__OP_GRAD_STD, SPH__OP_GRAD_DIFF, SPH__OP_GRAD_SYM, SPH__OP_GRAD_CORR, SPH__OP_GRAD_PRES,
     SPH__OP_GRADV_STD, SPH__OP_GRADV_DIFF, SPH__OP_GRADV_SYM, SPH__OP_GRADV_CORR,
     SPH__OP_DIV_STD, SPH__OP_DIV_DIFF, SPH__OP_DIV_CORR, SPH__OP_CURL_STD, SPH__OP_CURL_DIFF,
-    SPH__OP_LAPLACIAN, SPH__OP_DIFFUSION, SPH__OP_CORRECTION
+    SPH__OP_LAPLACIAN, SPH__OP_DIFFUSION, SPH__OP_CORRECTION, SPH__OP_DENS_GRAD
 };
 
 /* Everything an operator loop reads, resolved and checked. */
 typedef struct {
     sph_kernel kernel;
     int dim, hv, pb; /* per-particle h; periodic box */
+    sph_real L[3], invL[3]; /* period and 1 / period per axis, 0 where not periodic */
     sph_idx nt;
     sph_real h, rcond_min;
     const sph_box *box;
     const sph_off *off;
     const sph_idx *idx;
     sph_view x, xt, hs, ht, V, m, rho, rhot, f, ft, k, kt;
-    sph_out out;
+    sph_out out, out2; /* out2: the density of SPH__OP_DENS_GRAD */
     sph_real *T;
     ptrdiff_t Ts;
 } sph__args;
@@ -1121,7 +1235,78 @@ typedef struct {
 /* The pair loop instances. K is a kernel (compile-time constant) or -1 (the
  * kernel read once per target from A: SPH_OP_SPECIALISE 0); D the dimension;
  * GEN 0 is the uniform-h, no-box instance (no trace of those options in it),
- * GEN 1 handles per-particle h and periodic boxes. */
+ * GEN 1 handles per-particle h and periodic boxes.
+ *
+ * Each target's list is walked in chunks of SPH__CHUNK sources, and each
+ * chunk in three simple loops the compiler vectorises: gather the sources'
+ * positions into dx and r^2 (and per-pair h), take the square roots, evaluate
+ * the kernel (all natural pieces, selected by comparisons: no branch); the operator then sums the
+ * chunk. The arithmetic of every pair term is that of the pair-term functions
+ * of section 5; only the order of the sum over j may differ (a SIMD reduction
+ * under OpenMP, the same for any thread count). */
+#ifndef SPH__CHUNK
+#define SPH__CHUNK 32 /* a multiple of 8 */
+#endif
+
+/* omp simd (OpenMP 4.0 and later); nothing without OpenMP, so builds without
+ * it see no unknown pragma. The SUM forms reduce into s0.., m0... */
+#if defined(_OPENMP) && _OPENMP >= 201307
+#define SPH__SIMD _Pragma("omp simd")
+#define SPH__SIMD_SUM1 _Pragma("omp simd reduction(+ : s0)")
+#define SPH__SIMD_SUM2 _Pragma("omp simd reduction(+ : s0, s1)")
+#define SPH__SIMD_SUM3 _Pragma("omp simd reduction(+ : s0, s1, s2)")
+#define SPH__SIMD_SUM4 _Pragma("omp simd reduction(+ : s0, s1, s2, s3)")
+#else
+#define SPH__SIMD
+#define SPH__SIMD_SUM1
+#define SPH__SIMD_SUM2
+#define SPH__SIMD_SUM3
+#define SPH__SIMD_SUM4
+#endif
+
+/* What to evaluate per pair: W (gather h_i) and/or F (h_ij). */
+enum { SPH__WANT_W = 1, SPH__WANT_F = 2 };
+
+/* One target: position, h_i, 1/h_i and the factors alpha h^-D (W), alpha h^-(D+2) (F). */
+typedef struct {
+    sph_real xi[3], hi, hinv, cW, cF;
+} sph__tgt;
+
+/* Pair data of one chunk of a target's list (positions k = 0..n-1). */
+typedef struct {
+    sph_real dx[3][SPH__CHUNK]; /* x_i - x_j, minimum image */
+    sph_real r[SPH__CHUNK];     /* r^2, then r (padded with zeros to a multiple of 8) */
+    sph_real hinv[SPH__CHUNK];  /* 2 / (h_i + h_j) (per-particle h, F only) */
+    sph_real W[SPH__CHUNK], F[SPH__CHUNK];
+    sph_idx j[SPH__CHUNK];
+} sph__chunk;
+
+/* r[0..n) = sqrt(r[0..n)), n a multiple of 8 (zero padded): IEEE square roots,
+ * bit for bit those of sph__sqrt, without the errno test that keeps compilers
+ * from vectorising sqrt(). SPH_NO_INTRINSICS selects the portable loop. */
+SPH__INLINE void sph__sqrt_chunk(sph_real *r, int n)
+{
+    int k;
+#if SPH__SQRT_SIMD == 2
+    if (sizeof(sph_real) == sizeof(double)) {
+        for (k = 0; k < n; k += 4)
+            _mm256_storeu_pd((double *)r + k, _mm256_sqrt_pd(_mm256_loadu_pd((const double *)r + k)));
+    } else {
+        for (k = 0; k < n; k += 8)
+            _mm256_storeu_ps((float *)r + k, _mm256_sqrt_ps(_mm256_loadu_ps((const float *)r + k)));
+    }
+#elif SPH__SQRT_SIMD == 1
+    if (sizeof(sph_real) == sizeof(double)) {
+        for (k = 0; k < n; k += 2)
+            _mm_storeu_pd((double *)r + k, _mm_sqrt_pd(_mm_loadu_pd((const double *)r + k)));
+    } else {
+        for (k = 0; k < n; k += 4)
+            _mm_storeu_ps((float *)r + k, _mm_sqrt_ps(_mm_loadu_ps((const float *)r + k)));
+    }
+#else
+    for (k = 0; k < n; ++k) r[k] = sph__sqrt(r[k]);
+#endif
+}
 
 /* Kernel data of the instance. */
 SPH__INLINE const sph__kdim *sph__kdk(const sph__args *A, const int K, const int D)
@@ -1129,105 +1314,210 @@ SPH__INLINE const sph__kdim *sph__kdk(const sph__args *A, const int K, const int
     return &sph__kdims[K < 0 ? (int)A->kernel : K][D - 1];
 }
 
-/* Target i: position into xi, its h into *hi, 1/h of the instance into *hinv;
- * returns alpha h^-D (DER 0: W) or alpha h^-(D+2) (DER 1: F). DER 0 (density,
- * interpolation) uses the target's h_i; DER 1 recomputes per pair with h_ij. */
-SPH__INLINE sph_real sph__tinit(const sph__args *A, const sph__kdim *kd, const int D, const int GEN,
-                                const int DER, const sph_idx i, sph_real *xi, sph_real *hi,
-                                sph_real *hinv)
+/* Target i: position, h_i (the target's h, or the uniform h), 1/h_i and the
+ * factors alpha h_i^-D (W) and alpha h_i^-(D+2) (F). */
+SPH__INLINE void sph__tinit(const sph__args *A, const sph__kdim *kd, const int D, const int GEN,
+                            const sph_idx i, sph__tgt *t)
 {
     int a;
-    for (a = 0; a < D; ++a) xi[a] = SPH__AT(A->xt, a, i);
-    *hi = (GEN && A->hv) ? SPH__AT(A->ht, 0, i) : A->h;
-    *hinv = 1 / *hi;
-    return sph__hpow(kd->alpha, *hinv, DER ? D + 2 : D);
+    for (a = 0; a < 3; ++a) t->xi[a] = a < D ? SPH__AT(A->xt, a, i) : 0;
+    t->hi = (GEN && A->hv) ? SPH__AT(A->ht, 0, i) : A->h;
+    t->hinv = 1 / t->hi;
+    t->cW = sph__hpow(kd->alpha, t->hinv, D);
+    t->cF = sph__hpow(kd->alpha, t->hinv, D + 2);
 }
 
-/* (O0), (O1) one pair: dx = x_i - x_j (minimum image), then W (DER 0) or F
- * (DER 1) from one table row; with per-particle h, DER 1 uses
- * h_ij = (h_i + h_j) / 2 (hinv, c as returned by sph__tinit otherwise). */
-SPH__INLINE sph_real sph__pair(const sph__args *A, const sph__kdim *kd, const int D, const int GEN,
-                               const int DER, const sph_real *xi, sph_real hi, sph_real hinv,
-                               sph_real c, const sph_idx j, sph_real *dx)
+/* Complete unrolling of the short constant-count loops of the kernel forms
+ * (gcc's default limits leave the quintic's nest rolled, and unvectorised). */
+#if defined(__GNUC__) && !defined(__clang__) && !defined(__CUDACC__) && !defined(__INTEL_COMPILER) && __GNUC__ >= 8
+#define SPH__UNROLL _Pragma("GCC unroll 8")
+#else
+#define SPH__UNROLL
+#endif
+
+/* (b - q)^m P(q - e): one product form of sph__nshapes. */
+SPH__INLINE sph_real sph__pform_eval(const sph__pform *f, sph_real q)
 {
-    const sph__shape *sh = &sph__shapes[kd->shape];
-    const sph_real *row;
-    sph_real r2 = 0, q;
-    int a;
-    for (a = 0; a < D; ++a) {
-        dx[a] = xi[a] - SPH__AT(A->x, a, j);
-        if (GEN && A->pb) dx[a] = sph_box_delta(A->box, a, dx[a]);
-        r2 += dx[a] * dx[a];
-    }
-    if (GEN && DER && A->hv) {
-        hinv = 2 / (hi + SPH__AT(A->hs, 0, j));
-        c = sph__hpow(kd->alpha, hinv, D + 2);
-    }
-    q = sph__sqrt(r2) * hinv;
-    row = sph__row(sh, q);
-    if (!DER) return c * sph__horner(row + 3, sh->degree, q - row[0]);
-    return c * sph__horner(row + 4 + sh->degree, sh->degree, q - row[0]) / (row[1] + row[2] * q);
+    const sph_real t = f->b - q, u = q - f->e;
+    sph_real p = f->c[f->degree], tm = 1;
+    int i;
+    SPH__UNROLL
+    for (i = f->degree - 1; i >= 0; --i) p = p * u + f->c[i];
+    SPH__UNROLL
+    for (i = 0; i < f->m; ++i) tm *= t;
+    return tm * p;
 }
 
-/* The loop head shared by the derivative families: declarations, target setup. */
-#define SPH__TARGET_HEAD(DER)                                                      \
+/* The form of w (G = 0) or g (G = 1) of the natural piece holding q >= 0:
+ * every piece is evaluated and the one holding q selected by comparisons, so
+ * a loop over pairs has no branch and no per-pair table gather (the forms are
+ * constants of the kernel). */
+SPH__INLINE sph_real sph__nshape_pick(const sph__nshape *s, const int G, sph_real q)
+{
+    sph_real v = sph__pform_eval(G ? &s->piece[0].g : &s->piece[0].w, q);
+    int p;
+    SPH__UNROLL
+    for (p = 1; p < s->npiece; ++p) {
+        const sph_real x = sph__pform_eval(G ? &s->piece[p].g : &s->piece[p].w, q);
+        v = q >= s->lo[p] ? x : v;
+    }
+    return v;
+}
+
+/* docs/kernels.md eq. (K1): w(q) from the natural pieces; 0 for q >= kappa and NaN. */
+SPH__INLINE sph_real sph__nshape_w(const sph__nshape *s, sph_real q)
+{
+    const sph_real w = sph__nshape_pick(s, 0, q);
+    return q < s->kappa ? w : 0;
+}
+
+/* (K2): g(q) = w'(q)/q the same way; the piece holding 0 has q divided out
+ * exactly (finite at q = 0), the others divide by q: one division per pair. */
+SPH__INLINE sph_real sph__nshape_g(const sph__nshape *s, sph_real q)
+{
+    sph_real g = sph__nshape_pick(s, 1, q);
+    if (s->npiece > 1) g /= q >= s->lo[1] ? q : 1;
+    return q < s->kappa ? g : 0;
+}
+
+/* (O0), (O1) the n pairs of list positions o0..o0+n-1: dx = x_i - x_j
+ * (minimum image: sph_box_delta with 1/L taken once per call, so no division
+ * per pair; d * (1/L) and d / L round to the same integer, and the image is
+ * the same bit for bit, unless |image| is within an ulp of L/2, where both
+ * images are equally near and beyond the support of any list pair), r, and W (at h_i) and/or F (at h_ij = (h_i + h_j) / 2 with
+ * per-particle h, else h), each from the natural pieces (sph__nshape_w/_g). */
+SPH__INLINE void sph__chunk_eval(const sph__args *A, const sph__kdim *kd, const int D, const int GEN,
+                                 const int WANT, const sph__tgt *t, sph_off o0, int n, sph__chunk *P)
+{
+    const sph__nshape *sh = &sph__nshapes[kd->shape];
+    const int hv = GEN && A->hv && (WANT & SPH__WANT_F);
+    int k, a;
+    SPH__SIMD
+    for (k = 0; k < n; ++k) {
+        const sph_idx j = A->idx[o0 + k];
+        sph_real r2 = 0;
+        for (a = 0; a < D; ++a) {
+            sph_real d = t->xi[a] - SPH__AT(A->x, a, j);
+            if (GEN && A->pb) d -= A->L[a] * sph__floor(d * A->invL[a] + (sph_real)0.5); /* (O0) */
+            P->dx[a][k] = d;
+            r2 += d * d;
+        }
+        P->j[k] = j;
+        P->r[k] = r2;
+        if (hv) P->hinv[k] = 2 / (t->hi + SPH__AT(A->hs, 0, j));
+    }
+    for (k = n; (k & 7) != 0; ++k) P->r[k] = 0;
+    sph__sqrt_chunk(P->r, k);
+    if (WANT & SPH__WANT_W) {
+        SPH__SIMD
+        for (k = 0; k < n; ++k) {
+            P->W[k] = t->cW * sph__nshape_w(sh, P->r[k] * t->hinv);
+        }
+    }
+    if (WANT & SPH__WANT_F) {
+        SPH__SIMD
+        for (k = 0; k < n; ++k) {
+            const sph_real hinv = hv ? P->hinv[k] : t->hinv;
+            const sph_real c = hv ? sph__hpow(kd->alpha, hinv, D + 2) : t->cF;
+            P->F[k] = c * sph__nshape_g(sh, P->r[k] * hinv);
+        }
+    }
+}
+
+/* dx of chunk position k as a vector (zeros beyond D). */
+SPH__INLINE void sph__chunk_dx(const sph__chunk *P, const int D, int k, sph_real *dx)
+{
+    int a;
+    for (a = 0; a < 3; ++a) dx[a] = a < D ? P->dx[a][k] : 0;
+}
+
+/* The loop head shared by the families: declarations, target setup; the
+ * chunk loop is `for (o = A->off[i]; o < A->off[i + 1]; o += n)`. */
+#define SPH__TARGET_HEAD(WANT)                                                     \
     const sph__kdim *kd = sph__kdk(A, K, D);                                       \
-    sph_real xi[3] = {0, 0, 0}, dx[3] = {0, 0, 0}, hi, hinv;                       \
-    const sph_real c = sph__tinit(A, kd, D, GEN, DER, i, xi, &hi, &hinv);          \
+    sph__tgt t;                                                                    \
+    sph__chunk P;                                                                  \
     sph_off o;                                                                     \
-    int a
+    int n, k, a;                                                                   \
+    sph__tinit(A, kd, D, GEN, i, &t)
+
+/* The next chunk: n sources from list position o, evaluated. */
+#define SPH__NEXT_CHUNK(WANT)                                                      \
+    n = (A->off[i + 1] - o) < SPH__CHUNK ? (int)(A->off[i + 1] - o) : SPH__CHUNK; \
+    sph__chunk_eval(A, kd, D, GEN, WANT, &t, o, n, &P)
 
 /* (O2), (O3) density, interpolation, Shepard; returns 1 for an empty Shepard target. */
 SPH__INLINE int sph__t_sum(const sph__args *A, const int OP, const int K, const int D,
                            const int GEN, const sph_idx i)
 {
-    sph_real s = 0, w = 0;
-    SPH__TARGET_HEAD(0);
+    sph_real s0 = 0, s1 = 0;
+    SPH__TARGET_HEAD(SPH__WANT_W);
     (void)a;
-    for (o = A->off[i]; o < A->off[i + 1]; ++o) {
-        const sph_idx j = A->idx[o];
-        const sph_real W = sph__pair(A, kd, D, GEN, 0, xi, hi, hinv, c, j, dx);
+    for (o = A->off[i]; o < A->off[i + 1]; o += n) {
+        SPH__NEXT_CHUNK(SPH__WANT_W);
         if (OP == SPH__OP_DENSITY) {
-            s += sph_pair_density(SPH__AT(A->m, 0, j), W);
+            SPH__SIMD_SUM1
+            for (k = 0; k < n; ++k) s0 += sph_pair_density(SPH__AT(A->m, 0, P.j[k]), P.W[k]);
         } else {
-            s += sph_pair_interpolate(SPH__AT(A->V, 0, j), SPH__AT(A->f, 0, j), W);
-            w += SPH__AT(A->V, 0, j) * W;
+            SPH__SIMD_SUM2
+            for (k = 0; k < n; ++k) {
+                const sph_real Vj = SPH__AT(A->V, 0, P.j[k]);
+                s0 += sph_pair_interpolate(Vj, SPH__AT(A->f, 0, P.j[k]), P.W[k]);
+                s1 += Vj * P.W[k];
+            }
         }
     }
     if (OP == SPH__OP_SHEPARD) {
-        SPH__AT(A->out, 0, i) = w != 0 ? s / w : 0;
-        return w == 0;
+        SPH__AT(A->out, 0, i) = s1 != 0 ? s0 / s1 : 0;
+        return s1 == 0;
     }
-    SPH__AT(A->out, 0, i) = s;
+    SPH__AT(A->out, 0, i) = s0;
     return 0;
 }
 
-/* (O4)-(O8) scalar gradient; returns 1 when the corrected scheme fell back. */
+/* (O4)-(O8) scalar gradient, and the density with the difference gradient in
+ * one pass (O2)+(O5); returns 1 when the corrected scheme fell back. */
 SPH__INLINE int sph__t_grad(const sph__args *A, const int OP, const int K, const int D,
                             const int GEN, const sph_idx i)
 {
-    const int corr = OP == SPH__OP_GRAD_CORR;
+    const int corr = OP == SPH__OP_GRAD_CORR, dens = OP == SPH__OP_DENS_GRAD;
+    const int want = dens ? SPH__WANT_W | SPH__WANT_F : SPH__WANT_F;
     const sph_real fi = OP == SPH__OP_GRAD_STD ? 0 : SPH__AT(A->ft, 0, i);
     const sph_real rhoi = OP == SPH__OP_GRAD_PRES ? SPH__AT(A->rhot, 0, i) : 1;
     const sph_real Pi = OP == SPH__OP_GRAD_PRES ? sph_pressure_factor(fi, rhoi) : 0;
-    sph_real g[3] = {0, 0, 0}, M[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0}, B[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+    sph_real g[3], M[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0}, B[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+    sph_real s0 = 0, s1 = 0, s2 = 0, s3 = 0;
     int fb = 0, b;
-    SPH__TARGET_HEAD(1);
-    for (o = A->off[i]; o < A->off[i + 1]; ++o) {
-        const sph_idx j = A->idx[o];
-        const sph_real F = sph__pair(A, kd, D, GEN, 1, xi, hi, hinv, c, j, dx);
-        const sph_real fj = SPH__AT(A->f, 0, j);
-        if (OP == SPH__OP_GRAD_PRES) {
-            sph_pair_grad_pressure(D, SPH__AT(A->m, 0, j), Pi,
-                                   sph_pressure_factor(fj, SPH__AT(A->rho, 0, j)), F, dx, g);
-            continue;
+    SPH__TARGET_HEAD(want);
+    for (o = A->off[i]; o < A->off[i + 1]; o += n) {
+        SPH__NEXT_CHUNK(want);
+        SPH__SIMD_SUM4
+        for (k = 0; k < n; ++k) {
+            const sph_idx j = P.j[k];
+            const sph_real fj = SPH__AT(A->f, 0, j), F = P.F[k];
+            sph_real dx[3], acc[3] = {0, 0, 0};
+            sph__chunk_dx(&P, D, k, dx);
+            if (OP == SPH__OP_GRAD_PRES)
+                sph_pair_grad_pressure(D, SPH__AT(A->m, 0, j), Pi,
+                                       sph_pressure_factor(fj, SPH__AT(A->rho, 0, j)), F, dx, acc);
+            if (OP == SPH__OP_GRAD_STD) sph_pair_grad_standard(D, SPH__AT(A->V, 0, j), fj, F, dx, acc);
+            if (OP == SPH__OP_GRAD_DIFF || corr || dens)
+                sph_pair_grad_difference(D, SPH__AT(A->V, 0, j), fi, fj, F, dx, acc);
+            if (OP == SPH__OP_GRAD_SYM) sph_pair_grad_symmetric(D, SPH__AT(A->V, 0, j), fi, fj, F, dx, acc);
+            if (dens) s3 += sph_pair_density(SPH__AT(A->m, 0, j), P.W[k]);
+            s0 += acc[0];
+            s1 += acc[1];
+            s2 += acc[2];
         }
-        if (OP == SPH__OP_GRAD_STD) sph_pair_grad_standard(D, SPH__AT(A->V, 0, j), fj, F, dx, g);
-        if (OP == SPH__OP_GRAD_DIFF || corr)
-            sph_pair_grad_difference(D, SPH__AT(A->V, 0, j), fi, fj, F, dx, g);
-        if (OP == SPH__OP_GRAD_SYM) sph_pair_grad_symmetric(D, SPH__AT(A->V, 0, j), fi, fj, F, dx, g);
-        if (corr) sph_pair_correction(D, SPH__AT(A->V, 0, j), F, dx, M);
+        for (k = 0; corr && k < n; ++k) {
+            sph_real dx[3];
+            sph__chunk_dx(&P, D, k, dx);
+            sph_pair_correction(D, SPH__AT(A->V, 0, P.j[k]), P.F[k], dx, M);
+        }
     }
+    g[0] = s0;
+    g[1] = s1;
+    g[2] = s2;
     if (corr) fb = !sph_correction_invert(D, M, A->rcond_min, B);
     for (a = 0; a < D; ++a) {
         sph_real y = rhoi * g[a];
@@ -1235,6 +1525,7 @@ SPH__INLINE int sph__t_grad(const sph__args *A, const int OP, const int K, const
             for (y = 0, b = 0; b < D; ++b) y += B[3 * a + b] * g[b];
         SPH__AT(A->out, a, i) = y;
     }
+    if (dens) SPH__AT(A->out2, 0, i) = s3;
     return fb;
 }
 
@@ -1247,30 +1538,34 @@ SPH__INLINE int sph__t_tensor(const sph__args *A, const int OP, const int K, con
     sph_real vi[3] = {0, 0, 0}, S[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0}, M[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
     sph_real B[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1}, div = 0;
     int fb = 0, b, e;
-    SPH__TARGET_HEAD(1);
+    SPH__TARGET_HEAD(SPH__WANT_F);
     for (a = 0; OP != SPH__OP_GRADV_STD && OP != SPH__OP_CORRECTION && a < D; ++a)
         vi[a] = SPH__AT(A->ft, a, i);
-    for (o = A->off[i]; o < A->off[i + 1]; ++o) {
-        const sph_idx j = A->idx[o];
-        const sph_real F = sph__pair(A, kd, D, GEN, 1, xi, hi, hinv, c, j, dx);
-        const sph_real Vj = SPH__AT(A->V, 0, j);
-        for (a = 0; OP != SPH__OP_CORRECTION && a < D; ++a) {
-            const sph_real vj = SPH__AT(A->f, a, j);
-            if (OP == SPH__OP_GRADV_STD) sph_pair_grad_standard(D, Vj, vj, F, dx, S + 3 * a);
-            else if (OP == SPH__OP_GRADV_SYM) sph_pair_grad_symmetric(D, Vj, vi[a], vj, F, dx, S + 3 * a);
-            else sph_pair_grad_difference(D, Vj, vi[a], vj, F, dx, S + 3 * a);
+    for (o = A->off[i]; o < A->off[i + 1]; o += n) {
+        SPH__NEXT_CHUNK(SPH__WANT_F);
+        for (k = 0; k < n; ++k) {
+            const sph_idx j = P.j[k];
+            const sph_real F = P.F[k], Vj = SPH__AT(A->V, 0, j);
+            sph_real dx[3];
+            sph__chunk_dx(&P, D, k, dx);
+            for (a = 0; OP != SPH__OP_CORRECTION && a < D; ++a) {
+                const sph_real vj = SPH__AT(A->f, a, j);
+                if (OP == SPH__OP_GRADV_STD) sph_pair_grad_standard(D, Vj, vj, F, dx, S + 3 * a);
+                else if (OP == SPH__OP_GRADV_SYM) sph_pair_grad_symmetric(D, Vj, vi[a], vj, F, dx, S + 3 * a);
+                else sph_pair_grad_difference(D, Vj, vi[a], vj, F, dx, S + 3 * a);
+            }
+            if (corr) sph_pair_correction(D, Vj, F, dx, M);
         }
-        if (corr) sph_pair_correction(D, Vj, F, dx, M);
     }
     if (corr) fb = !sph_correction_invert(D, M, A->rcond_min, B);
     for (a = 0; a < D; ++a)
         for (b = 0; b < D; ++b) {
-            sph_real t = S[3 * a + b];
-            if (OP == SPH__OP_CORRECTION) t = B[3 * a + b];
+            sph_real y = S[3 * a + b];
+            if (OP == SPH__OP_CORRECTION) y = B[3 * a + b];
             else if (corr) /* (O17) T = S B */
-                for (t = 0, e = 0; e < D; ++e) t += S[3 * a + e] * B[3 * e + b];
-            if (OP == SPH__OP_DIV_CORR) div += a == b ? t : 0; /* (O18) */
-            else A->T[(ptrdiff_t)i * A->Ts + a * D + b] = t;
+                for (y = 0, e = 0; e < D; ++e) y += S[3 * a + e] * B[3 * e + b];
+            if (OP == SPH__OP_DIV_CORR) div += a == b ? y : 0; /* (O18) */
+            else A->T[(ptrdiff_t)i * A->Ts + a * D + b] = y;
         }
     if (OP == SPH__OP_DIV_CORR) SPH__AT(A->out, 0, i) = div;
     return fb;
@@ -1282,18 +1577,30 @@ SPH__INLINE int sph__t_divcurl(const sph__args *A, const int OP, const int K, co
 {
     const int diff = OP == SPH__OP_DIV_DIFF || OP == SPH__OP_CURL_DIFF;
     const int curl = OP == SPH__OP_CURL_STD || OP == SPH__OP_CURL_DIFF;
-    sph_real vi[3] = {0, 0, 0}, acc[3] = {0, 0, 0};
-    SPH__TARGET_HEAD(1);
+    sph_real vi[3] = {0, 0, 0}, s0 = 0, s1 = 0, s2 = 0;
+    SPH__TARGET_HEAD(SPH__WANT_F);
     for (a = 0; diff && a < D; ++a) vi[a] = SPH__AT(A->ft, a, i);
-    for (o = A->off[i]; o < A->off[i + 1]; ++o) {
-        const sph_idx j = A->idx[o];
-        const sph_real F = sph__pair(A, kd, D, GEN, 1, xi, hi, hinv, c, j, dx);
-        sph_real u[3] = {0, 0, 0};
-        for (a = 0; a < D; ++a) u[a] = SPH__AT(A->f, a, j) - vi[a];
-        if (curl) sph_pair_curl(D, SPH__AT(A->V, 0, j), u, F, dx, acc);
-        else acc[0] += sph_pair_div_standard(D, SPH__AT(A->V, 0, j), u, F, dx);
+    for (o = A->off[i]; o < A->off[i + 1]; o += n) {
+        SPH__NEXT_CHUNK(SPH__WANT_F);
+        SPH__SIMD_SUM3
+        for (k = 0; k < n; ++k) {
+            const sph_idx j = P.j[k];
+            sph_real u[3] = {0, 0, 0}, dx[3], acc[3] = {0, 0, 0};
+            int c;
+            sph__chunk_dx(&P, D, k, dx);
+            for (c = 0; c < D; ++c) u[c] = SPH__AT(A->f, c, j) - vi[c];
+            if (curl) sph_pair_curl(D, SPH__AT(A->V, 0, j), u, P.F[k], dx, acc);
+            else acc[0] = sph_pair_div_standard(D, SPH__AT(A->V, 0, j), u, P.F[k], dx);
+            s0 += acc[0];
+            s1 += acc[1];
+            s2 += acc[2];
+        }
     }
-    for (a = 0; a < (curl ? (D == 2 ? 1 : 3) : 1); ++a) SPH__AT(A->out, a, i) = acc[a];
+    SPH__AT(A->out, 0, i) = s0;
+    if (curl && D == 3) {
+        SPH__AT(A->out, 1, i) = s1;
+        SPH__AT(A->out, 2, i) = s2;
+    }
     return 0;
 }
 
@@ -1303,27 +1610,28 @@ SPH__INLINE int sph__t_lap(const sph__args *A, const int OP, const int K, const 
 {
     const sph_real fi = SPH__AT(A->ft, 0, i);
     const sph_real ki = OP == SPH__OP_DIFFUSION ? SPH__AT(A->kt, 0, i) : 0;
-    sph_real s = 0;
-    SPH__TARGET_HEAD(1);
+    sph_real s0 = 0;
+    SPH__TARGET_HEAD(SPH__WANT_F);
     (void)a;
-    for (o = A->off[i]; o < A->off[i + 1]; ++o) {
-        const sph_idx j = A->idx[o];
-        const sph_real F = sph__pair(A, kd, D, GEN, 1, xi, hi, hinv, c, j, dx);
-        const sph_real Vj = SPH__AT(A->V, 0, j), fj = SPH__AT(A->f, 0, j);
-        if (OP == SPH__OP_LAPLACIAN) s += sph_pair_laplacian(Vj, fi, fj, F);
-        else s += sph_pair_diffusion(Vj, sph_harmonic_k(ki, SPH__AT(A->k, 0, j)), fi, fj, F);
+    for (o = A->off[i]; o < A->off[i + 1]; o += n) {
+        SPH__NEXT_CHUNK(SPH__WANT_F);
+        SPH__SIMD_SUM1
+        for (k = 0; k < n; ++k) {
+            const sph_idx j = P.j[k];
+            const sph_real Vj = SPH__AT(A->V, 0, j), fj = SPH__AT(A->f, 0, j);
+            if (OP == SPH__OP_LAPLACIAN) s0 += sph_pair_laplacian(Vj, fi, fj, P.F[k]);
+            else s0 += sph_pair_diffusion(Vj, sph_harmonic_k(ki, SPH__AT(A->k, 0, j)), fi, fj, P.F[k]);
+        }
     }
-    SPH__AT(A->out, 0, i) = s;
+    SPH__AT(A->out, 0, i) = s0;
     return 0;
 }
 
-/* Compile-time kernel specialisation (1, default): one loop instance per
- * kernel, dimension and GEN, so table rows and Horner degrees fold. 0: one
- * instance per dimension and GEN with the kernel read at run time (7 times
- * less code to compile; the kernel data is still hoisted out of the loop). */
-#ifndef SPH_OP_SPECIALISE
-#define SPH_OP_SPECIALISE 1
-#endif
+/* Kernel specialisation: SPH_OP_SPECIALISE (section 1) 1 gives one loop
+ * instance per kernel, dimension and GEN, so table rows and Horner degrees
+ * fold; 0 one instance per dimension and GEN with the kernel read at run time
+ * (7 times less code to compile; the kernel data is still hoisted out of the
+ * loop); SPH_KERNEL one instance for the pinned kernel. */
 
 #ifdef _OPENMP
 #define SPH__OMP_FOR _Pragma("omp parallel for schedule(static) reduction(+ : n_)")
@@ -1345,7 +1653,9 @@ SPH__INLINE int sph__t_lap(const sph__args *A, const int OP, const int K, const 
         else SPH__LOOP(A, FAM, OP, K, D, 0);                                       \
     } while (0)
 
-#if SPH_OP_SPECIALISE
+#if defined(SPH_KERNEL)
+#define SPH__LOOP_K(A, FAM, OP, D) SPH__LOOP_G(A, FAM, OP, (int)(SPH_KERNEL), D)
+#elif SPH_OP_SPECIALISE
 #define SPH__LOOP_K(A, FAM, OP, D)                                                 \
     switch ((A)->kernel) {                                                         \
     case SPH_KERNEL_CUBIC: SPH__LOOP_G(A, FAM, OP, SPH_KERNEL_CUBIC, D); break;    \
@@ -1362,6 +1672,10 @@ SPH__INLINE int sph__t_lap(const sph__args *A, const int OP, const int K, const 
 
 /* name(A): runs operator OP of family FAM; one function per dimension keeps
  * each compiled function small. Returns the number of fallbacks. */
+#if defined(SPH_DIM)
+#define SPH__RUNNER(name, FAM, OP)                                                 \
+    SPH_API sph_idx name(const sph__args *A) { sph_idx n_ = 0; SPH__LOOP_K(A, FAM, OP, SPH_DIM); return n_; }
+#else
 #define SPH__RUNNER(name, FAM, OP)                                                 \
     SPH_API sph_idx name##_d1(const sph__args *A) { sph_idx n_ = 0; SPH__LOOP_K(A, FAM, OP, 1); return n_; } \
     SPH_API sph_idx name##_d2(const sph__args *A) { sph_idx n_ = 0; SPH__LOOP_K(A, FAM, OP, 2); return n_; } \
@@ -1370,6 +1684,7 @@ SPH__INLINE int sph__t_lap(const sph__args *A, const int OP, const int K, const 
     {                                                                              \
         return A->dim == 1 ? name##_d1(A) : A->dim == 2 ? name##_d2(A) : name##_d3(A); \
     }
+#endif
 
 SPH__RUNNER(sph__run_density, sph__t_sum, SPH__OP_DENSITY)
 SPH__RUNNER(sph__run_interp, sph__t_sum, SPH__OP_INTERP)
@@ -1391,6 +1706,7 @@ SPH__RUNNER(sph__run_curl_std, sph__t_divcurl, SPH__OP_CURL_STD)
 SPH__RUNNER(sph__run_curl_diff, sph__t_divcurl, SPH__OP_CURL_DIFF)
 SPH__RUNNER(sph__run_laplacian, sph__t_lap, SPH__OP_LAPLACIAN)
 SPH__RUNNER(sph__run_diffusion, sph__t_lap, SPH__OP_DIFFUSION)
+SPH__RUNNER(sph__run_dens_grad, sph__t_grad, SPH__OP_DENS_GRAD)
 
 /* ---- validation (everything is checked before any output is written) ---- */
 
@@ -1472,6 +1788,12 @@ SPH_API int sph__setup(const sph_ctx *c, int need, int ncomp, sph_view f, sph_vi
     int st, a;
     if (c == NULL || c->list == NULL) return SPH_ENULL;
     if ((st = sph_kernel_check(c->kernel, c->dim)) != SPH_OK) return st;
+#if defined(SPH_KERNEL)
+    if ((int)c->kernel != (int)(SPH_KERNEL)) return SPH_EKERNEL;
+#endif
+#if defined(SPH_DIM)
+    if (c->dim != (SPH_DIM)) return SPH_EDIM;
+#endif
     if (c->list->offset == NULL) return SPH_ENULL;
     if (c->list->n_targets < 0 || c->list->n_sources < 0) return SPH_ESIZE;
     if (full && (st = sph_neighbours_check(c->list)) != SPH_OK) return st;
@@ -1485,7 +1807,12 @@ SPH_API int sph__setup(const sph_ctx *c, int need, int ncomp, sph_view f, sph_vi
     A->dim = c->dim;
     A->hv = c->h_source.p[0] != NULL;
     A->pb = 0;
-    for (a = 0; c->box != NULL && a < c->dim; ++a) A->pb |= c->box->periodic[a] != 0;
+    for (a = 0; a < 3; ++a) {
+        const int per = c->box != NULL && a < c->dim && c->box->periodic[a];
+        A->L[a] = per ? c->box->length[a] : 0;
+        A->invL[a] = per ? 1 / c->box->length[a] : 0;
+        A->pb |= per;
+    }
     A->nt = c->list->n_targets;
     A->h = c->h;
     A->rcond_min = c->rcond_min;
@@ -1577,6 +1904,24 @@ SPH_API int sph_gradient(const sph_ctx *c, sph_scheme scheme, sph_view f, sph_vi
     A.out = grad;
     if (n_fallback != NULL && st == SPH_OK) *n_fallback = 0;
     return sph__finish(st, &A, run, scheme == SPH_SCHEME_CORRECTED ? n_fallback : NULL);
+}
+
+/* (O2) and (O5) in one pass over the list: rho_i = sum_j m_j W_ij(h_i) and
+ * the difference gradient sum_j V_j (f_j - f_i) grad_i W_ij(h_ij) (needs
+ * ctx.m and ctx.V; V_j from the previous densities, as a solver's step has
+ * them). The same values as sph_density and sph_gradient(DIFFERENCE) to
+ * round-off, in about the time of one of them. */
+SPH_API int sph_density_gradient(const sph_ctx *c, sph_view f, sph_view f_target, sph_out rho,
+                                 sph_out grad)
+{
+    sph__args A;
+    int st = sph__setup(c, SPH__N_M | SPH__N_V | SPH__N_FI, 1, f, f_target, sph_view_none(),
+                        sph_view_none(), &A);
+    if (st == SPH_OK) st = sph__out_ok(rho, 1);
+    if (st == SPH_OK) st = sph__out_ok(grad, c->dim);
+    A.out = grad;
+    A.out2 = rho;
+    return sph__finish(st, &A, sph__run_dens_grad, NULL);
 }
 
 /* (O17) velocity-gradient tensor of the vector v (dim components):

@@ -3,7 +3,9 @@
  * reference written directly from the pair helper sph_pair_kernel and the
  * formulas (O2) and (O12), for every kernel in 1, 2 and 3 D, with uniform h,
  * per-particle h (h_i for the density, (h_i + h_j)/2 for the Laplacian) and a
- * periodic box. Tolerance: 1e-12 (double) / 1e-4 (float) relative to the sum
+ * periodic box, and a periodic box whose particles sit up to 3 periods outside
+ * it (the operators' minimum image, a multiplication by 1/L, must pick the
+ * image sph_box_delta picks; a wrong one changes a term by O(1)). Tolerance: 1e-12 (double) / 1e-4 (float) relative to the sum
  * of the magnitudes of the terms (the two evaluate W and F by different
  * operation orders, so agreement is to round-off, not bitwise).
  */
@@ -18,9 +20,12 @@ static void check(sph_kernel k, int dim, int mode)
     sph_off o;
     const double tol = TH_IS_FLOAT ? 1e-4 : 1e-12;
     for (a = 0; a < 3; ++a) box.lo[a] = 0, box.length[a] = 1, box.periodic[a] = 1;
-    th_begin("dispatch %s %dD %s", sph_kernel_name(k), dim, mode == 0 ? "uniform h" : mode == 1 ? "per-particle h" : "periodic box");
+    th_begin("dispatch %s %dD %s", sph_kernel_name(k), dim,
+             mode == 0 ? "uniform h" : mode == 1 ? "per-particle h" : mode == 2 ? "periodic box" : "periodic, shifted");
     ts_lattice(&s, k, dim, dim == 1 ? 20 : dim == 2 ? 8 : 5, dim == 1 ? 0.05 : dim == 2 ? 0.125 : 0.2, 1.3, 0.3, 3,
-               mode == 2 ? &box : NULL);
+               mode >= 2 ? &box : NULL);
+    for (i = 0; mode == 3 && i < s.n; ++i) /* the list stays valid: it holds minimum images */
+        for (a = 0; a < dim; ++a) s.x[3 * i + a] += (sph_real)((i * 5 + a) % 7 - 3);
     f = ts_vec(s.n), hh = ts_vec(s.n), rho = ts_vec(s.n), lap = ts_vec(s.n);
     for (i = 0; i < s.n; ++i) {
         f[i] = (sph_real)(ts_linear(s.x + 3 * i) + s.x[3 * i] * s.x[3 * i]);
@@ -62,6 +67,6 @@ int main(void)
     int k, dim, mode;
     for (k = 0; k < SPH_KERNEL_COUNT; ++k)
         for (dim = 1; dim <= 3; ++dim)
-            for (mode = 0; mode < 3; ++mode) check((sph_kernel)k, dim, mode);
+            for (mode = 0; mode < 4; ++mode) check((sph_kernel)k, dim, mode);
     return th_summary();
 }

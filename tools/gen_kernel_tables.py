@@ -14,6 +14,16 @@ t = kappa - q, keeps its sign and relative accuracy up to the edge), and for
 the middle pieces the end point or mid point with the smallest cancellation
 ratio sum|c_i u^i| / |sum c_i u^i|. All coefficients are exact rationals.
 Normalisation constants alpha_d are computed by exact integration.
+
+A second representation (sph__nshapes, used by the operator pair loops, which
+evaluate every piece and select by comparisons) keeps the NATURAL pieces
+(cubic 2, quintic 3, the others 1), each in product form
+  value = (b - q)^m P(q - e),
+b = the piece's right end, m = the multiplicity of the root q = b (so the
+value keeps its sign and relative accuracy up to the edge), P expanded about
+the end or mid point e with the smallest cancellation ratio (e = 0 favoured on
+the piece holding 0, so w(0) is exact). For F the piece
+holding q = 0 stores w'(q)/q (q divided out exactly), the others w'(q).
 """
 import sympy as sp
 
@@ -110,6 +120,53 @@ def shape_table(pieces, kappa):
     return rows, deg
 
 
+NPMAX = 6  # coefficients per product-form polynomial (quintic: degree 5)
+
+
+def product_form(expr, a, b, root):
+    """expr = (root - q)^m P(q - e) on [a, b): returns m, e, coefficients of P."""
+    m, rest = 0, sp.expand(expr)
+    while rest != 0 and rest.subs(q, root) == 0:
+        rest = sp.cancel(rest / (root - q))
+        m += 1
+    best = None
+    for e in (a, b, (a + b) / 2):
+        cs = sp.Poly(sp.expand(rest.subs(q, u + e)), u).all_coeffs()[::-1]
+        score = cond(cs, a, b, e) if any(c != 0 for c in cs[1:]) else 1.0
+        if a == 0 and e == 0:
+            score /= 4  # favoured: w(0) is then b^m P(0), exact, as in the table rows
+        if best is None or score < best[0] - 1e-9:
+            best = (score, e, cs)
+    assert len(best[2]) <= NPMAX
+    return m, best[1], best[2]
+
+
+# The new quartic is one polynomial, but (2 - q)^2 P(q - e) cannot be both
+# exact at q = 0 (e = 0: the self term equals that of the table rows) and
+# accurate in its small negative lobe near q = 2 (e = 2): split at 1.
+SPLIT = {'new_quartic': [(0, 1), (1, 2)]}  # the root q = b stays that of the whole piece
+
+
+def natural_table(ident, pieces):
+    whole = [(sp.Rational(a), sp.Rational(b), sp.Rational(b), p) for a, b, p in pieces]
+    if ident in SPLIT:
+        whole = [(sp.Rational(a), sp.Rational(b), sp.Rational(pieces[0][1]), piece_at(pieces, a))
+                 for a, b in SPLIT[ident]]
+    rows = []
+    for a, b, root, p in whole:
+        g = sp.diff(p, q)
+        if a == 0:
+            g = sp.cancel(g / q)
+        rows.append((a, root, product_form(p, a, b, root), product_form(g, a, b, root)))
+    return rows
+
+
+def pform(b, form):
+    m, e, cs = form
+    vals = [cfrac(x) for x in cs] + ['0'] * (NPMAX - len(cs))
+    return '{ %s, %s, %d, %d, { %s } }' % (cfrac(b), cfrac(e), m, len(cs) - 1, ', '.join(vals))
+
+
 def alpha(pieces, d):
     vol = {1: 2, 2: 2 * sp.pi * r, 3: 4 * sp.pi * r**2}[d]
     tot = sum(sp.integrate(p.subs(q, r) * vol, (r, a, b)) for a, b, p in pieces)
@@ -179,6 +236,22 @@ def main():
         out.append('    { /* %s */' % kname)
         out += cells
         out.append('    }%s' % (',' if ki + 1 < len(KERNELS) else ''))
+    out.append('};')
+    out.append('')
+    out.append('/* The natural pieces in product form, per shape (same order as sph__shapes):')
+    out.append('   pieces, kappa, left ends, then per piece the forms of w and g,')
+    out.append('   { b, e, m, degree, P } means (b - q)^m P(q - e); W = w, F from g, where g')
+    out.append('   is w\'(q)/q on the piece holding 0 and w\'(q) (to divide by q) elsewhere. */')
+    out.append('SPH__TABLE sph__nshape sph__nshapes[] = {')
+    for i, (title, ident, pieces, kappa, dims) in enumerate(SHAPES):
+        rows = natural_table(ident, pieces)
+        lo = [cfrac(a) for a, _, _, _ in rows] + ['0'] * (3 - len(rows))
+        out.append('    { %d, SPH__Q(%s, 1), { %s }, { /* %s */' % (len(rows), kappa, ', '.join(lo), ident))
+        for a, b, fw, fg in rows:
+            out.append('        { %s,' % pform(b, fw))
+            out.append('          %s },' % pform(b, fg))
+        out[-1] = out[-1].rstrip(',')
+        out.append('    } }%s' % (',' if i + 1 < len(SHAPES) else ''))
     out.append('};')
     out.append('/* ---- end of GENERATED tables ---- */')
     print('\n'.join(out))

@@ -1,0 +1,453 @@
+/* examples/benchmark.c - speed of the neighbour search and the operators,
+ * against two loops written here: a floor (gather the neighbours' positions,
+ * minimum image, sum r^2: the memory system's limit for this access pattern)
+ * and a textbook loop (if/else on q, pow(), division by r). Run by hand:
+ *
+ *   make bench          (double and float builds, 1 and 2 threads)
+ *   build/bench/benchmark_double [side] [repetitions]
+ *
+ * Scene: 3-D, side^3 particles (default 64^3) on a lattice perturbed by
+ * +-10 % dx in the periodic unit box, sorted by cell (sph_nsearch_permutation
+ * + sph_permute), h such that the cubic spline has ~60 neighbours; the other
+ * kernels use the same support radius kappa h (equal neighbours: the same
+ * list). Every time is the median of the repetitions, printed as ns per pair
+ * (pairs = list entries, self included) and as ratios.
+ *
+ * The same source compiled with -DBENCH_PART=name yields one wrapper around
+ * sph_density_gradient built with other configuration macros (SPH_DIM and
+ * SPH_KERNEL pinned, or SPH_OP_SPECIALISE 0); the Makefile links those into
+ * the program, so pinned and run-time selected loops are timed in one run. */
+#if defined(BENCH_PART)
+#include "sph_kernel.h"
+int BENCH_PART(const sph_ctx *c, sph_view f, sph_out rho, sph_out grad);
+int BENCH_PART(const sph_ctx *c, sph_view f, sph_out rho, sph_out grad)
+{
+    return sph_density_gradient(c, f, sph_view_none(), rho, grad);
+}
+#else
+#define _POSIX_C_SOURCE 199309L
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+#include "sph_kernel.h"
+
+typedef int (*dens_grad_fn)(const sph_ctx *, sph_view, sph_out, sph_out);
+#if defined(BENCH_LINK_PARTS)
+int bench_pinned(const sph_ctx *c, sph_view f, sph_out rho, sph_out grad);
+int bench_spec0(const sph_ctx *c, sph_view f, sph_out rho, sph_out grad);
+#endif
+
+static double now(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+static int cmp_double(const void *a, const void *b)
+{
+    const double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+/* ---- the scene ---- */
+typedef struct {
+    int n, side;
+    sph_real dx, h, L;
+    sph_real *x[3], *m, *V, *f, *v[3], *rho, *g[3], *out;
+    sph_box box;
+    sph_off *off;
+    sph_idx *idx;
+    size_t idx_cap, ws_bytes;
+    void *work;
+    sph_neighbours list;
+} scene;
+
+static sph_real *alloc_real(int n) { return (sph_real *)calloc((size_t)n, sizeof(sph_real)); }
+
+static unsigned long long rng_state = 0x9E3779B97F4A7C15ull;
+static double uniform(void) /* in [0, 1) */
+{
+    rng_state = rng_state * 6364136223846793005ull + 1442695040888963407ull;
+    return (double)(rng_state >> 11) * (1.0 / 9007199254740992.0);
+}
+
+static sph_view xview(const scene *s) { return sph_view_soa(s->x[0], s->x[1], s->x[2]); }
+
+/* Neighbour list of the (sorted) scene: workspace size, build, count, fill. */
+static int build_list(scene *s, sph_real h, sph_real kappa)
+{
+    sph_nsearch g;
+    const sph_real cell = kappa * h / 2;
+    size_t bytes;
+    int st = sph_nsearch_workspace_size(3, xview(s), s->n, sph_view_none(), cell, &s->box, &bytes);
+    if (st != SPH_OK || bytes > s->ws_bytes) return st != SPH_OK ? st : SPH_ESIZE;
+    st = sph_nsearch_build(&g, 3, xview(s), s->n, sph_view_none(), cell, &s->box, s->work, bytes);
+    if (st == SPH_OK) st = sph_nsearch_count(&g, xview(s), s->n, sph_view_none(), h, kappa, SPH_NSEARCH_GATHER, s->off);
+    if (st == SPH_OK && (size_t)s->off[s->n] > s->idx_cap) return SPH_ESIZE;
+    if (st == SPH_OK)
+        st = sph_nsearch_fill(&g, xview(s), s->n, sph_view_none(), h, kappa, SPH_NSEARCH_GATHER, s->off, s->idx,
+                              (sph_off)s->idx_cap);
+    s->list = sph_nsearch_list(&g, s->n, s->off, s->idx);
+    return st;
+}
+
+static void scene_init(scene *s, int side)
+{
+    const sph_real kappa = sph_kernel_support(SPH_KERNEL_CUBIC);
+    sph_real *tmp[3];
+    sph_idx *perm;
+    sph_nsearch g;
+    int i, a;
+    s->side = side;
+    s->n = side * side * side;
+    s->L = 1;
+    s->dx = s->L / side;
+    s->h = sph_kernel_h_for_neighbours(SPH_KERNEL_CUBIC, 3, 60, s->dx * s->dx * s->dx);
+    for (a = 0; a < 3; ++a) {
+        s->x[a] = alloc_real(s->n);
+        s->v[a] = alloc_real(s->n);
+        s->g[a] = alloc_real(s->n);
+        tmp[a] = alloc_real(s->n);
+        s->box.lo[a] = 0;
+        s->box.length[a] = s->L;
+        s->box.periodic[a] = 1;
+    }
+    s->m = alloc_real(s->n);
+    s->V = alloc_real(s->n);
+    s->f = alloc_real(s->n);
+    s->rho = alloc_real(s->n);
+    s->out = alloc_real(s->n);
+    for (i = 0; i < s->n; ++i) {
+        const int c[3] = {i % side, (i / side) % side, i / (side * side)};
+        for (a = 0; a < 3; ++a) {
+            sph_real y = ((sph_real)c[a] + (sph_real)0.5 + (sph_real)(0.2 * uniform() - 0.1)) * s->dx;
+            tmp[a][i] = y;
+        }
+    }
+    /* shuffle, so that the sort below does real work, then sort by cell */
+    for (i = s->n - 1; i > 0; --i) {
+        const int k = (int)(uniform() * (i + 1));
+        for (a = 0; a < 3; ++a) {
+            const sph_real t = tmp[a][i];
+            tmp[a][i] = tmp[a][k];
+            tmp[a][k] = t;
+        }
+    }
+    s->off = (sph_off *)malloc(sizeof(sph_off) * (size_t)(s->n + 1));
+    sph_nsearch_workspace_size(3, sph_view_soa(tmp[0], tmp[1], tmp[2]), s->n, sph_view_none(), kappa * s->h / 2,
+                               &s->box, &s->ws_bytes);
+    s->work = malloc(s->ws_bytes);
+    perm = (sph_idx *)malloc(sizeof(sph_idx) * (size_t)s->n);
+    sph_nsearch_build(&g, 3, sph_view_soa(tmp[0], tmp[1], tmp[2]), s->n, sph_view_none(), kappa * s->h / 2, &s->box,
+                      s->work, s->ws_bytes);
+    sph_nsearch_permutation(&g, perm);
+    sph_permute(sph_view_soa(tmp[0], tmp[1], tmp[2]), 3, s->n, perm, sph_out_soa(s->x[0], s->x[1], s->x[2]));
+    free(perm);
+    for (a = 0; a < 3; ++a) free(tmp[a]);
+    s->idx_cap = (size_t)s->n * 100;
+    s->idx = (sph_idx *)malloc(sizeof(sph_idx) * s->idx_cap);
+    for (i = 0; i < s->n; ++i) {
+        const double tp = 6.283185307179586;
+        s->m[i] = s->dx * s->dx * s->dx; /* rho0 = 1 */
+        s->V[i] = s->m[i];
+        s->f[i] = (sph_real)(sin(tp * s->x[0][i]) * sin(tp * s->x[1][i]));
+        for (a = 0; a < 3; ++a) s->v[a][i] = (sph_real)sin(tp * s->x[(a + 1) % 3][i]);
+    }
+}
+
+/* ---- reference loops ---- */
+
+/* The floor: gather x_j, minimum image, sum r^2 (what any pair loop must do). */
+static void floor_loop(const scene *s)
+{
+    const sph_real L = s->L, Linv = 1 / s->L;
+    int i;
+#pragma omp parallel for schedule(static)
+    for (i = 0; i < s->n; ++i) {
+        const sph_real xi = s->x[0][i], yi = s->x[1][i], zi = s->x[2][i];
+        sph_real acc = 0;
+        sph_off o;
+#pragma omp simd reduction(+ : acc)
+        for (o = s->off[i]; o < s->off[i + 1]; ++o) {
+            const sph_idx j = s->idx[o];
+            sph_real dx = xi - s->x[0][j], dy = yi - s->x[1][j], dz = zi - s->x[2][j];
+            dx -= L * (sph_real)floor((double)(dx * Linv + (sph_real)0.5));
+            dy -= L * (sph_real)floor((double)(dy * Linv + (sph_real)0.5));
+            dz -= L * (sph_real)floor((double)(dz * Linv + (sph_real)0.5));
+            acc += dx * dx + dy * dy + dz * dz;
+        }
+        s->out[i] = acc;
+    }
+}
+
+/* The textbook loop: cubic spline (Monaghan 1992 form), if/else on q, pow(),
+ * division by r, if/else minimum image; density and difference gradient. */
+static void textbook_loop(scene *s)
+{
+    const double pi = 3.14159265358979323846, h = (double)s->h, L = (double)s->L;
+    int i;
+#pragma omp parallel for schedule(static)
+    for (i = 0; i < s->n; ++i) {
+        double rho = 0, g[3] = {0, 0, 0};
+        sph_off o;
+        for (o = s->off[i]; o < s->off[i + 1]; ++o) {
+            const sph_idx j = s->idx[o];
+            double d[3], r, q, W, dW;
+            int a;
+            for (a = 0; a < 3; ++a) {
+                d[a] = (double)s->x[a][i] - (double)s->x[a][j];
+                if (d[a] > 0.5 * L) d[a] -= L;
+                else if (d[a] < -0.5 * L) d[a] += L;
+            }
+            r = sqrt(pow(d[0], 2) + pow(d[1], 2) + pow(d[2], 2));
+            q = r / h;
+            if (q < 1) {
+                W = 1 / (pi * pow(h, 3)) * (1 - 1.5 * pow(q, 2) + 0.75 * pow(q, 3));
+                dW = 1 / (pi * pow(h, 4)) * (-3 * q + 2.25 * pow(q, 2));
+            } else if (q < 2) {
+                W = 1 / (pi * pow(h, 3)) * 0.25 * pow(2 - q, 3);
+                dW = 1 / (pi * pow(h, 4)) * (-0.75 * pow(2 - q, 2));
+            } else {
+                W = 0;
+                dW = 0;
+            }
+            rho += (double)s->m[j] * W;
+            if (r > 0)
+                for (a = 0; a < 3; ++a) g[a] += (double)s->V[j] * ((double)s->f[j] - (double)s->f[i]) * dW * d[a] / r;
+        }
+        s->rho[i] = (sph_real)rho;
+        s->g[0][i] = (sph_real)g[0];
+        s->g[1][i] = (sph_real)g[1];
+        s->g[2][i] = (sph_real)g[2];
+    }
+}
+
+/* A hand-written cubic density + difference gradient for a scene with a
+ * uniform h and no box (what a solver without those options would write):
+ * branch-free B-spline form w = ((2-q)+^3 - 4 (1-q)+^3) / 6, the same chunked
+ * structure as the library, errno-free sqrt via the same helper. */
+static void hand_loop(scene *s)
+{
+    const sph_real hinv = 1 / s->h, cW = (sph_real)(3.0 / (2.0 * 3.14159265358979323846)) * hinv * hinv * hinv;
+    const sph_real cF = cW * hinv * hinv;
+    int i;
+#pragma omp parallel for schedule(static)
+    for (i = 0; i < s->n; ++i) {
+        const sph_real xi[3] = {s->x[0][i], s->x[1][i], s->x[2][i]}, fi = s->f[i];
+        sph_real s0 = 0, s1 = 0, s2 = 0, s3 = 0;
+        sph_off o;
+        for (o = s->off[i]; o < s->off[i + 1]; o += SPH__CHUNK) {
+            const int n = (int)((s->off[i + 1] - o) < SPH__CHUNK ? s->off[i + 1] - o : SPH__CHUNK);
+            sph_real d[3][SPH__CHUNK], r[SPH__CHUNK];
+            int k;
+#pragma omp simd
+            for (k = 0; k < n; ++k) {
+                const sph_idx j = s->idx[o + k];
+                d[0][k] = xi[0] - s->x[0][j];
+                d[1][k] = xi[1] - s->x[1][j];
+                d[2][k] = xi[2] - s->x[2][j];
+                r[k] = d[0][k] * d[0][k] + d[1][k] * d[1][k] + d[2][k] * d[2][k];
+            }
+            for (k = n; (k & 7) != 0; ++k) r[k] = 0;
+            sph__sqrt_chunk(r, k);
+#pragma omp simd reduction(+ : s0, s1, s2, s3)
+            for (k = 0; k < n; ++k) {
+                const sph_idx j = s->idx[o + k];
+                const sph_real q = r[k] * hinv, a = 2 - q > 0 ? 2 - q : 0, b = 1 - q > 0 ? 1 - q : 0;
+                const sph_real w = (a * a * a - 4 * b * b * b) * (sph_real)(1.0 / 6.0);
+                /* w'/q = (-(2-q)+^2 / 2 + 2 (1-q)+^2) / q, finite limit -2 at q = 0 */
+                const sph_real g = q > 0 ? (2 * b * b - (sph_real)0.5 * a * a) / q : -2;
+                const sph_real c = s->V[j] * (s->f[j] - fi) * cF * g;
+                s3 += s->m[j] * cW * w;
+                s0 += c * d[0][k];
+                s1 += c * d[1][k];
+                s2 += c * d[2][k];
+            }
+        }
+        s->rho[i] = s3;
+        s->g[0][i] = s0;
+        s->g[1][i] = s1;
+        s->g[2][i] = s2;
+    }
+}
+
+/* ---- timing ---- */
+enum {
+    T_FLOOR, T_TEXT, T_BUILD, T_DENS, T_GRAD, T_DENS_THEN_GRAD, T_FUSED, T_CORR, T_DIV, T_LAP,
+    T_FUSED_HV, T_FUSED_NOBOX, T_HAND_NOBOX, T_PINNED, T_SPEC0, T_KERNEL0, T_COUNT = T_KERNEL0 + SPH_KERNEL_COUNT
+};
+
+static const char *const t_name[T_COUNT] = {
+    "floor: gather x_j, min. image, r^2", "textbook density + gradient", "neighbour list (size+build+count+fill)",
+    "density", "gradient (difference)", "density, then gradient (2 calls)", "density + gradient (fused, 1 pass)",
+    "corrected gradient incl. B_i", "divergence (difference)", "Laplacian",
+    "fused, per-particle h (all equal)", "fused, no box (scene unwrapped)", "hand-written loop, no box, uniform h",
+    "fused, SPH_DIM 3 + SPH_KERNEL pinned", "fused, SPH_OP_SPECIALISE 0", "k", "k", "k", "k", "k", "k", "k"};
+
+static sph_ctx ctx_of(scene *s, sph_kernel k)
+{
+    sph_ctx c = sph_ctx_init(k, 3, s->h * sph_kernel_support(SPH_KERNEL_CUBIC) / sph_kernel_support(k), &s->list,
+                             xview(s));
+    c.box = &s->box;
+    c.m = sph_view_soa(s->m, NULL, NULL);
+    c.V = sph_view_soa(s->V, NULL, NULL);
+    c.validate = SPH_VALIDATE_ARGS;
+    return c;
+}
+
+static int g_status = SPH_OK;
+static void chk(int st)
+{
+    if (st != SPH_OK && g_status == SPH_OK) g_status = st;
+}
+
+/* One timed run of operation op. */
+static void run_op(scene *s, int op, sph_real *hbuf)
+{
+    sph_ctx c = ctx_of(s, SPH_KERNEL_CUBIC);
+    const sph_view f = sph_view_soa(s->f, NULL, NULL), v = sph_view_soa(s->v[0], s->v[1], s->v[2]);
+    const sph_out rho = sph_out_soa(s->rho, NULL, NULL), g = sph_out_soa(s->g[0], s->g[1], s->g[2]);
+    const sph_out out = sph_out_soa(s->out, NULL, NULL);
+    sph_idx nfb;
+    switch (op) {
+    case T_FLOOR: floor_loop(s); break;
+    case T_TEXT: textbook_loop(s); break;
+    case T_BUILD: chk(build_list(s, s->h, sph_kernel_support(SPH_KERNEL_CUBIC))); break;
+    case T_DENS: chk(sph_density(&c, rho)); break;
+    case T_GRAD: chk(sph_gradient(&c, SPH_SCHEME_DIFFERENCE, f, sph_view_none(), g, NULL)); break;
+    case T_DENS_THEN_GRAD:
+        chk(sph_density(&c, rho));
+        chk(sph_gradient(&c, SPH_SCHEME_DIFFERENCE, f, sph_view_none(), g, NULL));
+        break;
+    case T_FUSED: chk(sph_density_gradient(&c, f, sph_view_none(), rho, g)); break;
+    case T_CORR: chk(sph_gradient(&c, SPH_SCHEME_CORRECTED, f, sph_view_none(), g, &nfb)); break;
+    case T_DIV: chk(sph_divergence(&c, SPH_SCHEME_DIFFERENCE, v, sph_view_none(), out, NULL)); break;
+    case T_LAP: chk(sph_laplacian(&c, f, sph_view_none(), out)); break;
+    case T_FUSED_HV:
+        c.h_source = sph_view_soa(hbuf, NULL, NULL);
+        chk(sph_density_gradient(&c, f, sph_view_none(), rho, g));
+        break;
+    case T_FUSED_NOBOX:
+        c.box = NULL;
+        chk(sph_density_gradient(&c, f, sph_view_none(), rho, g));
+        break;
+    case T_HAND_NOBOX: hand_loop(s); break;
+#if defined(BENCH_LINK_PARTS)
+    case T_PINNED: chk(bench_pinned(&c, f, rho, g)); break;
+    case T_SPEC0: chk(bench_spec0(&c, f, rho, g)); break;
+#endif
+    default:
+        if (op >= T_KERNEL0) {
+            c = ctx_of(s, (sph_kernel)(op - T_KERNEL0));
+            chk(sph_density_gradient(&c, f, sph_view_none(), rho, g));
+        }
+        break;
+    }
+}
+
+int main(int argc, char **argv)
+{
+    const int side = argc > 1 ? atoi(argv[1]) : 64, reps = argc > 2 ? atoi(argv[2]) : 5;
+    const int nthreads[2] = {1, 2};
+    static double t[2][T_COUNT];
+    double *samp = (double *)malloc(sizeof(double) * (size_t)(reps > 0 ? reps : 1)), pairs;
+    sph_off npairs = 0, ncand = 0;
+    sph_real *hbuf;
+    scene s;
+    int op, r, ti, i;
+    if (side < 4 || reps < 1) {
+        fprintf(stderr, "usage: %s [side >= 4] [repetitions >= 1]\n", argv[0]);
+        return 2;
+    }
+    scene_init(&s, side);
+    hbuf = alloc_real(s.n);
+    for (i = 0; i < s.n; ++i) hbuf[i] = s.h;
+    chk(build_list(&s, s.h, sph_kernel_support(SPH_KERNEL_CUBIC)));
+    {
+        sph_nsearch g;
+        const sph_real kappa = sph_kernel_support(SPH_KERNEL_CUBIC);
+        chk(sph_nsearch_build(&g, 3, xview(&s), s.n, sph_view_none(), kappa * s.h / 2, &s.box, s.work, s.ws_bytes));
+        chk(sph_nsearch_stats(&g, xview(&s), s.n, sph_view_none(), s.h, kappa, SPH_NSEARCH_GATHER, &npairs, &ncand));
+    }
+    pairs = (double)s.off[s.n];
+    printf("benchmark: %s, %d^3 = %d particles, perturbed lattice (+-10%% dx), periodic unit box, sorted by cell\n",
+           sizeof(sph_real) == sizeof(float) ? "float" : "double", side, s.n);
+    printf("cubic h = %.4g dx, %.1f pairs per particle (self included); other kernels: same kappa h (equal "
+           "neighbours, same list)\n",
+           (double)(s.h / s.dx), pairs / s.n);
+    printf("neighbour search: %.3f candidate distance checks per neighbour found (cells of kappa h / 2)\n",
+           (double)ncand / (double)npairs);
+    printf("median of %d repetitions; ns per pair = time / %.0f pairs\n\n", reps, pairs);
+    for (ti = 0; ti < 2; ++ti) {
+#ifdef _OPENMP
+        omp_set_num_threads(nthreads[ti]);
+#else
+        if (nthreads[ti] > 1) break;
+#endif
+        for (op = 0; op < T_COUNT; ++op) {
+#if !defined(BENCH_LINK_PARTS)
+            if (op == T_PINNED || op == T_SPEC0) continue;
+#endif
+            run_op(&s, op, hbuf); /* warm-up */
+            for (r = 0; r < reps; ++r) {
+                const double t0 = now();
+                run_op(&s, op, hbuf);
+                samp[r] = now() - t0;
+            }
+            qsort(samp, (size_t)reps, sizeof(double), cmp_double);
+            t[ti][op] = samp[reps / 2];
+        }
+    }
+    {
+        const double fl = t[0][T_FLOOR], tb = t[0][T_TEXT];
+        printf("%-42s %9s %8s %8s %9s %8s\n", "operation (cubic unless named)", "ns/pair", "x floor", "x text.",
+               "2 thr ns", "speedup");
+        for (op = 0; op < T_COUNT; ++op) {
+            const char *name = op >= T_KERNEL0 ? NULL : t_name[op];
+            char label[64];
+            if (t[0][op] == 0) continue;
+            if (op == T_KERNEL0) printf("fused density + gradient, per kernel (equal neighbours):\n");
+            if (name == NULL) {
+                snprintf(label, sizeof label, "  %s", sph_kernel_name((sph_kernel)(op - T_KERNEL0)));
+                name = label;
+            }
+            printf("%-42s %9.3f %8.2f %8.3f %9.3f %8.2f\n", name, 1e9 * t[0][op] / pairs, t[0][op] / fl,
+                   t[0][op] / tb, t[1][op] > 0 ? 1e9 * t[1][op] / pairs : 0.0,
+                   t[1][op] > 0 ? t[0][op] / t[1][op] : 0.0);
+        }
+        printf("\ntargets (1 thread unless named):\n");
+        printf("  fused density + gradient / floor, cubic          %.2f  (target <= 1.3)\n", t[0][T_FUSED] / fl);
+        for (op = T_KERNEL0; op < T_COUNT; ++op)
+            if (op != T_KERNEL0 + SPH_KERNEL_CUBIC)
+                printf("  fused density + gradient / floor, %-14s %.2f  (target <= 1.6)\n",
+                       sph_kernel_name((sph_kernel)(op - T_KERNEL0)), t[0][op] / fl);
+        printf("  textbook / fused density + gradient              %.1f  (target >= 10)\n", tb / t[0][T_FUSED]);
+        printf("  textbook / (density, then gradient)              %.1f\n", tb / t[0][T_DENS_THEN_GRAD]);
+        if (t[1][T_FUSED] > 0)
+            printf("  fused: 1 thread / 2 threads                      %.2f  (target >= 1.8)\n",
+                   t[0][T_FUSED] / t[1][T_FUSED]);
+        printf("  candidates per neighbour                         %.2f  (target <= 3)\n",
+               (double)ncand / (double)npairs);
+        printf("  neighbour list / fused density + gradient        %.2f  (target <= 2)\n", t[0][T_BUILD] / t[0][T_FUSED]);
+        if (t[0][T_PINNED] > 0)
+            printf("  run-time selected / pinned (SPH_DIM, SPH_KERNEL)  %.3f  (goal <= 1.05)\n",
+                   t[0][T_FUSED] / t[0][T_PINNED]);
+        printf("  library without box / hand-written, no box       %.3f  (goal <= 1.03)\n",
+               t[0][T_FUSED_NOBOX] / t[0][T_HAND_NOBOX]);
+        printf("  per-particle h (all equal) / uniform h           %.3f\n", t[0][T_FUSED_HV] / t[0][T_FUSED]);
+        printf("  periodic box / no box                            %.3f\n", t[0][T_FUSED] / t[0][T_FUSED_NOBOX]);
+        if (t[0][T_SPEC0] > 0)
+            printf("  SPH_OP_SPECIALISE 0 / 1                          %.3f\n", t[0][T_SPEC0] / t[0][T_FUSED]);
+    }
+    if (g_status != SPH_OK) printf("\nERROR: a call returned %d (%s)\n", g_status, sph_strerror(g_status));
+    free(samp);
+    return g_status == SPH_OK ? 0 : 1;
+}
+#endif
