@@ -199,5 +199,14 @@ bench: $(BUILD)/bench/benchmark_double $(BUILD)/bench/benchmark_float tiny-size
 tiny-size:
 	@mkdir -p $(BUILD)/bench
 	$(CC) -O2 -std=c99 -Wall -Wextra -pedantic -Werror -I. -c examples/tiny_density.c -o $(BUILD)/bench/tiny_density.o
-	@echo "examples/tiny_density.c (SPH_DIM 2, SPH_KERNEL cubic, sph_density), gcc -O2:"
+	@echo "examples/tiny_density.c (SPH_DIM 2, SPH_KERNEL cubic, sph_density), $(CC) -O2:"
 	@size $(BUILD)/bench/tiny_density.o
+	@echo "examples/gradient_unit.c (sph_gradient, kernel and dimension at run time), $(CC) -O2:"
+	@for s in 1 0; do \
+	    t0=$$(date +%s.%N); \
+	    $(CC) -O2 -std=c99 -Wall -Wextra -pedantic -Werror -I. -DSPH_OP_SPECIALISE=$$s \
+	        -c examples/gradient_unit.c -o $(BUILD)/bench/gradient_unit_$$s.o || exit 1; \
+	    t1=$$(date +%s.%N); \
+	    printf '  SPH_OP_SPECIALISE %s: compile %.2f s, text %s bytes\n' $$s \
+	        $$(awk "BEGIN {print $$t1 - $$t0}") $$(size $(BUILD)/bench/gradient_unit_$$s.o | awk 'NR == 2 {print $$1}'); \
+	done

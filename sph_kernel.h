@@ -34,14 +34,15 @@
  *               run-time choice is made once per call, outside the pair loop
  *               (examples/benchmark.c measures both).
  *   SPH_OP_SPECIALISE  1 (default): one operator loop per kernel x dimension,
- *               table rows and polynomial degrees folded at compile time.
- *               0: one loop per dimension, the kernel's table row read at run
- *               time. Trade-off measured with gcc 12 -O2 (one translation unit
- *               calling sph_gradient): 1 costs ~6 s and a 275 KB object, 0
- *               ~0.9 s and 54 KB; at run time 0 is 8-22 % slower in the pair
- *               loop (examples/benchmark.c, README "Performance"): 1 for
- *               production builds, 0 while developing. Pinning SPH_KERNEL
- *               makes the choice moot: one kernel, one loop either way.
+ *               the kernel's natural pieces and their coefficients folded at
+ *               compile time, so the pair loop vectorises. 0: one loop per
+ *               dimension, the kernel read at run time (scalar pair loop).
+ *               Measured (`make tiny-size`, `make bench`, README
+ *               "Performance"): 0 compiles a unit calling sph_gradient about
+ *               4x faster into an object about 3.4x smaller, and its pair loop
+ *               is about 2x slower. 1 for production builds, 0 while
+ *               developing. Pinning SPH_KERNEL makes the choice moot: one
+ *               kernel, one loop either way.
  *   SPH_NO_INTRINSICS  use only portable C: no SSE/AVX square-root helper in
  *               the operator loops (same results bit for bit, slower where the
  *               compiler cannot vectorise sqrt() because of errno).
