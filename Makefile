@@ -191,10 +191,17 @@ BENCH_spec0  := -DBENCH_PART=bench_spec0 -DSPH_OP_SPECIALISE=0
 $(BUILD)/bench/benchmark_%: $(BUILD)/bench/main_%.o $(BUILD)/bench/pinned_%.o $(BUILD)/bench/spec0_%.o
 	$(CC) -fopenmp $^ -o $@ -lm
 
+# make bench prints the tables and writes them to docs/benchmark.md (with the
+# machine's CPU model and load average: these are shared-machine timings).
 bench: $(BUILD)/bench/benchmark_double $(BUILD)/bench/benchmark_float tiny-size
-	./$(BUILD)/bench/benchmark_double
+	@{ echo "# Benchmark (written by make bench, examples/benchmark.c)"; echo; \
+	   echo "$(CC) -O3 -march=native -fopenmp; CPU: $$(grep -m1 'model name' /proc/cpuinfo 2> /dev/null | sed 's/.*: //'),"; \
+	   echo "$$(nproc 2> /dev/null) cores; load average at the start: $$(cut -d' ' -f1-3 /proc/loadavg 2> /dev/null)."; \
+	   echo "Ratios within one run are the numbers to read: absolute times move with other jobs on the machine."; \
+	 } > docs/benchmark.md
+	./$(BUILD)/bench/benchmark_double 64 5 docs/benchmark.md
 	@echo
-	./$(BUILD)/bench/benchmark_float
+	./$(BUILD)/bench/benchmark_float 64 5 docs/benchmark.md
 
 tiny-size:
 	@mkdir -p $(BUILD)/bench

@@ -352,9 +352,52 @@ static void run_op(scene *s, int op, sph_real *hbuf)
     }
 }
 
+/* The same numbers as a markdown section (make bench appends both precisions
+ * to docs/benchmark.md): the table, then the ratios against the targets. */
+static void write_md(FILE *f, double t[2][T_COUNT], double pairs, int n, int side, int reps, double cand,
+                     double h_dx)
+{
+    const double fl = t[0][T_FLOOR], tb = t[0][T_TEXT];
+    int op;
+    fprintf(f, "\n## %s\n\n%d^3 = %d particles, lattice perturbed by +-10 %% dx, periodic unit box, sorted by cell; "
+               "cubic h = %.4g dx, %.1f pairs per particle (self included), the other kernels with the same "
+               "kappa h; median of %d repetitions; %.2f candidate distance checks per neighbour found.\n\n",
+            sizeof(sph_real) == sizeof(float) ? "float" : "double", side, n, h_dx, pairs / n, reps, cand);
+    fprintf(f, "| operation (cubic unless named) | ns/pair | x floor | x textbook | 2 threads ns/pair | speed-up |\n"
+               "|---|---:|---:|---:|---:|---:|\n");
+    for (op = 0; op < T_COUNT; ++op) {
+        if (t[0][op] == 0) continue;
+        if (op >= T_KERNEL0)
+            fprintf(f, "| fused, %s", sph_kernel_name((sph_kernel)(op - T_KERNEL0)));
+        else
+            fprintf(f, "| %s", t_name[op]);
+        fprintf(f, " | %.2f | %.2f | %.3f | %.2f | %.2f |\n", 1e9 * t[0][op] / pairs, t[0][op] / fl, t[0][op] / tb,
+                1e9 * t[1][op] / pairs, t[1][op] > 0 ? t[0][op] / t[1][op] : 0.0);
+    }
+    fprintf(f, "\n| measure | value | target |\n|---|---:|---|\n");
+    fprintf(f, "| fused density + gradient / floor, cubic | %.2f | <= 1.3 |\n", t[0][T_FUSED] / fl);
+    for (op = T_KERNEL0; op < T_COUNT; ++op)
+        if (op != T_KERNEL0 + SPH_KERNEL_CUBIC)
+            fprintf(f, "| fused density + gradient / floor, %s | %.2f | <= 1.6 |\n",
+                    sph_kernel_name((sph_kernel)(op - T_KERNEL0)), t[0][op] / fl);
+    fprintf(f, "| textbook / fused density + gradient | %.1f | >= 10 |\n", tb / t[0][T_FUSED]);
+    if (t[1][T_FUSED] > 0) fprintf(f, "| fused: 1 thread / 2 threads | %.2f | >= 1.8 |\n", t[0][T_FUSED] / t[1][T_FUSED]);
+    fprintf(f, "| candidate checks per neighbour | %.2f | <= 3 |\n", cand);
+    fprintf(f, "| neighbour list / fused density + gradient | %.2f | <= 2 |\n", t[0][T_BUILD] / t[0][T_FUSED]);
+    if (t[0][T_PINNED] > 0)
+        fprintf(f, "| run-time selected / pinned (SPH_DIM, SPH_KERNEL) | %.3f | <= 1.05 |\n",
+                t[0][T_FUSED] / t[0][T_PINNED]);
+    fprintf(f, "| library without box / hand-written, no box | %.3f | <= 1.03 |\n",
+            t[0][T_FUSED_NOBOX] / t[0][T_HAND_NOBOX]);
+    fprintf(f, "| per-particle h (all equal) / uniform h | %.3f | <= 1.03 |\n", t[0][T_FUSED_HV] / t[0][T_FUSED]);
+    fprintf(f, "| periodic box / no box | %.3f | |\n", t[0][T_FUSED] / t[0][T_FUSED_NOBOX]);
+    if (t[0][T_SPEC0] > 0) fprintf(f, "| SPH_OP_SPECIALISE 0 / 1 | %.3f | |\n", t[0][T_SPEC0] / t[0][T_FUSED]);
+}
+
 int main(int argc, char **argv)
 {
     const int side = argc > 1 ? atoi(argv[1]) : 64, reps = argc > 2 ? atoi(argv[2]) : 5;
+    FILE *md = argc > 3 ? fopen(argv[3], "a") : NULL;
     const int nthreads[2] = {1, 2};
     static double t[2][T_COUNT];
     double *samp = (double *)malloc(sizeof(double) * (size_t)(reps > 0 ? reps : 1)), pairs;
@@ -363,7 +406,8 @@ int main(int argc, char **argv)
     scene s;
     int op, r, ti, i;
     if (side < 4 || reps < 1) {
-        fprintf(stderr, "usage: %s [side >= 4] [repetitions >= 1]\n", argv[0]);
+        fprintf(stderr, "usage: %s [side >= 4] [repetitions >= 1] [markdown file to append the tables to]\n",
+                argv[0]);
         return 2;
     }
     scene_init(&s, side);
@@ -445,6 +489,11 @@ int main(int argc, char **argv)
         printf("  periodic box / no box                            %.3f\n", t[0][T_FUSED] / t[0][T_FUSED_NOBOX]);
         if (t[0][T_SPEC0] > 0)
             printf("  SPH_OP_SPECIALISE 0 / 1                          %.3f\n", t[0][T_SPEC0] / t[0][T_FUSED]);
+    }
+    if (argc > 3 && md == NULL) fprintf(stderr, "benchmark: cannot open %s\n", argv[3]);
+    if (md != NULL) {
+        write_md(md, t, pairs, s.n, side, reps, (double)ncand / (double)npairs, (double)(s.h / s.dx));
+        fclose(md);
     }
     if (g_status != SPH_OK) printf("\nERROR: a call returned %d (%s)\n", g_status, sph_strerror(g_status));
     free(samp);
