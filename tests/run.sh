@@ -51,6 +51,11 @@ has_sanitizers() { # has_sanitizers cc
     "$1" -fsanitize=address,undefined "$OUT/san.c" -o "$OUT/san" > /dev/null 2>&1 && "$OUT/san" > /dev/null 2>&1
 }
 
+has_flag() { # has_flag cc flag: the compiler accepts flag and the program runs
+    printf 'int main(void){return 0;}\n' > "$OUT/flag.c"
+    "$1" "$2" "$OUT/flag.c" -o "$OUT/flag" > /dev/null 2>&1 && "$OUT/flag" > /dev/null 2>&1
+}
+
 has_openmp() {
     printf '#include <omp.h>\nint main(void){return omp_get_max_threads() > 0 ? 0 : 1;}\n' > "$OUT/omp.c"
     "$1" -fopenmp "$OUT/omp.c" -o "$OUT/omp" > /dev/null 2>&1 && "$OUT/omp" > /dev/null 2>&1
@@ -91,12 +96,17 @@ for cc in gcc clang; do
     fi
     for prec in double float; do
         CONFIGS="$CONFIGS $cc-$prec"
-        eval "CFG_$(echo $cc-$prec | tr - _)=\"\$cc|\$prec|\$san|== \$cc \$prec\${san:+ +asan,ubsan}|\""
+        # clang double builds for the host CPU (-march=native where it
+        # works): the AVX square-root path and AVX vector loops get tested
+        arch=""
+        if [ $cc-$prec = clang-double ] && has_flag $cc -march=native; then arch="-march=native"; fi
+        eval "CFG_$(echo $cc-$prec | tr - _)=\"\$cc|\$prec|\$san \$arch|== \$cc \$prec\${san:+ +asan,ubsan}\${arch:+ \$arch}|\""
     done
 done
 if has_openmp gcc; then
+    # also the portable path: SPH_NO_INTRINSICS (no SSE/AVX helper)
     CONFIGS="$CONFIGS gcc-double-omp"
-    CFG_gcc_double_omp="gcc|double|-fopenmp|== gcc double -fopenmp (2 threads)|OMP_NUM_THREADS=2"
+    CFG_gcc_double_omp="gcc|double|-fopenmp -DSPH_NO_INTRINSICS|== gcc double -fopenmp -DSPH_NO_INTRINSICS (2 threads, portable path)|OMP_NUM_THREADS=2"
 else
     echo "SKIPPED: OpenMP configuration (gcc -fopenmp does not build here)"
 fi
