@@ -2285,11 +2285,17 @@ SPH_API sph_off sph__nsearch_fill_run(const sph_nsearch *g, const sph__probe *p,
                                       sph_off m, const int dim)
 {
     sph_idx k;
-    for (k = k0; k < k1; ++k)
-        if (sph__nsearch_in(g, p, k, dim)) {
-            if (m < p->cap) p->seg[m] = g->order[k];
-            ++m;
+    if (m + (k1 - k0) <= p->cap) /* room for every candidate: store each, keep those inside (no branch) */
+        for (k = k0; k < k1; ++k) {
+            p->seg[m] = g->order[k];
+            m += sph__nsearch_in(g, p, k, dim);
         }
+    else
+        for (k = k0; k < k1; ++k)
+            if (sph__nsearch_in(g, p, k, dim)) {
+                if (m < p->cap) p->seg[m] = g->order[k];
+                ++m;
+            }
     return m;
 }
 
