@@ -2286,11 +2286,17 @@ SPH_API sph_off sph__nsearch_fill_run(const sph_nsearch *g, const sph__probe *p,
                                       sph_off m, const int dim)
 {
     sph_idx k;
-    for (k = k0; k < k1; ++k)
-        if (sph__nsearch_in(g, p, k, dim)) {
-            if (m < p->cap) p->seg[m] = g->order[k];
-            ++m;
+    if (m + (k1 - k0) <= p->cap) /* room for every candidate: store each, keep those inside (no branch) */
+        for (k = k0; k < k1; ++k) {
+            p->seg[m] = g->order[k];
+            m += sph__nsearch_in(g, p, k, dim);
         }
+    else
+        for (k = k0; k < k1; ++k)
+            if (sph__nsearch_in(g, p, k, dim)) {
+                if (m < p->cap) p->seg[m] = g->order[k];
+                ++m;
+            }
     return m;
 }
 
@@ -2313,7 +2319,13 @@ SPH_API void sph__nsearch_row(const sph_nsearch *g, sph__probe *p, int ky, int k
 {
     sph__span s;
     int r, base = g->n[0] * (ky + g->n[1] * kz);
-    sph__nsearch_span(g, 0, p->t[0], sph__sqrt(rem), &s);
+    const sph_real hw = sph__sqrt(rem), k0 = sph__floor((p->t[0] - hw) * g->inv_w[0]),
+                   k1 = sph__floor((p->t[0] + hw) * g->inv_w[0]);
+    if (k0 >= 0 && k1 < (sph_real)g->n[0]) { /* inside the grid: one run, as sph__nsearch_span finds */
+        sph__nsearch_scan(g, p, g->cell_start[base + (int)k0], g->cell_start[base + (int)k1 + 1]);
+        return;
+    }
+    sph__nsearch_span(g, 0, p->t[0], hw, &s);
     for (r = 0; r < s.count; ++r)
         if (s.lo[r] <= s.hi[r])
             sph__nsearch_scan(g, p, g->cell_start[base + s.lo[r]], g->cell_start[base + s.hi[r] + 1]);
