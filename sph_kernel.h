@@ -39,7 +39,7 @@
  *               dimension, the kernel read at run time (scalar pair loop).
  *               Measured (`make tiny-size`, `make bench`, README
  *               "Performance"): 0 compiles a unit calling sph_gradient about
- *               4x faster into an object about 3.4x smaller, and its pair loop
+ *               3.5x faster into an object about 3x smaller, and its pair loop
  *               is about 2x slower. 1 for production builds, 0 while
  *               developing. Pinning SPH_KERNEL makes the choice moot: one
  *               kernel, one loop either way.
@@ -1277,7 +1277,6 @@ typedef struct {
 typedef struct {
     sph_real dx[3][SPH__CHUNK]; /* x_i - x_j, minimum image */
     sph_real r[SPH__CHUNK];     /* r^2, then r (padded with zeros to a multiple of 8) */
-    sph_real hinv[SPH__CHUNK];  /* 2 / (h_i + h_j) (per-particle h, F only) */
     sph_real W[SPH__CHUNK], F[SPH__CHUNK];
     sph_idx j[SPH__CHUNK];
 } sph__chunk;
@@ -1391,37 +1390,53 @@ SPH__INLINE void sph__chunk_eval(const sph__args *A, const sph__kdim *kd, const 
                                  const int WANT, const sph__tgt *t, sph_off o0, int n, sph__chunk *P)
 {
     const sph__nshape *sh = &sph__nshapes[kd->shape];
-    const int hv = GEN && A->hv && (WANT & SPH__WANT_F);
+    const int hv = GEN && A->hv && (WANT & SPH__WANT_F), pb = GEN && A->pb;
     int k, a;
-    SPH__SIMD
-    for (k = 0; k < n; ++k) {
-        const sph_idx j = A->idx[o0 + k];
-        sph_real r2 = 0;
-        for (a = 0; a < D; ++a) {
-            sph_real d = t->xi[a] - SPH__AT(A->x, a, j);
-            if (GEN && A->pb) d -= A->L[a] * sph__floor(d * A->invL[a] + (sph_real)0.5); /* (O0) */
-            P->dx[a][k] = d;
-            r2 += d * d;
+    /* the options are tested once per chunk, outside the pair loops: inside,
+     * the vectoriser would evaluate both sides of every option per pair */
+    if (pb) {
+        SPH__SIMD
+        for (k = 0; k < n; ++k) {
+            const sph_idx j = A->idx[o0 + k];
+            sph_real r2 = 0;
+            for (a = 0; a < D; ++a) {
+                sph_real d = t->xi[a] - SPH__AT(A->x, a, j);
+                d -= A->L[a] * sph__floor(d * A->invL[a] + (sph_real)0.5); /* (O0) */
+                P->dx[a][k] = d;
+                r2 += d * d;
+            }
+            P->j[k] = j;
+            P->r[k] = r2;
         }
-        P->j[k] = j;
-        P->r[k] = r2;
-        if (hv) P->hinv[k] = 2 / (t->hi + SPH__AT(A->hs, 0, j));
+    } else {
+        SPH__SIMD
+        for (k = 0; k < n; ++k) {
+            const sph_idx j = A->idx[o0 + k];
+            sph_real r2 = 0;
+            for (a = 0; a < D; ++a) {
+                const sph_real d = t->xi[a] - SPH__AT(A->x, a, j);
+                P->dx[a][k] = d;
+                r2 += d * d;
+            }
+            P->j[k] = j;
+            P->r[k] = r2;
+        }
     }
     for (k = n; (k & 7) != 0; ++k) P->r[k] = 0;
     sph__sqrt_chunk(P->r, k);
     if (WANT & SPH__WANT_W) {
         SPH__SIMD
-        for (k = 0; k < n; ++k) {
-            P->W[k] = t->cW * sph__nshape_w(sh, P->r[k] * t->hinv);
-        }
+        for (k = 0; k < n; ++k) P->W[k] = t->cW * sph__nshape_w(sh, P->r[k] * t->hinv);
     }
-    if (WANT & SPH__WANT_F) {
+    if ((WANT & SPH__WANT_F) && hv) {
         SPH__SIMD
         for (k = 0; k < n; ++k) {
-            const sph_real hinv = hv ? P->hinv[k] : t->hinv;
-            const sph_real c = hv ? sph__hpow(kd->alpha, hinv, D + 2) : t->cF;
-            P->F[k] = c * sph__nshape_g(sh, P->r[k] * hinv);
+            const sph_real hinv = 2 / (t->hi + SPH__AT(A->hs, 0, P->j[k]));
+            P->F[k] = sph__hpow(kd->alpha, hinv, D + 2) * sph__nshape_g(sh, P->r[k] * hinv);
         }
+    } else if (WANT & SPH__WANT_F) {
+        SPH__SIMD
+        for (k = 0; k < n; ++k) P->F[k] = t->cF * sph__nshape_g(sh, P->r[k] * t->hinv);
     }
 }
 
