@@ -839,32 +839,33 @@ int main(int argc, char **argv)
     experiment ex[2];
     FILE *md = NULL;
     ex_option opt[] = {
-        {"res", "particles across the column width a", NULL, NULL, NULL, NULL},
-        {"end", "end time tau = t sqrt(g/a)", NULL, NULL, NULL, NULL},
-        {"column", "n^2 of the column a x n^2 a: 2, 1, or 0 for both", NULL, NULL, NULL, NULL},
-        {"kernel", "kernel name (cubic, wendland_c2, quintic, ...)", NULL, NULL, NULL, NULL},
-        {"hfac", "smoothing length h / particle spacing", NULL, NULL, NULL, NULL},
-        {"alpha", "artificial viscosity coefficient (Monaghan 1992)", NULL, NULL, NULL, NULL},
-        {"delta", "density diffusion coefficient (Molteni & Colagrossi 2009)", NULL, NULL, NULL, NULL},
-        {"tank", "tank length / a", NULL, NULL, NULL, NULL},
-        {"skin", "neighbour-list skin / h (0: search every step)", NULL, NULL, NULL, NULL},
-        {"a", "column width a in metres (Martin & Moyce: 2.25 in)", NULL, NULL, NULL, NULL},
-        {"out", "output directory (VTK files and time-series CSVs)", NULL, NULL, NULL, NULL},
-        {"vtk-every", "write particles every N steps (0: never)", NULL, NULL, NULL, NULL},
-        {"threads", "OpenMP threads (0: the OpenMP default)", NULL, NULL, NULL, NULL},
+        {"res", "particles across the column width a", NULL, &pm.res, NULL, NULL},
+        {"end", "end time tau = t sqrt(g/a)", &pm.end_tau, NULL, NULL, NULL},
+        {"column", "n^2 of the column a x n^2 a: 2, 1, or 0 for both", NULL, &columns, NULL, NULL},
+        {"kernel", "kernel name (cubic, wendland_c2, quintic, ...)", NULL, NULL, &pm.kernel, NULL},
+        {"hfac", "smoothing length h / particle spacing", &pm.hfac, NULL, NULL, NULL},
+        {"alpha", "artificial viscosity coefficient (Monaghan 1992)", &pm.alpha, NULL, NULL, NULL},
+        {"delta", "density diffusion coefficient (Molteni & Colagrossi 2009)", &pm.delta, NULL, NULL, NULL},
+        {"tank", "tank length / a", &pm.tank, NULL, NULL, NULL},
+        {"skin", "neighbour-list skin / h (0: search every step)", &pm.skin, NULL, NULL, NULL},
+        {"a", "column width a in metres (Martin & Moyce: 2.25 in)", &pm.a, NULL, NULL, NULL},
+        {"out", "output directory (VTK files and time-series CSVs)", NULL, NULL, &pm.out, NULL},
+        {"vtk-every", "write particles every N steps (0: never)", NULL, &pm.vtk_every, NULL, NULL},
+        {"threads", "OpenMP threads (0: the OpenMP default)", NULL, &threads, NULL, NULL},
         {"data", "directory of the measurements (tries ../shared/data/dam_break, shared/data/dam_break)", NULL, NULL,
-         NULL, NULL},
-        {"report", "write the comparison tables as markdown to this file", NULL, NULL, NULL, NULL},
-        {"summary", "append one line of largest deviations (markdown table row) to this file", NULL, NULL, NULL, NULL},
-        {"nu", "laminar kinematic viscosity in m^2/s (water 1e-6; 0: none)", NULL, NULL, NULL, NULL},
-        {"noslip", "walls: 1 no-slip (viscous term over wall particles), 0 free slip", NULL, NULL, NULL, NULL},
-        {"front-k", "fluid neighbours a floor particle needs to count as the front (0: furthest particle)", NULL,
-         NULL, NULL, NULL},
-        {"stokes", "1: friction of the unresolved laminar wall layer (Stokes' first problem, needs --nu)", NULL,
-         NULL, NULL, NULL},
-        {"c0", "speed of sound / sqrt(g n^2 a)", NULL, NULL, NULL, NULL},
-        {"check", "coarse short run (res 20, tau <= 2.4) against loose bounds; exit 1 on a miss", NULL, NULL, NULL,
+         &data, NULL},
+        {"report", "write the comparison tables as markdown to this file", NULL, NULL, &report, NULL},
+        {"summary", "append one line of largest deviations (markdown table row) to this file", NULL, NULL, &summary,
          NULL},
+        {"nu", "laminar kinematic viscosity in m^2/s (water 1e-6; 0: none)", &pm.nu, NULL, NULL, NULL},
+        {"noslip", "walls: 1 no-slip (viscous term over wall particles), 0 free slip", NULL, &pm.noslip, NULL, NULL},
+        {"front-k", "fluid neighbours a floor particle needs to count as the front (0: furthest particle)", NULL,
+         &pm.front_k, NULL, NULL},
+        {"stokes", "1: friction of the unresolved laminar wall layer (Stokes' first problem, needs --nu)", NULL,
+         &pm.stokes, NULL, NULL},
+        {"c0", "speed of sound / sqrt(g n^2 a)", &pm.c0fac, NULL, NULL, NULL},
+        {"check", "coarse short run (res 20, tau <= 2.4) against loose bounds; exit 1 on a miss", NULL, NULL, NULL,
+         &check},
     };
     pm.res = 30;
     pm.end_tau = 3.5;
@@ -882,28 +883,6 @@ int main(int argc, char **argv)
     pm.front_k = 4;
     pm.stokes = 1;
     pm.c0fac = 10;
-    opt[0].integer = &pm.res;
-    opt[1].real = &pm.end_tau;
-    opt[2].integer = &columns;
-    opt[3].text = &pm.kernel;
-    opt[4].real = &pm.hfac;
-    opt[5].real = &pm.alpha;
-    opt[6].real = &pm.delta;
-    opt[7].real = &pm.tank;
-    opt[8].real = &pm.skin;
-    opt[9].real = &pm.a;
-    opt[10].text = &pm.out;
-    opt[11].integer = &pm.vtk_every;
-    opt[12].integer = &threads;
-    opt[13].text = &data;
-    opt[14].text = &report;
-    opt[15].text = &summary;
-    opt[16].real = &pm.nu;
-    opt[17].integer = &pm.noslip;
-    opt[18].integer = &pm.front_k;
-    opt[19].integer = &pm.stokes;
-    opt[20].real = &pm.c0fac;
-    opt[21].flag = &check;
     def = pm;
     c = ex_parse(argc, argv, "2-D SPH dam break against Martin & Moyce (1952)", opt,
                  (int)(sizeof opt / sizeof opt[0]));
