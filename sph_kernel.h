@@ -1380,6 +1380,27 @@ SPH__INLINE sph_real sph__nshape_g(const sph__nshape *s, sph_real q)
     return q < s->kappa ? g : 0;
 }
 
+/* (O0) dx = x_i - x_j of the n pairs of list positions o0..o0+n-1, with the
+ * minimum image when PB (a constant: one loop per value), r^2 and j. */
+SPH__INLINE void sph__chunk_gather(const sph__args *A, const int D, const int PB, const sph__tgt *t, sph_off o0,
+                                   int n, sph__chunk *P)
+{
+    int k, a;
+    SPH__SIMD
+    for (k = 0; k < n; ++k) {
+        const sph_idx j = A->idx[o0 + k];
+        sph_real r2 = 0;
+        for (a = 0; a < D; ++a) {
+            sph_real d = t->xi[a] - SPH__AT(A->x, a, j);
+            if (PB) d -= A->L[a] * sph__floor(d * A->invL[a] + (sph_real)0.5);
+            P->dx[a][k] = d;
+            r2 += d * d;
+        }
+        P->j[k] = j;
+        P->r[k] = r2;
+    }
+}
+
 /* (O0), (O1) the n pairs of list positions o0..o0+n-1: dx = x_i - x_j
  * (minimum image: sph_box_delta with 1/L taken once per call, so no division
  * per pair; d * (1/L) and d / L round to the same integer, and the image is
@@ -1391,37 +1412,13 @@ SPH__INLINE void sph__chunk_eval(const sph__args *A, const sph__kdim *kd, const 
 {
     const sph__nshape *sh = &sph__nshapes[kd->shape];
     const int hv = GEN && A->hv && (WANT & SPH__WANT_F), pb = GEN && A->pb;
-    int k, a;
+    int k;
     /* the options are tested once per chunk, outside the pair loops: inside,
      * the vectoriser would evaluate both sides of every option per pair */
-    if (pb) {
-        SPH__SIMD
-        for (k = 0; k < n; ++k) {
-            const sph_idx j = A->idx[o0 + k];
-            sph_real r2 = 0;
-            for (a = 0; a < D; ++a) {
-                sph_real d = t->xi[a] - SPH__AT(A->x, a, j);
-                d -= A->L[a] * sph__floor(d * A->invL[a] + (sph_real)0.5); /* (O0) */
-                P->dx[a][k] = d;
-                r2 += d * d;
-            }
-            P->j[k] = j;
-            P->r[k] = r2;
-        }
-    } else {
-        SPH__SIMD
-        for (k = 0; k < n; ++k) {
-            const sph_idx j = A->idx[o0 + k];
-            sph_real r2 = 0;
-            for (a = 0; a < D; ++a) {
-                const sph_real d = t->xi[a] - SPH__AT(A->x, a, j);
-                P->dx[a][k] = d;
-                r2 += d * d;
-            }
-            P->j[k] = j;
-            P->r[k] = r2;
-        }
-    }
+    if (pb)
+        sph__chunk_gather(A, D, 1, t, o0, n, P);
+    else
+        sph__chunk_gather(A, D, 0, t, o0, n, P);
     for (k = n; (k & 7) != 0; ++k) P->r[k] = 0;
     sph__sqrt_chunk(P->r, k);
     if (WANT & SPH__WANT_W) {
