@@ -46,11 +46,6 @@ check() { # check "label" command...: a compile check counted as one case
     fi
 }
 
-has_sanitizers() { # has_sanitizers cc
-    printf 'int main(void){return 0;}\n' > "$OUT/san.c"
-    "$1" -fsanitize=address,undefined "$OUT/san.c" -o "$OUT/san" > /dev/null 2>&1 && "$OUT/san" > /dev/null 2>&1
-}
-
 has_flag() { # has_flag cc flag: the compiler accepts flag and the program runs
     printf 'int main(void){return 0;}\n' > "$OUT/flag.c"
     "$1" "$2" "$OUT/flag.c" -o "$OUT/flag" > /dev/null 2>&1 && "$OUT/flag" > /dev/null 2>&1
@@ -89,7 +84,7 @@ for cc in gcc clang; do
         continue
     fi
     san=""
-    if has_sanitizers $cc; then
+    if has_flag $cc -fsanitize=address,undefined; then
         san="-fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer"
     else
         echo "note: $cc has no address/undefined sanitizers here; $cc builds run without them"
