@@ -352,46 +352,73 @@ static void run_op(scene *s, int op, sph_real *hbuf)
     }
 }
 
-/* The same numbers as a markdown section (make bench appends both precisions
- * to docs/benchmark.md): the table, then the ratios against the targets. */
-static void write_md(FILE *f, double t[2][T_COUNT], double pairs, int n, int side, int reps, double cand,
-                     double h_dx)
+/* One row of the ratio list: label, value, printf format, goal ("" if none). */
+static void put_ratio(FILE *f, int md, const char *label, double v, const char *fmt, const char *goal)
+{
+    char num[32];
+    snprintf(num, sizeof num, fmt, v);
+    if (md)
+        fprintf(f, "| %s | %s | %s |\n", label, num, goal);
+    else
+        fprintf(f, "  %-48s %s%s%s%s\n", label, num, *goal ? "  (target " : "", goal, *goal ? ")" : "");
+}
+
+/* The timing table and the ratios against the targets: as text for the
+ * terminal (md 0) or as a markdown section (md 1; make bench appends both
+ * precisions to docs/benchmark.md). */
+static void put_tables(FILE *f, int md, double t[2][T_COUNT], double pairs, int n, int side, int reps, double cand,
+                       double h_dx)
 {
     const double fl = t[0][T_FLOOR], tb = t[0][T_TEXT];
+    char label[80];
     int op;
-    fprintf(f, "\n## %s\n\n%d^3 = %d particles, lattice perturbed by +-10 %% dx, periodic unit box, sorted by cell; "
-               "cubic h = %.4g dx, %.1f pairs per particle (self included), the other kernels with the same "
-               "kappa h; median of %d repetitions; %.2f candidate distance checks per neighbour found.\n\n",
-            sizeof(sph_real) == sizeof(float) ? "float" : "double", side, n, h_dx, pairs / n, reps, cand);
-    fprintf(f, "| operation (cubic unless named) | ns/pair | x floor | x textbook | 2 threads ns/pair | speed-up |\n"
-               "|---|---:|---:|---:|---:|---:|\n");
+    if (md)
+        fprintf(f, "\n## %s\n\n%d^3 = %d particles, lattice perturbed by +-10 %% dx, periodic unit box, sorted by "
+                   "cell; cubic h = %.4g dx, %.1f pairs per particle (self included), the other kernels with the same "
+                   "kappa h; median of %d repetitions; %.2f candidate distance checks per neighbour found.\n\n"
+                   "| operation (cubic unless named) | ns/pair | x floor | x textbook | 2 threads ns/pair | speed-up |\n"
+                   "|---|---:|---:|---:|---:|---:|\n",
+                sizeof(sph_real) == sizeof(float) ? "float" : "double", side, n, h_dx, pairs / n, reps, cand);
+    else
+        fprintf(f, "%-42s %9s %8s %8s %9s %8s\n", "operation (cubic unless named)", "ns/pair", "x floor", "x text.",
+                "2 thr ns", "speedup");
     for (op = 0; op < T_COUNT; ++op) {
+        const double ns = 1e9 * t[0][op] / pairs, ns2 = 1e9 * t[1][op] / pairs;
+        const double up = t[1][op] > 0 ? t[0][op] / t[1][op] : 0.0;
         if (t[0][op] == 0) continue;
         if (op >= T_KERNEL0)
-            fprintf(f, "| fused, %s", sph_kernel_name((sph_kernel)(op - T_KERNEL0)));
+            snprintf(label, sizeof label, md ? "fused, %s" : "  %s", sph_kernel_name((sph_kernel)(op - T_KERNEL0)));
         else
-            fprintf(f, "| %s", t_name[op]);
-        fprintf(f, " | %.2f | %.2f | %.3f | %.2f | %.2f |\n", 1e9 * t[0][op] / pairs, t[0][op] / fl, t[0][op] / tb,
-                1e9 * t[1][op] / pairs, t[1][op] > 0 ? t[0][op] / t[1][op] : 0.0);
+            snprintf(label, sizeof label, "%s", t_name[op]);
+        if (md) {
+            fprintf(f, "| %s | %.2f | %.2f | %.3f | %.2f | %.2f |\n", label, ns, t[0][op] / fl, t[0][op] / tb, ns2, up);
+        } else {
+            if (op == T_KERNEL0) fprintf(f, "fused density + gradient, per kernel (equal neighbours):\n");
+            fprintf(f, "%-42s %9.3f %8.2f %8.3f %9.3f %8.2f\n", label, ns, t[0][op] / fl, t[0][op] / tb, ns2, up);
+        }
     }
-    fprintf(f, "\n| measure | value | target |\n|---|---:|---|\n");
-    fprintf(f, "| fused density + gradient / floor, cubic | %.2f | <= 1.3 |\n", t[0][T_FUSED] / fl);
+    fprintf(f, md ? "\n| measure | value | target |\n|---|---:|---|\n" : "\ntargets (1 thread unless named):\n");
+    put_ratio(f, md, "fused density + gradient / floor, cubic", t[0][T_FUSED] / fl, "%.2f", "<= 1.3");
     for (op = T_KERNEL0; op < T_COUNT; ++op)
-        if (op != T_KERNEL0 + SPH_KERNEL_CUBIC)
-            fprintf(f, "| fused density + gradient / floor, %s | %.2f | <= 1.6 |\n",
-                    sph_kernel_name((sph_kernel)(op - T_KERNEL0)), t[0][op] / fl);
-    fprintf(f, "| textbook / fused density + gradient | %.1f | >= 10 |\n", tb / t[0][T_FUSED]);
-    if (t[1][T_FUSED] > 0) fprintf(f, "| fused: 1 thread / 2 threads | %.2f | >= 1.8 |\n", t[0][T_FUSED] / t[1][T_FUSED]);
-    fprintf(f, "| candidate checks per neighbour | %.2f | <= 3 |\n", cand);
-    fprintf(f, "| neighbour list / fused density + gradient | %.2f | <= 2 |\n", t[0][T_BUILD] / t[0][T_FUSED]);
+        if (op != T_KERNEL0 + SPH_KERNEL_CUBIC) {
+            snprintf(label, sizeof label, "fused density + gradient / floor, %s",
+                     sph_kernel_name((sph_kernel)(op - T_KERNEL0)));
+            put_ratio(f, md, label, t[0][op] / fl, "%.2f", "<= 1.6");
+        }
+    put_ratio(f, md, "textbook / fused density + gradient", tb / t[0][T_FUSED], "%.1f", ">= 10");
+    put_ratio(f, md, "textbook / (density, then gradient)", tb / t[0][T_DENS_THEN_GRAD], "%.1f", "");
+    if (t[1][T_FUSED] > 0)
+        put_ratio(f, md, "fused: 1 thread / 2 threads", t[0][T_FUSED] / t[1][T_FUSED], "%.2f", ">= 1.8");
+    put_ratio(f, md, "candidate checks per neighbour", cand, "%.2f", "<= 3");
+    put_ratio(f, md, "neighbour list / fused density + gradient", t[0][T_BUILD] / t[0][T_FUSED], "%.2f", "<= 2");
     if (t[0][T_PINNED] > 0)
-        fprintf(f, "| run-time selected / pinned (SPH_DIM, SPH_KERNEL) | %.3f | <= 1.05 |\n",
-                t[0][T_FUSED] / t[0][T_PINNED]);
-    fprintf(f, "| library without box / hand-written, no box | %.3f | <= 1.03 |\n",
-            t[0][T_FUSED_NOBOX] / t[0][T_HAND_NOBOX]);
-    fprintf(f, "| per-particle h (all equal) / uniform h | %.3f | |\n", t[0][T_FUSED_HV] / t[0][T_FUSED]);
-    fprintf(f, "| periodic box / no box | %.3f | |\n", t[0][T_FUSED] / t[0][T_FUSED_NOBOX]);
-    if (t[0][T_SPEC0] > 0) fprintf(f, "| SPH_OP_SPECIALISE 0 / 1 | %.3f | |\n", t[0][T_SPEC0] / t[0][T_FUSED]);
+        put_ratio(f, md, "run-time selected / pinned (SPH_DIM, SPH_KERNEL)", t[0][T_FUSED] / t[0][T_PINNED], "%.3f",
+                  "<= 1.05");
+    put_ratio(f, md, "library without box / hand-written, no box", t[0][T_FUSED_NOBOX] / t[0][T_HAND_NOBOX], "%.3f",
+              "<= 1.03");
+    put_ratio(f, md, "per-particle h (all equal) / uniform h", t[0][T_FUSED_HV] / t[0][T_FUSED], "%.3f", "");
+    put_ratio(f, md, "periodic box / no box", t[0][T_FUSED] / t[0][T_FUSED_NOBOX], "%.3f", "");
+    if (t[0][T_SPEC0] > 0) put_ratio(f, md, "SPH_OP_SPECIALISE 0 / 1", t[0][T_SPEC0] / t[0][T_FUSED], "%.3f", "");
 }
 
 int main(int argc, char **argv)
@@ -449,50 +476,10 @@ int main(int argc, char **argv)
             t[ti][op] = samp[reps / 2];
         }
     }
-    {
-        const double fl = t[0][T_FLOOR], tb = t[0][T_TEXT];
-        printf("%-42s %9s %8s %8s %9s %8s\n", "operation (cubic unless named)", "ns/pair", "x floor", "x text.",
-               "2 thr ns", "speedup");
-        for (op = 0; op < T_COUNT; ++op) {
-            const char *name = op >= T_KERNEL0 ? NULL : t_name[op];
-            char label[64];
-            if (t[0][op] == 0) continue;
-            if (op == T_KERNEL0) printf("fused density + gradient, per kernel (equal neighbours):\n");
-            if (name == NULL) {
-                snprintf(label, sizeof label, "  %s", sph_kernel_name((sph_kernel)(op - T_KERNEL0)));
-                name = label;
-            }
-            printf("%-42s %9.3f %8.2f %8.3f %9.3f %8.2f\n", name, 1e9 * t[0][op] / pairs, t[0][op] / fl,
-                   t[0][op] / tb, t[1][op] > 0 ? 1e9 * t[1][op] / pairs : 0.0,
-                   t[1][op] > 0 ? t[0][op] / t[1][op] : 0.0);
-        }
-        printf("\ntargets (1 thread unless named):\n");
-        printf("  fused density + gradient / floor, cubic          %.2f  (target <= 1.3)\n", t[0][T_FUSED] / fl);
-        for (op = T_KERNEL0; op < T_COUNT; ++op)
-            if (op != T_KERNEL0 + SPH_KERNEL_CUBIC)
-                printf("  fused density + gradient / floor, %-14s %.2f  (target <= 1.6)\n",
-                       sph_kernel_name((sph_kernel)(op - T_KERNEL0)), t[0][op] / fl);
-        printf("  textbook / fused density + gradient              %.1f  (target >= 10)\n", tb / t[0][T_FUSED]);
-        printf("  textbook / (density, then gradient)              %.1f\n", tb / t[0][T_DENS_THEN_GRAD]);
-        if (t[1][T_FUSED] > 0)
-            printf("  fused: 1 thread / 2 threads                      %.2f  (target >= 1.8)\n",
-                   t[0][T_FUSED] / t[1][T_FUSED]);
-        printf("  candidates per neighbour                         %.2f  (target <= 3)\n",
-               (double)ncand / (double)npairs);
-        printf("  neighbour list / fused density + gradient        %.2f  (target <= 2)\n", t[0][T_BUILD] / t[0][T_FUSED]);
-        if (t[0][T_PINNED] > 0)
-            printf("  run-time selected / pinned (SPH_DIM, SPH_KERNEL)  %.3f  (goal <= 1.05)\n",
-                   t[0][T_FUSED] / t[0][T_PINNED]);
-        printf("  library without box / hand-written, no box       %.3f  (goal <= 1.03)\n",
-               t[0][T_FUSED_NOBOX] / t[0][T_HAND_NOBOX]);
-        printf("  per-particle h (all equal) / uniform h           %.3f\n", t[0][T_FUSED_HV] / t[0][T_FUSED]);
-        printf("  periodic box / no box                            %.3f\n", t[0][T_FUSED] / t[0][T_FUSED_NOBOX]);
-        if (t[0][T_SPEC0] > 0)
-            printf("  SPH_OP_SPECIALISE 0 / 1                          %.3f\n", t[0][T_SPEC0] / t[0][T_FUSED]);
-    }
+    put_tables(stdout, 0, t, pairs, s.n, side, reps, (double)ncand / (double)npairs, (double)(s.h / s.dx));
     if (argc > 3 && md == NULL) fprintf(stderr, "benchmark: cannot open %s\n", argv[3]);
     if (md != NULL) {
-        write_md(md, t, pairs, s.n, side, reps, (double)ncand / (double)npairs, (double)(s.h / s.dx));
+        put_tables(md, 1, t, pairs, s.n, side, reps, (double)ncand / (double)npairs, (double)(s.h / s.dx));
         fclose(md);
     }
     if (g_status != SPH_OK) printf("\nERROR: a call returned %d (%s)\n", g_status, sph_strerror(g_status));
