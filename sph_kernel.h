@@ -1257,7 +1257,16 @@ typedef struct {
 #define SPH__SIMD_SUM2 _Pragma("omp simd reduction(+ : s0, s1)")
 #define SPH__SIMD_SUM3 _Pragma("omp simd reduction(+ : s0, s1, s2)")
 #define SPH__SIMD_SUM4 _Pragma("omp simd reduction(+ : s0, s1, s2, s3)")
+#if defined(__clang__)
+/* clang does not vectorise a kernel loop over a run-time piece table and
+ * then warns that the requested transformation failed (-Wpass-failed, an
+ * error under -Werror): there, kernel loops go without the request. */
+#define SPH__SIMD_KERNEL
 #else
+#define SPH__SIMD_KERNEL SPH__SIMD
+#endif
+#else
+#define SPH__SIMD_KERNEL
 #define SPH__SIMD
 #define SPH__SIMD_SUM1
 #define SPH__SIMD_SUM2
@@ -1422,17 +1431,17 @@ SPH__INLINE void sph__chunk_eval(const sph__args *A, const sph__kdim *kd, const 
     for (k = n; (k & 7) != 0; ++k) P->r[k] = 0;
     sph__sqrt_chunk(P->r, k);
     if (WANT & SPH__WANT_W) {
-        SPH__SIMD
+        SPH__SIMD_KERNEL
         for (k = 0; k < n; ++k) P->W[k] = t->cW * sph__nshape_w(sh, P->r[k] * t->hinv);
     }
     if ((WANT & SPH__WANT_F) && hv) {
-        SPH__SIMD
+        SPH__SIMD_KERNEL
         for (k = 0; k < n; ++k) {
             const sph_real hinv = 2 / (t->hi + SPH__AT(A->hs, 0, P->j[k]));
             P->F[k] = sph__hpow(kd->alpha, hinv, D + 2) * sph__nshape_g(sh, P->r[k] * hinv);
         }
     } else if (WANT & SPH__WANT_F) {
-        SPH__SIMD
+        SPH__SIMD_KERNEL
         for (k = 0; k < n; ++k) P->F[k] = t->cF * sph__nshape_g(sh, P->r[k] * t->hinv);
     }
 }
