@@ -44,8 +44,9 @@
  *               developing. Pinning SPH_KERNEL makes the choice moot: one
  *               kernel, one loop either way.
  *   SPH_NO_INTRINSICS  use only portable C: no SSE/AVX square-root helper in
- *               the operator loops (same results bit for bit, slower where the
- *               compiler cannot vectorise sqrt() because of errno).
+ *               the operator loops and no AVX-512 compress in the neighbour
+ *               fill (same results bit for bit, slower where the compiler
+ *               cannot vectorise sqrt() because of errno).
  *
  * The version is SPH_KERNEL_VERSION (major*10000 + minor*100 + patch) and
  * SPH_KERNEL_VERSION_STRING.
@@ -72,6 +73,9 @@
 #include <math.h>
 #include <stddef.h>
 #include <stdint.h>
+#ifdef _OPENMP
+#include <omp.h> /* only when the program is built with OpenMP: thread count of sph_nsearch_lists */
+#endif
 
 #ifndef SPH_REAL
 #define SPH_REAL double
@@ -100,6 +104,14 @@ typedef SPH_REAL sph_real;
 #endif
 #else
 #define SPH__SQRT_SIMD 0
+#endif
+
+/* Neighbour fill (section 7): AVX-512 VL compress of a block's accepted
+ * source indices (1), or the portable store-all-and-advance loop (0). */
+#if SPH__SQRT_SIMD == 2 && defined(__AVX512VL__) && defined(__AVX512F__)
+#define SPH__NS_COMPRESS 1
+#else
+#define SPH__NS_COMPRESS 0
 #endif
 
 #ifndef SPH_OP_SPECIALISE
@@ -2084,6 +2096,10 @@ SPH_API int sph_check_field(sph_view f, int ncomp, sph_idx n, sph_idx *first_bad
  *   sph_idx *index = malloc(offset[nt] * sizeof *index);       4. fill
  *   sph_nsearch_fill(&g, xt, nt, ht, h, kappa, SPH_NSEARCH_GATHER, offset, index, offset[nt]);
  *
+ * or steps 3 and 4 in one search per target, into an index with some slack
+ * (SPH_ESIZE, offset complete, when it is too short: then fill as in 4):
+ *   sph_nsearch_lists(&g, xt, nt, ht, h, kappa, SPH_NSEARCH_GATHER, offset, index, capacity, &pairs);
+ *
  * Criterion (eq. (N1)-(N3)): source j is a neighbour of target i iff
  * r_ij^2 < R^2 with R = kappa h_i (SPH_NSEARCH_GATHER) or
  * R = kappa max(h_i, h_j) (SPH_NSEARCH_SYMMETRIC), r_ij^2 the sum over the
@@ -2109,8 +2125,9 @@ SPH_API int sph_check_field(sph_view f, int ncomp, sph_idx n, sph_idx *first_bad
  * target scans only the cells whose nearest point lies within its radius, an
  * x row of cells at a time as one contiguous run of sorted sources (two where
  * a periodic axis wraps), then sorts its list. With cells of R/2 that is about
- * 2.5 candidate checks per neighbour in 3-D (docs/neighbours.md). Count and
- * fill run in parallel over targets under OpenMP.
+ * 2.5 candidate checks per neighbour in 3-D (docs/neighbours.md). Runs are
+ * checked in branch-free blocks of 8 sources. Count, fill and lists run in
+ * parallel over targets under OpenMP.
  *
  * Optional locality: sph_nsearch_permutation gives perm[new] = old (sources
  * by cell); sph_permute applies it to any field. Searching the sorted
@@ -2139,14 +2156,23 @@ typedef struct {
     sph_real w[3];        /* cell width per axis */
     sph_real inv_w[3];    /* 1 / w */
     sph_real quarter[3];  /* L / 4 on periodic axes, the largest real elsewhere */
+    sph_real quarter2;    /* smallest quarter[a]^2 of the periodic axes, the largest real without */
     sph_real slack;       /* rounding allowance added to every search radius */
     sph_real h_max;       /* largest per-source h (0 without per-source h) */
     sph_box box;          /* copy of the caller's box (periodic axes) */
     sph_idx *cell_start;  /* [n_cells + 1]: sources of cell c are sorted positions cell_start[c].. */
-    sph_idx *order;       /* [n_sources]: source index at each sorted position */
-    sph_real *x;          /* [dim * n_sources]: source positions in sorted order, x[dim k + a] */
-    sph_real *h;          /* [n_sources] per-source h in sorted order, or NULL */
+    sph_idx *order;       /* [n_padded]: source index at each sorted position */
+    sph_real *x;          /* [dim * n_padded]: source positions in sorted order, x[dim k + a] */
+    sph_real *h;          /* [n_padded] per-source h in sorted order, or NULL */
+    sph_idx n_padded;     /* n_sources + SPH__NS_BLOCK: the arrays' length (padding read by the blocked checks) */
 } sph_nsearch;
+
+/* Candidates are checked in blocks of SPH__NS_BLOCK consecutive sorted
+ * sources; the arrays of the grid are padded by one block. A target's runs
+ * are collected SPH__NS_RUNS at a time before any is checked, so that the
+ * cell arithmetic of one row does not wait on the checks of the last. */
+#define SPH__NS_BLOCK 8
+#define SPH__NS_RUNS 32
 
 /* Cells of one axis within reach of a target: up to two runs of cells
  * (wrapped index lo..hi, geometric position of cell k is k + shift), in
@@ -2166,6 +2192,15 @@ SPH_API int sph__ns_finite(sph_real x) { return x >= -SPH__REAL_MAX && x <= SPH_
 
 /* Component a of particle i of a view. */
 SPH_API sph_real sph__ns_at(sph_view v, int a, sph_idx i) { return v.p[a][(ptrdiff_t)i * v.stride]; }
+
+/* The view from particle i0 on (ncomp components; an absent view stays absent). */
+SPH_API sph_view sph__ns_tail(sph_view v, int ncomp, sph_idx i0)
+{
+    int a;
+    for (a = 0; a < ncomp; ++a)
+        if (v.p[a] != NULL) v.p[a] += (ptrdiff_t)i0 * v.stride;
+    return v;
+}
 
 /* Checks a position view of n particles: SPH_ENULL or SPH_ENONFINITE. */
 SPH_API int sph__ns_check_x(int dim, sph_view x, sph_idx n)
@@ -2269,11 +2304,14 @@ typedef struct {
     sph_real hi;      /* target h */
     sph_real hu;      /* uniform h (sources without per-source h) */
     sph_real kappa;
+    sph_real R2;      /* R^2 when the same for every source (gather, or uniform h), else -1 */
     int symmetric;
     sph_idx *seg;     /* fill: the target's part of index[], else NULL */
     sph_off cap;      /* its length */
     sph_off found;    /* neighbours found so far */
     sph_off checked;  /* candidates checked so far */
+    int n_runs;       /* runs of sorted sources collected, not yet checked */
+    sph_idx runs[2 * SPH__NS_RUNS];
 } sph__probe;
 
 /* 1 when sorted source k meets criterion (N1)/(N2) for the target of p:
@@ -2283,56 +2321,107 @@ SPH_API int sph__nsearch_in(const sph_nsearch *g, const sph__probe *p, sph_idx k
     sph_real r2 = 0, hj = g->h != NULL ? g->h[k] : p->hu, R;
     int a;
     for (a = 0; a < dim; ++a) {
-        sph_real d = sph__nsearch_delta(g, a, p->xt[a] - g->x[dim * k + a]);
+        sph_real d = sph__nsearch_delta(g, a, p->xt[a] - g->x[(ptrdiff_t)dim * k + a]);
         r2 += d * d;
     }
     R = p->kappa * (p->symmetric && hj > p->hi ? hj : p->hi);
     return r2 < R * R;
 }
 
-/* Counts the sorted sources k0..k1-1 that meet the criterion (dim is a
- * constant once inlined: the axis loop unrolls, the loop has no branch). */
-SPH_API sph_off sph__nsearch_count_run(const sph_nsearch *g, const sph__probe *p, sph_idx k0, sph_idx k1,
-                                       const int dim)
+/* Bit k set when sorted source b + k (k < SPH__NS_BLOCK, b + k < k1) meets
+ * the criterion, as sph__nsearch_in decides it. One loop without a branch
+ * over a whole block (the padding beyond k1 is masked). Where r^2 without
+ * the minimum image exceeds the smallest squared quarter period, some axis
+ * difference may exceed its quarter, and the minimum image may need
+ * sph_box_delta: such a block is redone by sph__nsearch_in. HV: R per
+ * source (symmetric with per-source h); dim, HV constants once inlined. */
+SPH__INLINE unsigned sph__nsearch_mask(const sph_nsearch *g, const sph__probe *p, sph_idx b, sph_idx k1,
+                                       const int dim, const int HV)
 {
-    sph_off m = 0;
-    sph_idx k;
-    for (k = k0; k < k1; ++k) m += sph__nsearch_in(g, p, k, dim);
-    return m;
+    const sph_real *x = g->x + (ptrdiff_t)dim * b;
+    unsigned mask = 0;
+    int k, a, wide = 0;
+    for (k = 0; k < SPH__NS_BLOCK; ++k) {
+        sph_real r2 = 0, R2 = p->R2;
+        for (a = 0; a < dim; ++a) {
+            const sph_real d = p->xt[a] - x[dim * k + a];
+            r2 += d * d;
+        }
+        wide |= r2 > g->quarter2;
+        if (HV) {
+            const sph_real hj = g->h[b + k], R = p->kappa * (hj > p->hi ? hj : p->hi);
+            R2 = R * R;
+        }
+        mask |= (unsigned)((r2 < R2) & (b + k < k1)) << k;
+    }
+    if (wide)
+        for (mask = 0, k = 0; k < SPH__NS_BLOCK && b + k < k1; ++k)
+            mask |= (unsigned)sph__nsearch_in(g, p, b + k, dim) << k;
+    return mask;
 }
 
-/* Appends the sorted sources k0..k1-1 that meet the criterion to the
- * target's segment (never past its end); returns the new count. */
-SPH_API sph_off sph__nsearch_fill_run(const sph_nsearch *g, const sph__probe *p, sph_idx k0, sph_idx k1,
-                                      sph_off m, const int dim)
+/* Counts (p->seg NULL) or appends to the target's segment (never past its
+ * end) the sorted sources k0..k1-1 that meet the criterion; returns the new
+ * count. A block with room for all its sources in the segment stores them
+ * all and keeps those inside, without a branch. */
+SPH__INLINE sph_off sph__nsearch_run_blocks(const sph_nsearch *g, const sph__probe *p, sph_idx k0, sph_idx k1,
+                                            sph_off m, const int dim, const int HV)
 {
-    sph_idx k;
-    if (m + (k1 - k0) <= p->cap) /* room for every candidate: store each, keep those inside (no branch) */
-        for (k = k0; k < k1; ++k) {
-            p->seg[m] = g->order[k];
-            m += sph__nsearch_in(g, p, k, dim);
-        }
-    else
-        for (k = k0; k < k1; ++k)
-            if (sph__nsearch_in(g, p, k, dim)) {
-                if (m < p->cap) p->seg[m] = g->order[k];
-                ++m;
+    sph_idx b;
+    int k;
+    for (b = k0; b < k1; b += SPH__NS_BLOCK) {
+        const unsigned mask = sph__nsearch_mask(g, p, b, k1, dim, HV);
+        if (p->seg == NULL)
+            for (k = 0; k < SPH__NS_BLOCK; ++k) m += (mask >> k) & 1u;
+        else if (m + SPH__NS_BLOCK <= p->cap) {
+#if SPH__NS_COMPRESS && SPH__NS_BLOCK == 8
+            const __m256i j = _mm256_loadu_si256((const __m256i *)(const void *)(g->order + b));
+            _mm256_storeu_si256((__m256i *)(void *)(p->seg + m), _mm256_maskz_compress_epi32((__mmask8)mask, j));
+            m += __builtin_popcount(mask);
+#else
+            for (k = 0; k < SPH__NS_BLOCK; ++k) {
+                p->seg[m] = g->order[b + k];
+                m += (mask >> k) & 1u;
             }
+#endif
+        }
+        else
+            for (k = 0; k < SPH__NS_BLOCK; ++k)
+                if ((mask >> k) & 1u) {
+                    if (m < p->cap) p->seg[m] = g->order[b + k];
+                    ++m;
+                }
+    }
     return m;
 }
 
 /* Checks the sorted sources k0..k1-1: counts them or appends them. */
 SPH_API void sph__nsearch_scan(const sph_nsearch *g, sph__probe *p, sph_idx k0, sph_idx k1)
 {
-    if (p->seg == NULL)
-        p->found += g->dim == 3 ? sph__nsearch_count_run(g, p, k0, k1, 3)
-                    : g->dim == 2 ? sph__nsearch_count_run(g, p, k0, k1, 2)
-                                  : sph__nsearch_count_run(g, p, k0, k1, 1);
-    else
-        p->found = g->dim == 3 ? sph__nsearch_fill_run(g, p, k0, k1, p->found, 3)
-                   : g->dim == 2 ? sph__nsearch_fill_run(g, p, k0, k1, p->found, 2)
-                                 : sph__nsearch_fill_run(g, p, k0, k1, p->found, 1);
+    const int hv = p->R2 < 0;
+    p->found = g->dim == 3 ? (hv ? sph__nsearch_run_blocks(g, p, k0, k1, p->found, 3, 1)
+                                 : sph__nsearch_run_blocks(g, p, k0, k1, p->found, 3, 0))
+               : g->dim == 2 ? (hv ? sph__nsearch_run_blocks(g, p, k0, k1, p->found, 2, 1)
+                                   : sph__nsearch_run_blocks(g, p, k0, k1, p->found, 2, 0))
+                             : (hv ? sph__nsearch_run_blocks(g, p, k0, k1, p->found, 1, 1)
+                                   : sph__nsearch_run_blocks(g, p, k0, k1, p->found, 1, 0));
     p->checked += k1 - k0;
+}
+
+/* Checks the collected runs. */
+SPH_API void sph__nsearch_flush(const sph_nsearch *g, sph__probe *p)
+{
+    int r;
+    for (r = 0; r < p->n_runs; ++r) sph__nsearch_scan(g, p, p->runs[2 * r], p->runs[2 * r + 1]);
+    p->n_runs = 0;
+}
+
+/* Collects the run k0..k1-1 of sorted sources; checks the runs when SPH__NS_RUNS are waiting. */
+SPH_API void sph__nsearch_push(const sph_nsearch *g, sph__probe *p, sph_idx k0, sph_idx k1)
+{
+    p->runs[2 * p->n_runs] = k0;
+    p->runs[2 * p->n_runs + 1] = k1;
+    if (++p->n_runs == SPH__NS_RUNS) sph__nsearch_flush(g, p);
 }
 
 /* One row of cells along axis 0 (cells ky, kz of axes 1, 2), radius^2 rem left. */
@@ -2343,13 +2432,13 @@ SPH_API void sph__nsearch_row(const sph_nsearch *g, sph__probe *p, int ky, int k
     const sph_real hw = sph__sqrt(rem), k0 = sph__floor((p->t[0] - hw) * g->inv_w[0]),
                    k1 = sph__floor((p->t[0] + hw) * g->inv_w[0]);
     if (k0 >= 0 && k1 < (sph_real)g->n[0]) { /* inside the grid: one run, as sph__nsearch_span finds */
-        sph__nsearch_scan(g, p, g->cell_start[base + (int)k0], g->cell_start[base + (int)k1 + 1]);
+        sph__nsearch_push(g, p, g->cell_start[base + (int)k0], g->cell_start[base + (int)k1 + 1]);
         return;
     }
     sph__nsearch_span(g, 0, p->t[0], hw, &s);
     for (r = 0; r < s.count; ++r)
         if (s.lo[r] <= s.hi[r])
-            sph__nsearch_scan(g, p, g->cell_start[base + s.lo[r]], g->cell_start[base + s.hi[r] + 1]);
+            sph__nsearch_push(g, p, g->cell_start[base + s.lo[r]], g->cell_start[base + s.hi[r] + 1]);
 }
 
 /* Sorts n distinct indices ascending: nothing to do for a sorted run (the
@@ -2398,8 +2487,15 @@ SPH_API void sph__nsearch_target(const sph_nsearch *g, sph__probe *p)
     }
     /* search radius with the rounding allowance of docs/neighbours.md: never misses a pair */
     Rm = Rs + Rs / 1024 + g->slack + 64 * sph__nsearch_eps() * far;
+    if (p->symmetric && g->h != NULL)
+        p->R2 = -1;
+    else { /* R of sph__nsearch_in with h_j = the uniform h */
+        const sph_real R = p->kappa * (p->symmetric && p->hu > p->hi ? p->hu : p->hi);
+        p->R2 = R * R;
+    }
     p->found = 0;
     p->checked = 0;
+    p->n_runs = 0;
     sph__nsearch_span(g, 2, p->t[2], Rm, &sz);
     for (rz = 0; rz < sz.count; ++rz)
         for (kz = sz.lo[rz]; kz <= sz.hi[rz]; ++kz) {
@@ -2412,6 +2508,7 @@ SPH_API void sph__nsearch_target(const sph_nsearch *g, sph__probe *p)
                     if (left_y >= 0) sph__nsearch_row(g, p, ky, kz, left_y);
                 }
         }
+    sph__nsearch_flush(g, p);
     if (p->seg != NULL && p->found <= p->cap) sph__ns_sort(p->seg, p->found);
 }
 
@@ -2424,11 +2521,12 @@ SPH_API int sph__nsearch_geometry(sph_nsearch *g, int dim, sph_view xs, sph_idx 
     sph_idx i;
     g->dim = 0;
     if (dim < 1 || dim > 3) return SPH_EDIM;
-    if (ns < 0) return SPH_ESIZE;
+    if (ns < 0 || ns > INT32_MAX - SPH__NS_BLOCK) return SPH_ESIZE;
     if (!(cell > 0 && cell <= SPH__REAL_MAX)) return SPH_EINVAL;
     if ((st = sph__ns_check_x(dim, xs, ns)) != SPH_OK) return st;
     if (ns > 0 && hs.p[0] != NULL && (st = sph__ns_check_h(hs, ns)) != SPH_OK) return st;
     g->n_sources = ns;
+    g->n_padded = ns + SPH__NS_BLOCK;
     g->h_max = 0;
     for (i = 0; hs.p[0] != NULL && i < ns; ++i) {
         const sph_real hi = hs.p[0][(ptrdiff_t)i * hs.stride];
@@ -2470,6 +2568,9 @@ SPH_API int sph__nsearch_geometry(sph_nsearch *g, int dim, sph_view xs, sph_idx 
             extent = fabs((double)sph__ns_at(xs, a, i)) > extent ? fabs((double)sph__ns_at(xs, a, i)) : extent;
     }
     if (total > (double)SPH_NSEARCH_MAX_CELLS) return SPH_ESIZE;
+    g->quarter2 = SPH__REAL_MAX;
+    for (a = 0; a < dim; ++a)
+        if (g->box.periodic[a] && g->quarter[a] * g->quarter[a] < g->quarter2) g->quarter2 = g->quarter[a] * g->quarter[a];
     g->n_cells = (int)total;
     g->slack = (sph_real)(64 * (double)sph__nsearch_eps() * extent);
     g->dim = dim;
@@ -2484,9 +2585,10 @@ SPH_API double sph__nsearch_line(double bytes) { return ceil(bytes / 64) * 64; }
 SPH_API double sph__nsearch_layout(sph_nsearch *g, int with_h, char *base)
 {
     const double cells = sph__nsearch_line((double)sizeof(sph_idx) * ((double)g->n_cells + 1));
-    const double order = sph__nsearch_line((double)sizeof(sph_idx) * (double)g->n_sources);
-    const double reals = sph__nsearch_line((double)sizeof(sph_real) * (double)g->n_sources);
-    const double xyz = sph__nsearch_line((double)sizeof(sph_real) * (double)g->n_sources * g->dim);
+    const double padded = (double)g->n_sources + SPH__NS_BLOCK;
+    const double order = sph__nsearch_line((double)sizeof(sph_idx) * padded);
+    const double reals = sph__nsearch_line((double)sizeof(sph_real) * padded);
+    const double xyz = sph__nsearch_line((double)sizeof(sph_real) * padded * g->dim);
     if (base != NULL) {
         base += (64 - (size_t)((uintptr_t)base % 64)) % 64;
         g->cell_start = (sph_idx *)(void *)base;
@@ -2549,6 +2651,11 @@ SPH_API int sph_nsearch_build(sph_nsearch *g, int dim, sph_view xs, sph_idx n_so
         for (a = 0; a < dim; ++a) g->x[(ptrdiff_t)dim * k + a] = x[a];
         if (hs.p[0] != NULL) g->h[k] = hs.p[0][(ptrdiff_t)i * hs.stride];
     }
+    for (i = n_sources; i < g->n_padded; ++i) { /* padding: read by the blocked checks, never kept */
+        g->order[i] = 0;
+        for (a = 0; a < dim; ++a) g->x[(ptrdiff_t)dim * i + a] = 0;
+        if (hs.p[0] != NULL) g->h[i] = 1;
+    }
     for (c = g->n_cells; c > 0; --c) g->cell_start[c] = g->cell_start[c - 1];
     g->cell_start[0] = 0;
     return SPH_OK;
@@ -2570,6 +2677,18 @@ SPH_API int sph__nsearch_check(const sph_nsearch *g, sph_view xt, sph_idx nt, sp
     return sph__ns_check_h(ht, nt);
 }
 
+/* The search parameters of target i (position, h_i, criterion). */
+SPH_API void sph__nsearch_probe(const sph_nsearch *g, sph_view xt, sph_view ht, sph_real h, sph_real kappa, int mode,
+                                sph_idx i, sph__probe *p)
+{
+    int a;
+    for (a = 0; a < 3; ++a) p->xt[a] = a < g->dim ? sph__ns_at(xt, a, i) : 0;
+    p->hi = ht.p[0] != NULL ? ht.p[0][(ptrdiff_t)i * ht.stride] : h;
+    p->hu = h;
+    p->kappa = kappa;
+    p->symmetric = mode == SPH_NSEARCH_SYMMETRIC;
+}
+
 /* Runs the search for every target: counts into count[i + 1] (when count
  * != NULL), fills index (when index != NULL, segments given by offset),
  * sums pairs and candidates. Returns SPH_EINVAL when a target's count differs
@@ -2587,12 +2706,7 @@ SPH_API int sph__nsearch_run(const sph_nsearch *g, sph_view xt, sph_idx nt, sph_
 #endif
     for (i = 0; i < nt; ++i) {
         sph__probe p;
-        int a;
-        for (a = 0; a < 3; ++a) p.xt[a] = a < g->dim ? sph__ns_at(xt, a, i) : 0;
-        p.hi = ht.p[0] != NULL ? ht.p[0][(ptrdiff_t)i * ht.stride] : h;
-        p.hu = h;
-        p.kappa = kappa;
-        p.symmetric = mode == SPH_NSEARCH_SYMMETRIC;
+        sph__nsearch_probe(g, xt, ht, h, kappa, mode, i, &p);
         p.seg = index != NULL ? index + offset[i] : NULL;
         p.cap = index != NULL ? offset[i + 1] - offset[i] : 0;
         sph__nsearch_target(g, &p);
@@ -2640,6 +2754,85 @@ SPH_API int sph_nsearch_fill(const sph_nsearch *g, sph_view xt, sph_idx n_target
     if (index == NULL && offset[n_targets] > 0) return SPH_ENULL;
     if (n_targets == 0 || index == NULL) return SPH_OK;
     return sph__nsearch_run(g, xt, n_targets, ht, h, kappa, mode, NULL, offset, index, NULL, NULL);
+}
+
+/* Targets lo..hi-1 of sph_nsearch_lists into index[s0 .. s1-1] one after
+ * another, each target's count into offset[i + 1]. Returns the first target
+ * whose list did not fit (hi when all did); the targets after it are counted
+ * only. */
+SPH_API sph_idx sph__nsearch_block(const sph_nsearch *g, sph_view xt, sph_view ht, sph_real h, sph_real kappa,
+                                   int mode, sph_idx lo, sph_idx hi, sph_off *offset, sph_idx *index, sph_off s0,
+                                   sph_off s1)
+{
+    sph_idx i, bad = hi;
+    for (i = lo; i < hi; ++i) {
+        sph__probe p;
+        sph__nsearch_probe(g, xt, ht, h, kappa, mode, i, &p);
+        p.seg = bad == hi && index != NULL ? index + s0 : NULL;
+        p.cap = bad == hi ? s1 - s0 : 0;
+        sph__nsearch_target(g, &p);
+        offset[i + 1] = p.found;
+        if (bad == hi && p.found > p.cap) bad = i;
+        if (bad == hi) s0 += p.found;
+    }
+    return bad;
+}
+
+/* Count and fill in one search per target (eq. (N1)/(N2)): offset[0..nt]
+ * and index[] exactly as sph_nsearch_count then sph_nsearch_fill give them;
+ * index holds capacity entries, *pairs = offset[nt] (the entries needed).
+ * SPH_ESIZE when more than capacity are needed: offset is then complete
+ * (sph_nsearch_fill with it and a larger index finishes the job), index
+ * unspecified. Under OpenMP the targets are split into one contiguous block
+ * per thread (at least 1024 targets each), each searched into the share of
+ * index proportional to it, then moved down into place; from the first
+ * block that outgrows its share on, a second pass fills the lists (a
+ * capacity ~20 % above the expected pairs avoids it). The result does not
+ * depend on the thread count. */
+SPH_API int sph_nsearch_lists(const sph_nsearch *g, sph_view xt, sph_idx n_targets, sph_view ht, sph_real h,
+                              sph_real kappa, int mode, sph_off *offset, sph_idx *index, sph_off capacity,
+                              sph_off *pairs)
+{
+    enum { MAX_BLOCKS = 64 };
+    sph_idx lo[MAX_BLOCKS + 1], bad[MAX_BLOCKS];
+    sph_off s0[MAX_BLOCKS + 1], k, end;
+    int nb, b, st = sph__nsearch_check(g, xt, n_targets, ht, h, kappa, mode);
+    sph_idx i;
+    if (st != SPH_OK) return st;
+    if (offset == NULL || pairs == NULL || (index == NULL && capacity > 0)) return SPH_ENULL;
+    if (capacity < 0) return SPH_ESIZE;
+    nb = 1;
+#ifdef _OPENMP
+    nb = omp_get_max_threads();
+    nb = nb < MAX_BLOCKS ? nb : MAX_BLOCKS;
+    nb = n_targets / 1024 < nb ? (int)(n_targets / 1024) : nb;
+    nb = nb > 1 ? nb : 1;
+#endif
+    for (b = 0; b <= nb; ++b) { /* block b: targets lo[b].., index from s0[b] */
+        lo[b] = (sph_idx)((double)n_targets * b / nb);
+        s0[b] = (sph_off)((double)capacity * b / nb);
+    }
+    lo[nb] = n_targets;
+    s0[nb] = capacity;
+#ifdef _OPENMP
+#pragma omp parallel for schedule(static, 1) if (nb > 1)
+#endif
+    for (b = 0; b < nb; ++b)
+        bad[b] = sph__nsearch_block(g, xt, ht, h, kappa, mode, lo[b], lo[b + 1], offset, index, s0[b], s0[b + 1]);
+    offset[0] = 0;
+    for (i = 0; i < n_targets; ++i) offset[i + 1] += offset[i];
+    *pairs = offset[n_targets];
+    if (offset[n_targets] > capacity) return SPH_ESIZE;
+    for (b = 0; b < nb; ++b) { /* blocks that fitted move down to their offsets (never up: the blocks
+                                  before them fitted too), in order */
+        if (bad[b] != lo[b + 1]) break;
+        end = offset[lo[b + 1]] - offset[lo[b]];
+        for (k = 0; s0[b] != offset[lo[b]] && k < end; ++k) index[offset[lo[b]] + k] = index[s0[b] + k];
+    }
+    if (b < nb) /* from the first block that outgrew its share: a fill pass over the rest */
+        return sph__nsearch_run(g, sph__ns_tail(xt, g->dim, lo[b]), n_targets - lo[b], sph__ns_tail(ht, 1, lo[b]),
+                                h, kappa, mode, NULL, offset + lo[b], index, NULL, NULL);
+    return SPH_OK;
 }
 
 /* Statistics of one search without storing it (docs/neighbours.md,

@@ -2,7 +2,9 @@
  * docs/neighbours.md) against the O(N^2) reference tp_brute_list of
  * tests/particles.h, which applies criterion (N1)-(N3) to every pair.
  * A list is right when its offsets and index arrays equal the reference
- * element for element (same pairs, same ascending order).
+ * element for element (same pairs, same ascending order). Every problem is
+ * searched both ways: sph_nsearch_count + sph_nsearch_fill, and the one-pass
+ * sph_nsearch_lists with a roomy, an exact and a too small index.
  */
 #include <stdlib.h>
 
@@ -53,12 +55,57 @@ static int nb_search(const nb_problem *p, sph_nsearch *g, void **work, tp_list *
     return st;
 }
 
+/* 1 when offset[0..nt] (and index[0..offset[nt]) when index != NULL)
+ * equal the reference; reports the first difference as a failure. */
+static int nb_same(const char *how, const tp_list *ref, int nt, const sph_off *offset, const sph_idx *index)
+{
+    int i;
+    for (i = 0; i <= nt; ++i)
+        if (offset[i] != ref->offset[i]) {
+            TH_CHECK(0, "%s: offset[%d] = %ld, reference %ld", how, i, (long)offset[i], (long)ref->offset[i]);
+            return 0;
+        }
+    for (i = 0; index != NULL && i < (int)ref->offset[nt]; ++i)
+        if (index[i] != ref->index[i]) {
+            TH_CHECK(0, "%s: index[%d] = %d, reference %d", how, i, (int)index[i], (int)ref->index[i]);
+            return 0;
+        }
+    return 1;
+}
+
+/* The one-pass sph_nsearch_lists on the built grid g against the reference,
+ * with an index twice (+ 16) as long as needed, exactly as long, and one
+ * short (SPH_ESIZE with complete offsets and the count). */
+static void nb_compare_lists(const nb_problem *p, const sph_nsearch *g, const tp_list *ref)
+{
+    const sph_real *xt = p->xt ? p->xt : p->xs;
+    const int nt = p->xt ? p->nt : p->ns;
+    const sph_off need = ref->offset[nt], caps[3] = {2 * need + 16, need, need - 1};
+    sph_off *offset = (sph_off *)malloc(sizeof(sph_off) * (size_t)(nt + 1)), pairs;
+    sph_idx *index = (sph_idx *)malloc(sizeof(sph_idx) * (size_t)(caps[0] > 0 ? caps[0] : 1));
+    int c, st;
+    for (c = 0; c < 3; ++c) {
+        if (caps[c] < 0) continue;
+        pairs = -1;
+        st = sph_nsearch_lists(g, sph_view_interleaved(xt, 3), nt, sph_view_soa(p->ht, NULL, NULL), p->h, p->kappa,
+                               p->mode, offset, index, caps[c], &pairs);
+        TH_CHECK(st == (c < 2 ? SPH_OK : SPH_ESIZE), "lists, capacity %ld of %ld: status %d", (long)caps[c],
+                 (long)need, st);
+        TH_CHECK(pairs == need, "lists: %ld pairs reported, reference %ld", (long)pairs, (long)need);
+        nb_same(c == 0 ? "lists (roomy index)" : c == 1 ? "lists (exact index)" : "lists (short index)", ref, nt,
+                offset, c < 2 ? index : NULL);
+    }
+    free(offset);
+    free(index);
+}
+
 /* Checks (inside the open case) that the library's list for p equals the
- * brute-force reference; returns the number of pairs. */
+ * brute-force reference, by count + fill and by the one-pass search;
+ * returns the number of pairs. */
 static long nb_compare(const nb_problem *p)
 {
     const sph_real *xt = p->xt ? p->xt : p->xs;
-    int nt = p->xt ? p->nt : p->ns, i, st, bad = 0;
+    int nt = p->xt ? p->nt : p->ns, st;
     tp_list ref, got;
     sph_nsearch g;
     void *work;
@@ -70,16 +117,8 @@ static long nb_compare(const nb_problem *p)
     if (st == SPH_OK) {
         pairs = (long)ref.offset[nt];
         TH_CHECK(got.list.n_targets == nt && got.list.n_sources == p->ns, "list sizes");
-        for (i = 0; i <= nt && bad < 3; ++i)
-            if (got.offset[i] != ref.offset[i]) {
-                TH_CHECK(0, "offset[%d] = %ld, reference %ld", i, (long)got.offset[i], (long)ref.offset[i]);
-                ++bad;
-            }
-        for (i = 0; bad == 0 && i < (int)ref.offset[nt]; ++i)
-            if (got.index[i] != ref.index[i]) {
-                TH_CHECK(0, "index[%d] = %d, reference %d", i, (int)got.index[i], (int)ref.index[i]);
-                break;
-            }
+        nb_same("count + fill", &ref, nt, got.offset, got.index);
+        nb_compare_lists(p, &g, &ref);
     }
     tp_free_list(&ref);
     tp_free_list(&got);
@@ -615,6 +654,37 @@ static void test_errors(void)
     TH_CHECK(sph_nsearch_fill(&g0, v, N, sph_view_none(), (sph_real)0.1, 2, 0, off, idx, N * N) == SPH_EINVAL, "unbuilt grid");
     th_end();
 
+    th_begin("one-pass lists: status of each bad argument");
+    {
+        sph_off pairs;
+        TH_CHECK(sph_nsearch_lists(&g, v, N, sph_view_none(), (sph_real)0.1, 2, 0, off, idx, N * N, &pairs) == SPH_OK,
+                 "good call");
+        TH_CHECK(sph_nsearch_lists(&g0, v, N, sph_view_none(), (sph_real)0.1, 2, 0, off, idx, N * N, &pairs) ==
+                     SPH_EINVAL, "unbuilt grid");
+        TH_CHECK(sph_nsearch_lists(NULL, v, N, sph_view_none(), (sph_real)0.1, 2, 0, off, idx, N * N, &pairs) ==
+                     SPH_ENULL, "NULL grid");
+        TH_CHECK(sph_nsearch_lists(&g, v, N, sph_view_none(), (sph_real)0.1, 2, 0, NULL, idx, N * N, &pairs) ==
+                     SPH_ENULL, "NULL offset");
+        TH_CHECK(sph_nsearch_lists(&g, v, N, sph_view_none(), (sph_real)0.1, 2, 0, off, idx, N * N, NULL) == SPH_ENULL,
+                 "NULL pairs");
+        TH_CHECK(sph_nsearch_lists(&g, v, N, sph_view_none(), (sph_real)0.1, 2, 0, off, NULL, N * N, &pairs) ==
+                     SPH_ENULL, "NULL index with a capacity");
+        TH_CHECK(sph_nsearch_lists(&g, v, N, sph_view_none(), (sph_real)0.1, 2, 0, off, idx, -1, &pairs) == SPH_ESIZE,
+                 "capacity < 0");
+        pairs = -1;
+        TH_CHECK(sph_nsearch_lists(&g, v, N, sph_view_none(), (sph_real)0.1, 2, 0, off, NULL, 0, &pairs) == SPH_ESIZE &&
+                     pairs == off[N] && pairs > N,
+                 "size query (no index): SPH_ESIZE, %ld pairs", (long)pairs);
+        TH_CHECK(sph_nsearch_lists(&g, v, N, sph_view_none(), 0, 2, 0, off, idx, N * N, &pairs) == SPH_EH, "h = 0");
+        TH_CHECK(sph_nsearch_lists(&g, v, N, sph_view_none(), (sph_real)0.1, nanv, 0, off, idx, N * N, &pairs) ==
+                     SPH_EINVAL, "kappa NaN");
+        TH_CHECK(sph_nsearch_lists(&g, v, N, sph_view_none(), (sph_real)0.1, 2, 2, off, idx, N * N, &pairs) ==
+                     SPH_EINVAL, "mode 2");
+        TH_CHECK(sph_nsearch_lists(&g, v, -1, sph_view_none(), (sph_real)0.1, 2, 0, off, idx, N * N, &pairs) ==
+                     SPH_ESIZE, "n < 0");
+    }
+    th_end();
+
     th_begin("permutations: status of each bad argument");
     for (i = 0; i < N; ++i) perm[i] = (sph_idx)(N - 1 - i);
     TH_CHECK(sph_permutation_invert(perm, N, inv) == SPH_OK && inv[0] == N - 1, "good permutation");
@@ -715,6 +785,34 @@ static void test_threads(void)
 #endif
 }
 
+/* The one-pass search in blocks (one per thread, at least 1024 targets
+ * each): a dense half and a sparse half of the targets, in both orders, so
+ * that with an exact index one block outgrows its share (the second pass
+ * fills from there) and with an index twice as long both fit and the
+ * second moves down into place. */
+static void test_lists_blocks(void)
+{
+    const int n = 4096;
+    sph_real *x = nb_alloc(n);
+    tp_rng rng = {91};
+    int order, i, a;
+    for (order = 0; order < 2; ++order) {
+        nb_problem p = nb_make(3, x, n, (sph_real)0.03, 2, (sph_real)0.03);
+        for (i = 0; i < n; ++i) { /* dense: side 0.25, sparse: side 1 */
+            const double L = (i < n / 2) == (order == 0) ? 0.25 : 1.0;
+            for (a = 0; a < 3; ++a) x[3 * i + a] = (sph_real)tp_range(&rng, 0, L);
+        }
+        th_begin(order == 0 ? "one-pass lists in blocks: dense targets first"
+                            : "one-pass lists in blocks: sparse targets first");
+#ifdef _OPENMP
+        omp_set_num_threads(2);
+#endif
+        TH_CHECK(nb_compare(&p) > 20 * n, "too few pairs to load the blocks unevenly");
+        th_end();
+    }
+    free(x);
+}
+
 int main(void)
 {
     test_clouds();
@@ -730,5 +828,6 @@ int main(void)
     test_errors();
     test_candidate_ratio();
     test_threads();
+    test_lists_blocks();
     return th_summary();
 }
