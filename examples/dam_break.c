@@ -233,18 +233,22 @@ static void search(sim *s)
         s->work = xalloc(s->work_bytes);
     }
     if (st == SPH_OK) st = sph_nsearch_build(&s->g, 2, xs, s->n, sph_view_none(), cell, NULL, s->work, s->work_bytes);
-    if (st == SPH_OK) st = sph_nsearch_count(&s->g, xs, s->n, sph_view_none(), s->h, kappa, SPH_NSEARCH_GATHER, s->offset);
-    if (st == SPH_OK && s->offset[s->n] > s->capacity) {
+    /* one search into the index of the last step; where it has become too
+     * short, offset is complete: grow the arrays and fill at those offsets */
+    sph_off pairs = 0;
+    if (st == SPH_OK)
+        st = sph_nsearch_lists(&s->g, xs, s->n, sph_view_none(), s->h, kappa, SPH_NSEARCH_GATHER, s->offset, s->index,
+                               s->capacity, &pairs);
+    if (st == SPH_ESIZE) {
         free(s->index);
-        s->capacity = s->offset[s->n] + s->offset[s->n] / 4;
+        s->capacity = pairs + pairs / 4;
         s->index = (sph_idx *)xalloc(sizeof(sph_idx) * (size_t)s->capacity);
         free(s->W), free(s->F);
         s->W = (double *)xalloc(sizeof(double) * (size_t)s->capacity);
         s->F = (double *)xalloc(sizeof(double) * (size_t)s->capacity);
-    }
-    if (st == SPH_OK)
         st = sph_nsearch_fill(&s->g, xs, s->n, sph_view_none(), s->h, kappa, SPH_NSEARCH_GATHER, s->offset, s->index,
                               s->capacity);
+    }
     if (st != SPH_OK) {
         fprintf(stderr, "dam_break: neighbour search failed: %s\n", sph_strerror(st));
         exit(2);
