@@ -80,8 +80,9 @@ static double uniform(void) /* in [0, 1) */
 
 static sph_view xview(const scene *s) { return sph_view_soa(s->x[0], s->x[1], s->x[2]); }
 
-/* Neighbour list of the (sorted) scene: workspace size, build, count, fill. */
-static int build_list(scene *s, sph_real h, sph_real kappa)
+/* Neighbour list of the (sorted) scene: workspace size, build, then the
+ * lists in one pass (sph_nsearch_lists) or by count + fill (two passes). */
+static int build_list(scene *s, sph_real h, sph_real kappa, int one_pass)
 {
     sph_nsearch g;
     const sph_real cell = kappa * h / 2;
@@ -89,6 +90,13 @@ static int build_list(scene *s, sph_real h, sph_real kappa)
     int st = sph_nsearch_workspace_size(3, xview(s), s->n, sph_view_none(), cell, &s->box, &bytes);
     if (st != SPH_OK || bytes > s->ws_bytes) return st != SPH_OK ? st : SPH_ESIZE;
     st = sph_nsearch_build(&g, 3, xview(s), s->n, sph_view_none(), cell, &s->box, s->work, bytes);
+    if (st == SPH_OK && one_pass) {
+        sph_off pairs;
+        st = sph_nsearch_lists(&g, xview(s), s->n, sph_view_none(), h, kappa, SPH_NSEARCH_GATHER, s->off, s->idx,
+                               (sph_off)s->idx_cap, &pairs);
+        s->list = sph_nsearch_list(&g, s->n, s->off, s->idx);
+        return st;
+    }
     if (st == SPH_OK) st = sph_nsearch_count(&g, xview(s), s->n, sph_view_none(), h, kappa, SPH_NSEARCH_GATHER, s->off);
     if (st == SPH_OK && (size_t)s->off[s->n] > s->idx_cap) return SPH_ESIZE;
     if (st == SPH_OK)
@@ -151,7 +159,7 @@ static void scene_init(scene *s, int side)
     sph_permute(sph_view_soa(tmp[0], tmp[1], tmp[2]), 3, s->n, perm, sph_out_soa(s->x[0], s->x[1], s->x[2]));
     free(perm);
     for (a = 0; a < 3; ++a) free(tmp[a]);
-    s->idx_cap = (size_t)s->n * 100;
+    s->idx_cap = (size_t)s->n * 80; /* ~20 % above the 66 pairs per particle of the scene */
     s->idx = (sph_idx *)malloc(sizeof(sph_idx) * s->idx_cap);
     for (i = 0; i < s->n; ++i) {
         const double tp = 6.283185307179586;
@@ -280,12 +288,13 @@ static void hand_loop(scene *s)
 
 /* ---- timing ---- */
 enum {
-    T_FLOOR, T_TEXT, T_BUILD, T_DENS, T_GRAD, T_DENS_THEN_GRAD, T_FUSED, T_CORR, T_DIV, T_LAP,
+    T_FLOOR, T_TEXT, T_BUILD, T_BUILD2, T_DENS, T_GRAD, T_DENS_THEN_GRAD, T_FUSED, T_CORR, T_DIV, T_LAP,
     T_FUSED_HV, T_FUSED_NOBOX, T_HAND_NOBOX, T_PINNED, T_SPEC0, T_KERNEL0, T_COUNT = T_KERNEL0 + SPH_KERNEL_COUNT
 };
 
 static const char *const t_name[T_COUNT] = {
-    "floor: gather x_j, min. image, r^2", "textbook density + gradient", "neighbour list (size+build+count+fill)",
+    "floor: gather x_j, min. image, r^2", "textbook density + gradient", "neighbour list (size+build+lists, 1 pass)",
+    "neighbour list (size+build+count+fill)",
     "density", "gradient (difference)", "density, then gradient (2 calls)", "density + gradient (fused, 1 pass)",
     "corrected gradient incl. B_i", "divergence (difference)", "Laplacian",
     "fused, per-particle h (all equal)", "fused, no box (scene unwrapped)", "hand-written loop, no box, uniform h",
@@ -319,7 +328,8 @@ static void run_op(scene *s, int op, sph_real *hbuf)
     switch (op) {
     case T_FLOOR: floor_loop(s); break;
     case T_TEXT: textbook_loop(s); break;
-    case T_BUILD: chk(build_list(s, s->h, sph_kernel_support(SPH_KERNEL_CUBIC))); break;
+    case T_BUILD: chk(build_list(s, s->h, sph_kernel_support(SPH_KERNEL_CUBIC), 1)); break;
+    case T_BUILD2: chk(build_list(s, s->h, sph_kernel_support(SPH_KERNEL_CUBIC), 0)); break;
     case T_DENS: chk(sph_density(&c, rho)); break;
     case T_GRAD: chk(sph_gradient(&c, SPH_SCHEME_DIFFERENCE, f, sph_view_none(), g, NULL)); break;
     case T_DENS_THEN_GRAD:
@@ -440,7 +450,7 @@ int main(int argc, char **argv)
     scene_init(&s, side);
     hbuf = alloc_real(s.n);
     for (i = 0; i < s.n; ++i) hbuf[i] = s.h;
-    chk(build_list(&s, s.h, sph_kernel_support(SPH_KERNEL_CUBIC)));
+    chk(build_list(&s, s.h, sph_kernel_support(SPH_KERNEL_CUBIC), 1));
     {
         sph_nsearch g;
         const sph_real kappa = sph_kernel_support(SPH_KERNEL_CUBIC);
