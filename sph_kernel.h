@@ -2585,7 +2585,7 @@ SPH_API double sph__nsearch_line(double bytes) { return ceil(bytes / 64) * 64; }
 SPH_API double sph__nsearch_layout(sph_nsearch *g, int with_h, char *base)
 {
     const double cells = sph__nsearch_line((double)sizeof(sph_idx) * ((double)g->n_cells + 1));
-    const double padded = (double)g->n_sources + SPH__NS_BLOCK;
+    const double padded = (double)g->n_padded;
     const double order = sph__nsearch_line((double)sizeof(sph_idx) * padded);
     const double reals = sph__nsearch_line((double)sizeof(sph_real) * padded);
     const double xyz = sph__nsearch_line((double)sizeof(sph_real) * padded * g->dim);

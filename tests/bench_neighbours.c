@@ -30,7 +30,7 @@ static void run(const char *label, const sph_real *x, int n, sph_real h, sph_rea
 {
     sph_view v = sph_view_interleaved(x, 3);
     sph_real cell = (sph_real)(cell_over_R * (double)(kappa * h));
-    sph_off *off = (sph_off *)malloc(sizeof(sph_off) * (size_t)(n + 1)), pairs = 0, cand = 0;
+    sph_off *off = (sph_off *)malloc(sizeof(sph_off) * (size_t)(n + 1)), pairs = 0, cand = 0, cap;
     sph_idx *idx;
     sph_nsearch g;
     size_t bytes;
@@ -44,11 +44,12 @@ static void run(const char *label, const sph_real *x, int n, sph_real h, sph_rea
     t1 = now();
     st |= sph_nsearch_count(&g, v, n, sph_view_none(), h, kappa, SPH_NSEARCH_GATHER, off);
     t2 = now();
-    idx = (sph_idx *)malloc(sizeof(sph_idx) * (size_t)(1.2 * (double)off[n]));
+    cap = (sph_off)(1.2 * (double)off[n]);
+    idx = (sph_idx *)malloc(sizeof(sph_idx) * (size_t)cap);
     st |= sph_nsearch_fill(&g, v, n, sph_view_none(), h, kappa, SPH_NSEARCH_GATHER, off, idx, off[n]);
     t3 = now();
-    st |= sph_nsearch_lists(&g, v, n, sph_view_none(), h, kappa, SPH_NSEARCH_GATHER, off, idx,
-                            (sph_off)(1.2 * (double)off[n]), &pairs);
+    st |= sph_nsearch_lists(&g, v, n, sph_view_none(), h, kappa, SPH_NSEARCH_GATHER, off, idx, cap,
+                            &pairs);
     t4 = now();
     st |= sph_nsearch_stats(&g, v, n, sph_view_none(), h, kappa, SPH_NSEARCH_GATHER, &pairs, &cand);
     printf("%-12s cell %.3f R  cells %7d  build %.4f s  count %.4f s  fill %.4f s  lists %.4f s  "

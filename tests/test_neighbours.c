@@ -55,22 +55,21 @@ static int nb_search(const nb_problem *p, sph_nsearch *g, void **work, tp_list *
     return st;
 }
 
-/* 1 when offset[0..nt] (and index[0..offset[nt]) when index != NULL)
+/* Checks that offset[0..nt] (and index[0..offset[nt]) when index != NULL)
  * equal the reference; reports the first difference as a failure. */
-static int nb_same(const char *how, const tp_list *ref, int nt, const sph_off *offset, const sph_idx *index)
+static void nb_same(const char *how, const tp_list *ref, int nt, const sph_off *offset, const sph_idx *index)
 {
     int i;
     for (i = 0; i <= nt; ++i)
         if (offset[i] != ref->offset[i]) {
             TH_CHECK(0, "%s: offset[%d] = %ld, reference %ld", how, i, (long)offset[i], (long)ref->offset[i]);
-            return 0;
+            return;
         }
     for (i = 0; index != NULL && i < (int)ref->offset[nt]; ++i)
         if (index[i] != ref->index[i]) {
             TH_CHECK(0, "%s: index[%d] = %d, reference %d", how, i, (int)index[i], (int)ref->index[i]);
-            return 0;
+            return;
         }
-    return 1;
 }
 
 /* The one-pass sph_nsearch_lists on the built grid g against the reference,
@@ -753,7 +752,7 @@ static void test_candidate_ratio(void)
 static void test_threads(void)
 {
 #ifdef _OPENMP
-    int n = 4000, t, i, same = 1;
+    int n = 4000, t, i;
     sph_real *x = nb_alloc(n), *h = (sph_real *)malloc(sizeof(sph_real) * (size_t)n);
     tp_rng rng = {77};
     tp_list l[2];
@@ -771,9 +770,7 @@ static void test_threads(void)
         omp_set_num_threads(t + 1);
         TH_CHECK(nb_search(&p, &g, &work[t], &l[t]) == SPH_OK, "search with %d threads", t + 1);
     }
-    for (i = 0; i <= n && same; ++i) same = l[0].offset[i] == l[1].offset[i];
-    for (i = 0; same && i < (int)l[0].offset[n]; ++i) same = l[0].index[i] == l[1].index[i];
-    TH_CHECK(same, "threads changed the list (element %d)", i - 1);
+    nb_same("2 threads against 1", &l[0], n, l[1].offset, l[1].index);
     TH_CHECK(l[0].offset[n] > 10 * n, "too few pairs to exercise the threads");
     th_end();
     for (t = 0; t < 2; ++t) {
