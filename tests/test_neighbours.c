@@ -668,8 +668,11 @@ static void test_errors(void)
                  "NULL pairs");
         TH_CHECK(sph_nsearch_lists(&g, v, N, sph_view_none(), (sph_real)0.1, 2, 0, off, NULL, N * N, &pairs) ==
                      SPH_ENULL, "NULL index with a capacity");
+        for (i = 0; i <= N; ++i) off[i] = -7;
         TH_CHECK(sph_nsearch_lists(&g, v, N, sph_view_none(), (sph_real)0.1, 2, 0, off, idx, -1, &pairs) == SPH_ESIZE,
                  "capacity < 0");
+        for (i = 0; i <= N && off[i] == -7; ++i) continue;
+        TH_CHECK(i > N, "a refused capacity < 0 wrote offset[%d]", i);
         pairs = -1;
         TH_CHECK(sph_nsearch_lists(&g, v, N, sph_view_none(), (sph_real)0.1, 2, 0, off, NULL, 0, &pairs) == SPH_ESIZE &&
                      pairs == off[N] && pairs > N,
