@@ -173,17 +173,22 @@ static void scene_init(scene *s, int side)
 
 /* ---- reference loops ---- */
 
-/* The floor: gather x_j, minimum image, sum r^2 (what any pair loop must do). */
-static void floor_loop(const scene *s)
+/* The floor: gather x_j, minimum image, sum r^2 (what any pair loop must do).
+ * With FIELDS (a constant: the two loops are separate instances) it also
+ * reads m_j, V_j and f_j and sums them: the loads a density + difference
+ * gradient cannot do without (it needs m_j for rho, V_j and f_j for the
+ * gradient), and none of its arithmetic. Its time is a lower bound for that
+ * operation over the scene's arrays, measured on this machine. */
+static inline void floor_pass(const scene *s, const int FIELDS)
 {
     const sph_real L = s->L, Linv = 1 / s->L;
     int i;
 #pragma omp parallel for schedule(static)
     for (i = 0; i < s->n; ++i) {
         const sph_real xi = s->x[0][i], yi = s->x[1][i], zi = s->x[2][i];
-        sph_real acc = 0;
+        sph_real acc = 0, sum = 0;
         sph_off o;
-#pragma omp simd reduction(+ : acc)
+#pragma omp simd reduction(+ : acc, sum)
         for (o = s->off[i]; o < s->off[i + 1]; ++o) {
             const sph_idx j = s->idx[o];
             sph_real dx = xi - s->x[0][j], dy = yi - s->x[1][j], dz = zi - s->x[2][j];
@@ -191,10 +196,14 @@ static void floor_loop(const scene *s)
             dy -= L * (sph_real)floor((double)(dy * Linv + (sph_real)0.5));
             dz -= L * (sph_real)floor((double)(dz * Linv + (sph_real)0.5));
             acc += dx * dx + dy * dy + dz * dz;
+            if (FIELDS) sum += s->m[j] + s->V[j] + s->f[j];
         }
-        s->out[i] = acc;
+        s->out[i] = acc + sum;
     }
 }
+
+static void floor_loop(const scene *s) { floor_pass(s, 0); }
+static void floor_fields_loop(const scene *s) { floor_pass(s, 1); }
 
 /* The textbook loop: cubic spline (Monaghan 1992 form), if/else on q, pow(),
  * division by r, if/else minimum image; density and difference gradient. */
@@ -289,12 +298,12 @@ static void hand_loop(scene *s)
 
 /* ---- timing ---- */
 enum {
-    T_FLOOR, T_TEXT, T_BUILD, T_BUILD2, T_DENS, T_GRAD, T_DENS_THEN_GRAD, T_FUSED, T_CORR, T_DIV, T_LAP,
+    T_FLOOR, T_FLOOR_FIELDS, T_TEXT, T_BUILD, T_BUILD2, T_DENS, T_GRAD, T_DENS_THEN_GRAD, T_FUSED, T_CORR, T_DIV, T_LAP,
     T_FUSED_HV, T_FUSED_NOBOX, T_HAND_NOBOX, T_PINNED, T_SPEC0, T_KERNEL0, T_COUNT = T_KERNEL0 + SPH_KERNEL_COUNT
 };
 
 static const char *const t_name[T_COUNT] = {
-    "floor: gather x_j, min. image, r^2", "textbook density + gradient", "neighbour list (size+build+lists, 1 pass)",
+    "floor: gather x_j, min. image, r^2", "floor + reads of m_j, V_j, f_j", "textbook density + gradient", "neighbour list (size+build+lists, 1 pass)",
     "neighbour list (size+build+count+fill)",
     "density", "gradient (difference)", "density, then gradient (2 calls)", "density + gradient (fused, 1 pass)",
     "corrected gradient incl. B_i", "divergence (difference)", "Laplacian",
@@ -328,6 +337,7 @@ static void run_op(scene *s, int op, sph_real *hbuf)
     sph_idx nfb;
     switch (op) {
     case T_FLOOR: floor_loop(s); break;
+    case T_FLOOR_FIELDS: floor_fields_loop(s); break;
     case T_TEXT: textbook_loop(s); break;
     case T_BUILD: chk(build_list(s, s->h, sph_kernel_support(SPH_KERNEL_CUBIC), 1)); break;
     case T_BUILD2: chk(build_list(s, s->h, sph_kernel_support(SPH_KERNEL_CUBIC), 0)); break;
@@ -416,6 +426,10 @@ static void put_tables(FILE *f, int md, double t[2][T_COUNT], double pairs, int 
                      sph_kernel_name((sph_kernel)(op - T_KERNEL0)));
             put_ratio(f, md, label, t[0][op] / fl, "%.2f", "<= 1.6");
         }
+    put_ratio(f, md, "floor + reads of m_j, V_j, f_j / floor (bound for the two above)",
+              t[0][T_FLOOR_FIELDS] / fl, "%.2f", "");
+    put_ratio(f, md, "fused density + gradient / (floor + reads), cubic", t[0][T_FUSED] / t[0][T_FLOOR_FIELDS], "%.2f",
+              "");
     put_ratio(f, md, "textbook / fused density + gradient", tb / t[0][T_FUSED], "%.1f", ">= 10");
     put_ratio(f, md, "textbook / (density, then gradient)", tb / t[0][T_DENS_THEN_GRAD], "%.1f", "");
     if (t[1][T_FUSED] > 0)
