@@ -105,6 +105,12 @@ if has_openmp gcc; then
 else
     echo "SKIPPED: OpenMP configuration (gcc -fopenmp does not build here)"
 fi
+if has_flag gcc -march=native; then
+    # gcc for the host CPU at -O2, as make bench builds: the AVX-512 one-pass
+    # pair loops (where the CPU has AVX-512) under the compiler that times them
+    CONFIGS="$CONFIGS gcc-double-native"
+    CFG_gcc_double_native="gcc|double|-march=native -O2 -g0|== gcc double -march=native -O2 (operator tests)||tests/test_op_*.c"
+fi
 if command -v clang > /dev/null 2>&1 && has_openmp clang; then
     # clang -fopenmp at -O2 without -g: the build where clang reports omp simd
     # loops it could not vectorise (-Wpass-failed, an error under -Werror)

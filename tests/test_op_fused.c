@@ -74,6 +74,99 @@ static void check_scene(sph_kernel k, int dim, int hv, int periodic)
     th_end();
 }
 
+/* Density, difference gradient and the fused pass against the sum of the
+ * pair terms written out here: sph_pair_kernel (the kernel tables, not the
+ * natural pieces the pair loops evaluate), sph_box_delta, m_j W and
+ * V_j (f_j - f_i) F x_ij summed in order. Any implementation of the loops
+ * (the chunked portable one, or the one-pass AVX-512 one where the build has
+ * it) must agree to round-off: |op - sum| <= PTOL * sum_j |term| per target.
+ * soa: positions as three arrays (stride 1) instead of interleaved (stride 3). */
+static const double PTOL = sizeof(sph_real) == sizeof(float) ? 1e-5 : 1e-13;
+
+static void check_pair_sums(sph_kernel k, int dim, int periodic, int soa)
+{
+    sph_box box;
+    ts_scene s;
+    sph_real *m, *f, *xs[3], *rho[2], *g[2][3];
+    const sph_off *off;
+    const sph_idx *idx;
+    int i, a, v, st;
+    double worst = 0;
+    for (a = 0; a < 3; ++a) {
+        box.lo[a] = 0;
+        box.length[a] = 1;
+        box.periodic[a] = periodic;
+    }
+    th_begin("density, gradient, fused = sum of pair terms, %s %dD, %s, %s positions", sph_kernel_name(k), dim,
+             periodic ? "periodic" : "no box", soa ? "SoA" : "interleaved");
+    ts_lattice(&s, k, dim, 8, 0.125, 1.3, 0.2, 11u + (uint64_t)dim, periodic ? &box : NULL);
+    m = ts_vec(s.n);
+    f = ts_vec(s.n);
+    for (a = 0; a < 3; ++a) xs[a] = ts_vec(s.n);
+    for (v = 0; v < 2; ++v) {
+        rho[v] = ts_vec(s.n);
+        for (a = 0; a < 3; ++a) g[v][a] = ts_vec(s.n);
+    }
+    for (i = 0; i < s.n; ++i) {
+        m[i] = (sph_real)(s.V[i] * (1 + 0.1 * sin(3.0 * i)));
+        f[i] = (sph_real)ts_sine(dim, s.x + 3 * i, NULL);
+        for (a = 0; a < 3; ++a) xs[a][i] = s.x[3 * i + a];
+    }
+    if (soa) s.c.x = sph_view_soa(xs[0], dim > 1 ? xs[1] : NULL, dim > 2 ? xs[2] : NULL);
+    s.c.m = sph_view_soa(m, NULL, NULL);
+    st = sph_density(&s.c, sph_out_soa(rho[0], NULL, NULL));
+    st |= sph_gradient(&s.c, SPH_SCHEME_DIFFERENCE, sph_view_soa(f, NULL, NULL), sph_view_none(),
+                       sph_out_soa(g[0][0], g[0][1], g[0][2]), NULL);
+    st |= sph_density_gradient(&s.c, sph_view_soa(f, NULL, NULL), sph_view_none(), sph_out_soa(rho[1], NULL, NULL),
+                               sph_out_soa(g[1][0], g[1][1], g[1][2]));
+    TH_CHECK(st == SPH_OK, "status %d", st);
+    off = s.L.list.offset;
+    idx = s.L.list.index;
+    for (i = 0; i < s.n; ++i) {
+        double r = 0, rabs = 0, gs[3] = {0, 0, 0}, gabs[3] = {0, 0, 0};
+        sph_off o;
+        for (o = off[i]; o < off[i + 1]; ++o) {
+            const sph_idx j = idx[o];
+            sph_real dx[3] = {0, 0, 0};
+            sph_pair p;
+            double c;
+            for (a = 0; a < dim; ++a) dx[a] = sph_box_delta(s.c.box, a, s.x[3 * i + a] - s.x[3 * j + a]);
+            p = sph_pair_kernel(k, dim, dx, (sph_real)s.h);
+            r += (double)m[j] * p.W;
+            rabs += fabs((double)m[j] * p.W);
+            c = (double)s.V[j] * ((double)f[j] - f[i]) * p.F;
+            for (a = 0; a < dim; ++a) {
+                gs[a] += c * dx[a];
+                gabs[a] += fabs(c * dx[a]);
+            }
+        }
+        for (v = 0; v < 2; ++v) {
+            const double e = fabs(rho[v][i] - r) / rabs;
+            worst = e > worst ? e : worst;
+            TH_CHECK(e <= PTOL, "%s rho at %d: %.17g, pair sum %.17g", v ? "fused" : "density", i, (double)rho[v][i], r);
+            for (a = 0; a < dim; ++a) {
+                const double eg = fabs(g[v][a][i] - gs[a]) / (gabs[a] + 1e-300);
+                worst = eg > worst ? eg : worst;
+                TH_CHECK(eg <= PTOL, "%s gradient %d at %d: %.17g, pair sum %.17g", v ? "fused" : "gradient", a, i,
+                         (double)g[v][a][i], gs[a]);
+            }
+        }
+    }
+    if (dim == 3 && k == SPH_KERNEL_QUINTIC)
+        printf("info [%s]: worst |operator - pair sum| / sum |terms|, quintic 3D %s %s: %.3g\n",
+               sizeof(sph_real) == sizeof(float) ? "float" : "double", periodic ? "periodic" : "no box",
+               soa ? "SoA" : "interleaved", worst);
+    free(m);
+    free(f);
+    for (a = 0; a < 3; ++a) free(xs[a]);
+    for (v = 0; v < 2; ++v) {
+        free(rho[v]);
+        for (a = 0; a < 3; ++a) free(g[v][a]);
+    }
+    ts_free(&s);
+    th_end();
+}
+
 /* Unperturbed periodic lattice, quintic, h = 1.3 dx: rho = 1 / dx^dim... with
  * m = 1 the lattice sum of W; f constant: gradient exactly 0. */
 static void check_lattice(int dim)
@@ -182,6 +275,10 @@ int main(void)
         for (ki = 0; ki < 2; ++ki)
             for (hv = 0; hv < 2; ++hv)
                 for (per = 0; per < 2; ++per) check_scene(ks[ki], dim, hv, per);
+    for (dim = 1; dim <= 3; ++dim)
+        for (ki = 0; ki < SPH_KERNEL_COUNT; ++ki)
+            for (per = 0; per < 2; ++per)
+                for (hv = 0; hv < 2; ++hv) check_pair_sums((sph_kernel)ki, dim, per, hv);
     check_lattice(2);
     check_lattice(3);
     check_errors();
