@@ -1517,26 +1517,25 @@ SPH__INLINE __m512d sph__nshape_pick8(const sph__nshape *s, const int G, __m512d
     return v;
 }
 
-/* Can sph__t_dg8 serve this call: double, strides that fit the 32-bit
- * multiplier of the index scaling, and F at the uniform h (GRAD with
- * per-particle h stays with the chunked loops)? Every layout of the views
- * takes the same path, so SoA, interleaved and AoS stay bitwise equal. */
-SPH__INLINE int sph__stride32(ptrdiff_t s) { return s > -2147483647 && s < 2147483647; }
-
-SPH__INLINE int sph__dg8_ok(const sph__args *A, const int DENS, const int GRAD, const int GEN)
+/* Can sph__t_dg8 serve this call: double precision, and F at the uniform h
+ * (GRAD with per-particle h stays with the chunked loops)? Every layout of
+ * the views takes the same path, so SoA, interleaved and AoS stay bitwise
+ * equal. */
+SPH__INLINE int sph__dg8_ok(const sph__args *A, const int GRAD, const int GEN)
 {
-    return sizeof(sph_real) == sizeof(double) && sph__stride32(A->x.stride) && (!DENS || sph__stride32(A->m.stride)) &&
-           (!GRAD || (sph__stride32(A->V.stride) && sph__stride32(A->f.stride) && !(GEN && A->hv)));
+    return sizeof(sph_real) == sizeof(double) && !(GRAD && GEN && A->hv);
 }
 
-/* v.p[a][j * stride] for the 8 lanes of j in mask km (src elsewhere): 32-bit
- * offsets for stride 1, 64-bit products j * stride otherwise (the same loads). */
-SPH__INLINE __m512d sph__at8(__m512d src, __mmask8 km, __m256i j, sph_view v, int a)
+/* v.p[a][j * stride] for the 8 list entries j, lanes outside km from src.
+ * Eight scalar loads, not the gather instruction, which is slower on AMD
+ * Zen 4 (see docs/operators.md). A lane outside km has j = 0, a valid
+ * source whenever the list holds any pair. */
+SPH__INLINE __m512d sph__at8(__m512d src, __mmask8 km, const sph_idx *j, sph_view v, int a)
 {
     const double *p = (const double *)v.p[a];
-    if (v.stride == 1) return _mm512_mask_i32gather_pd(src, km, j, p, 8);
-    return _mm512_mask_i64gather_pd(src, km, _mm512_mul_epi32(_mm512_cvtepi32_epi64(j), _mm512_set1_epi64((long long)v.stride)),
-                                    p, 8);
+    const ptrdiff_t st = v.stride;
+    return _mm512_mask_mov_pd(src, km, _mm512_set_pd(p[j[7] * st], p[j[6] * st], p[j[5] * st], p[j[4] * st],
+                                                      p[j[3] * st], p[j[2] * st], p[j[1] * st], p[j[0] * st]));
 }
 
 /* (O2) rho = sum_j m_j W_ij (DENS) and/or (O5) g = sum_j V_j (f_j - f_i) F_ij x_ij
@@ -1556,9 +1555,10 @@ SPH__INLINE void sph__t_dg8(const sph__args *A, const sph__kdim *kd, const int D
     for (o = A->off[i]; o < A->off[i + 1]; o += 8) {
         const sph_off left = A->off[i + 1] - o;
         const __mmask8 km = (__mmask8)(left >= 8 ? 0xff : (1u << left) - 1);
-        const __m256i j = _mm256_maskz_loadu_epi32(km, A->idx + o);
+        sph_idx j[8];
         __m512d d[3], r2 = zero, q;
         __mmask8 in;
+        _mm256_storeu_si256((__m256i *)j, _mm256_maskz_loadu_epi32(km, A->idx + o));
         for (a = 0; a < D; ++a) {
             const __m512d xi = _mm512_set1_pd((double)t->xi[a]);
             d[a] = _mm512_sub_pd(xi, sph__at8(xi, km, j, A->x, a));
@@ -1596,7 +1596,7 @@ SPH__INLINE int sph__dg8_try(const sph__args *A, const sph__kdim *kd, const int 
                              const int GRAD, const sph__tgt *t, sph_idx i, sph_real fi, sph_real *g, sph_real *rho)
 {
 #if SPH__OP_AVX512
-    if (!sph__dg8_ok(A, DENS, GRAD, GEN)) return 0;
+    if (!sph__dg8_ok(A, GRAD, GEN)) return 0;
     if (GEN && A->pb)
         sph__t_dg8(A, kd, D, 1, DENS, GRAD, t, i, fi, g, rho);
     else
