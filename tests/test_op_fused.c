@@ -270,7 +270,7 @@ static void check_sqrt(void)
 int main(void)
 {
     const sph_kernel ks[2] = {SPH_KERNEL_CUBIC, SPH_KERNEL_QUINTIC};
-    int dim, ki, hv, per;
+    int dim, ki, hv, per, soa;
     for (dim = 1; dim <= 3; ++dim)
         for (ki = 0; ki < 2; ++ki)
             for (hv = 0; hv < 2; ++hv)
@@ -278,7 +278,7 @@ int main(void)
     for (dim = 1; dim <= 3; ++dim)
         for (ki = 0; ki < SPH_KERNEL_COUNT; ++ki)
             for (per = 0; per < 2; ++per)
-                for (hv = 0; hv < 2; ++hv) check_pair_sums((sph_kernel)ki, dim, per, hv);
+                for (soa = 0; soa < 2; ++soa) check_pair_sums((sph_kernel)ki, dim, per, soa);
     check_lattice(2);
     check_lattice(3);
     check_errors();
