@@ -2300,7 +2300,7 @@ typedef struct {
     sph_box box;          /* copy of the caller's box (periodic axes) */
     sph_idx *cell_start;  /* [n_cells + 1]: sources of cell c are sorted positions cell_start[c].. */
     sph_idx *order;       /* [n_padded]: source index at each sorted position */
-    sph_real *x;          /* [dim * n_padded]: source positions in sorted order, x[dim k + a] */
+    sph_real *x;          /* [dim * n_padded]: source positions in sorted order, by axis: x[a n_padded + k] */
     sph_real *h;          /* [n_padded] per-source h in sorted order, or NULL */
     sph_idx n_padded;     /* n_sources + SPH__NS_BLOCK: the arrays' length (padding read by the blocked checks) */
 } sph_nsearch;
@@ -2352,6 +2352,7 @@ SPH_API int sph__ns_check_x(int dim, sph_view x, sph_idx n)
             if (!sph__ns_finite(sph__ns_at(x, a, i))) return SPH_ENONFINITE;
     return SPH_OK;
 }
+
 
 /* Checks n per-particle smoothing lengths (absent view: none): SPH_EH if any is bad. */
 SPH_API int sph__ns_check_h(sph_view h, sph_idx n)
@@ -2459,7 +2460,7 @@ SPH_API int sph__nsearch_in(const sph_nsearch *g, const sph__probe *p, sph_idx k
     sph_real r2 = 0, hj = g->h != NULL ? g->h[k] : p->hu, R;
     int a;
     for (a = 0; a < dim; ++a) {
-        sph_real d = sph__nsearch_delta(g, a, p->xt[a] - g->x[(ptrdiff_t)dim * k + a]);
+        sph_real d = sph__nsearch_delta(g, a, p->xt[a] - g->x[(ptrdiff_t)a * g->n_padded + k]);
         r2 += d * d;
     }
     R = p->kappa * (p->symmetric && hj > p->hi ? hj : p->hi);
@@ -2476,13 +2477,14 @@ SPH_API int sph__nsearch_in(const sph_nsearch *g, const sph__probe *p, sph_idx k
 SPH__INLINE unsigned sph__nsearch_mask(const sph_nsearch *g, const sph__probe *p, sph_idx b, sph_idx k1,
                                        const int dim, const int HV)
 {
-    const sph_real *x = g->x + (ptrdiff_t)dim * b;
+    const sph_real *x = g->x + b;
+    const ptrdiff_t stride = g->n_padded;
     unsigned mask = 0;
     int k, a, wide = 0;
     for (k = 0; k < SPH__NS_BLOCK; ++k) {
         sph_real r2 = 0, R2 = p->R2;
         for (a = 0; a < dim; ++a) {
-            const sph_real d = p->xt[a] - x[dim * k + a];
+            const sph_real d = p->xt[a] - x[a * stride + k];
             r2 += d * d;
         }
         wide |= r2 > g->quarter2;
@@ -2498,6 +2500,50 @@ SPH__INLINE unsigned sph__nsearch_mask(const sph_nsearch *g, const sph__probe *p
     return mask;
 }
 
+#if SPH__NS_COMPRESS && SPH__NS_BLOCK == 8
+/* sph__nsearch_mask in AVX-512 registers (double): r^2 of 8 sources at
+ * once. Its rounding may differ from the scalar r^2 (contraction into fused
+ * multiply-adds is the compiler's choice), by at most a few ulp of r^2 for
+ * this sum of three squares; a source within 16 ulp of R^2 is therefore
+ * decided by sph__nsearch_in, and a block that needs the minimum image
+ * (r^2 beyond the smallest squared quarter period) is redone by the scalar
+ * mask, so the lists stay those of the scalar criterion bit for bit. */
+SPH__INLINE unsigned sph__nsearch_mask8(const sph_nsearch *g, const sph__probe *p, sph_idx b, sph_idx k1,
+                                        const int dim, const int HV)
+{
+    const double *x = (const double *)g->x + b, eps = 16 * DBL_EPSILON;
+    const ptrdiff_t stride = g->n_padded;
+    const __mmask8 live = (__mmask8)(k1 - b >= 8 ? 0xFFu : (1u << (k1 - b)) - 1u);
+    __m512d r2 = _mm512_setzero_pd(), R2 = _mm512_set1_pd((double)p->R2);
+    __mmask8 in, near_edge;
+    unsigned mask;
+    int a, k;
+    for (a = 0; a < dim; ++a) {
+        const __m512d d = _mm512_sub_pd(_mm512_set1_pd((double)p->xt[a]), _mm512_loadu_pd(x + a * stride));
+        r2 = _mm512_fmadd_pd(d, d, r2);
+    }
+    if (_mm512_mask_cmp_pd_mask(live, r2, _mm512_set1_pd((double)g->quarter2), _CMP_GT_OQ))
+        return sph__nsearch_mask(g, p, b, k1, dim, HV);
+    if (HV) {
+        const __m512d R = _mm512_mul_pd(_mm512_set1_pd((double)p->kappa),
+                                        _mm512_max_pd(_mm512_loadu_pd((const double *)g->h + b),
+                                                      _mm512_set1_pd((double)p->hi)));
+        R2 = _mm512_mul_pd(R, R);
+    }
+    in = _mm512_mask_cmp_pd_mask(live, r2, _mm512_mul_pd(R2, _mm512_set1_pd(1 - eps)), _CMP_LT_OQ);
+    near_edge = (__mmask8)(_mm512_mask_cmp_pd_mask(live, r2, _mm512_mul_pd(R2, _mm512_set1_pd(1 + eps)), _CMP_LT_OQ) & ~in);
+    mask = in;
+    for (k = 0; near_edge != 0; ++k, near_edge >>= 1)
+        if (near_edge & 1u) mask |= (unsigned)sph__nsearch_in(g, p, b + k, dim) << k;
+    return mask;
+}
+#define SPH__NSEARCH_MASK(g, p, b, k1, dim, HV)                                                                   \
+    (sizeof(sph_real) == sizeof(double) ? sph__nsearch_mask8(g, p, b, k1, dim, HV)                              \
+                                        : sph__nsearch_mask(g, p, b, k1, dim, HV))
+#else
+#define SPH__NSEARCH_MASK(g, p, b, k1, dim, HV) sph__nsearch_mask(g, p, b, k1, dim, HV)
+#endif
+
 /* Counts (p->seg NULL) or appends to the target's segment (never past its
  * end) the sorted sources k0..k1-1 that meet the criterion; returns the new
  * count. A block with room for all its sources in the segment stores them
@@ -2508,7 +2554,7 @@ SPH__INLINE sph_off sph__nsearch_run_blocks(const sph_nsearch *g, const sph__pro
     sph_idx b;
     int k;
     for (b = k0; b < k1; b += SPH__NS_BLOCK) {
-        const unsigned mask = sph__nsearch_mask(g, p, b, k1, dim, HV);
+        const unsigned mask = SPH__NSEARCH_MASK(g, p, b, k1, dim, HV);
         if (p->seg == NULL)
             for (k = 0; k < SPH__NS_BLOCK; ++k) m += (mask >> k) & 1u;
         else if (m + SPH__NS_BLOCK <= p->cap) {
@@ -2533,50 +2579,58 @@ SPH__INLINE sph_off sph__nsearch_run_blocks(const sph_nsearch *g, const sph__pro
     return m;
 }
 
-/* Checks the sorted sources k0..k1-1: counts them or appends them. */
-SPH_API void sph__nsearch_scan(const sph_nsearch *g, sph__probe *p, sph_idx k0, sph_idx k1)
+/* Checks the collected runs of sorted sources: counts them or appends them.
+ * The count stays in a register across the runs; dim and HV are constants. */
+SPH__INLINE void sph__nsearch_runs(const sph_nsearch *g, sph__probe *p, const int dim, const int HV)
 {
-    const int hv = p->R2 < 0;
-    p->found = g->dim == 3 ? (hv ? sph__nsearch_run_blocks(g, p, k0, k1, p->found, 3, 1)
-                                 : sph__nsearch_run_blocks(g, p, k0, k1, p->found, 3, 0))
-               : g->dim == 2 ? (hv ? sph__nsearch_run_blocks(g, p, k0, k1, p->found, 2, 1)
-                                   : sph__nsearch_run_blocks(g, p, k0, k1, p->found, 2, 0))
-                             : (hv ? sph__nsearch_run_blocks(g, p, k0, k1, p->found, 1, 1)
-                                   : sph__nsearch_run_blocks(g, p, k0, k1, p->found, 1, 0));
-    p->checked += k1 - k0;
+    sph_off m = p->found, checked = 0;
+    int r;
+    for (r = 0; r < p->n_runs; ++r) {
+        const sph_idx k0 = p->runs[2 * r], k1 = p->runs[2 * r + 1];
+        m = sph__nsearch_run_blocks(g, p, k0, k1, m, dim, HV);
+        checked += k1 - k0;
+    }
+    p->found = m;
+    p->checked += checked;
+    p->n_runs = 0;
 }
 
 /* Checks the collected runs. */
 SPH_API void sph__nsearch_flush(const sph_nsearch *g, sph__probe *p)
 {
-    int r;
-    for (r = 0; r < p->n_runs; ++r) sph__nsearch_scan(g, p, p->runs[2 * r], p->runs[2 * r + 1]);
-    p->n_runs = 0;
+    const int hv = p->R2 < 0;
+    if (g->dim == 3)
+        hv ? sph__nsearch_runs(g, p, 3, 1) : sph__nsearch_runs(g, p, 3, 0);
+    else if (g->dim == 2)
+        hv ? sph__nsearch_runs(g, p, 2, 1) : sph__nsearch_runs(g, p, 2, 0);
+    else
+        hv ? sph__nsearch_runs(g, p, 1, 1) : sph__nsearch_runs(g, p, 1, 0);
 }
 
-/* Collects the run k0..k1-1 of sorted sources; checks the runs when SPH__NS_RUNS are waiting. */
-SPH_API void sph__nsearch_push(const sph_nsearch *g, sph__probe *p, sph_idx k0, sph_idx k1)
-{
-    p->runs[2 * p->n_runs] = k0;
-    p->runs[2 * p->n_runs + 1] = k1;
-    if (++p->n_runs == SPH__NS_RUNS) sph__nsearch_flush(g, p);
-}
-
-/* One row of cells along axis 0 (cells ky, kz of axes 1, 2), radius^2 rem left. */
-SPH_API void sph__nsearch_row(const sph_nsearch *g, sph__probe *p, int ky, int kz, sph_real rem)
+/* One row of cells along axis 0 (cells ky, kz of axes 1, 2), radius^2 rem
+ * left: its runs of sorted sources (one, or two where a periodic axis wraps)
+ * into runs[]; returns how many. */
+SPH__INLINE int sph__nsearch_row(const sph_nsearch *g, const sph__probe *p, int ky, int kz, sph_real rem,
+                                 sph_idx *runs)
 {
     sph__span s;
-    int r, base = g->n[0] * (ky + g->n[1] * kz);
+    const sph_idx *cs = g->cell_start + g->n[0] * (ky + g->n[1] * kz);
     const sph_real hw = sph__sqrt(rem), k0 = sph__floor((p->t[0] - hw) * g->inv_w[0]),
                    k1 = sph__floor((p->t[0] + hw) * g->inv_w[0]);
+    int r, n = 0;
     if (k0 >= 0 && k1 < (sph_real)g->n[0]) { /* inside the grid: one run, as sph__nsearch_span finds */
-        sph__nsearch_push(g, p, g->cell_start[base + (int)k0], g->cell_start[base + (int)k1 + 1]);
-        return;
+        runs[0] = cs[(int)k0];
+        runs[1] = cs[(int)k1 + 1];
+        return 1;
     }
     sph__nsearch_span(g, 0, p->t[0], hw, &s);
     for (r = 0; r < s.count; ++r)
-        if (s.lo[r] <= s.hi[r])
-            sph__nsearch_push(g, p, g->cell_start[base + s.lo[r]], g->cell_start[base + s.hi[r] + 1]);
+        if (s.lo[r] <= s.hi[r]) {
+            runs[2 * n] = cs[s.lo[r]];
+            runs[2 * n + 1] = cs[s.hi[r] + 1];
+            ++n;
+        }
+    return n;
 }
 
 /* Sorts n distinct indices ascending: nothing to do for a sorted run (the
@@ -2585,9 +2639,9 @@ SPH_API void sph__nsearch_row(const sph_nsearch *g, sph__probe *p, int ky, int k
 SPH_API void sph__ns_sort(sph_idx *v, sph_off n)
 {
     sph_off gaps[64], i, j, gap = 1;
-    int ng = 0;
-    for (i = 1; i < n && v[i - 1] < v[i]; ++i) continue;
-    if (i >= n) return;
+    int ng = 0, unsorted = 0;
+    for (i = 1; i < n; ++i) unsorted |= v[i - 1] >= v[i]; /* no early exit: a vector loop */
+    if (!unsorted) return;
     while (gap < n && ng < 64) {
         gaps[ng++] = gap;
         gap = (sph_off)(2.25 * (double)gap) + 1;
@@ -2618,7 +2672,7 @@ SPH_API void sph__nsearch_target(const sph_nsearch *g, sph__probe *p)
     sph_real Rs = p->kappa * (p->symmetric && hmax > p->hi ? hmax : p->hi);
     sph_real Rm, far = 0;
     sph__span sz, sy;
-    int a, rz, ry, kz, ky;
+    int a, rz, ry, kz, ky, nr = 0;
     for (a = 0; a < 3; ++a) {
         p->t[a] = a < g->dim ? sph__nsearch_rel(g, a, p->xt[a]) : (sph_real)0.5;
         far = fabs(p->xt[a]) > far ? fabs(p->xt[a]) : far;
@@ -2643,9 +2697,16 @@ SPH_API void sph__nsearch_target(const sph_nsearch *g, sph__probe *p)
             for (ry = 0; ry < sy.count; ++ry)
                 for (ky = sy.lo[ry]; ky <= sy.hi[ry]; ++ky) {
                     sph_real left_y = left_z - sph__nsearch_gap2(g, 1, p->t[1], &sy, ry, ky);
-                    if (left_y >= 0) sph__nsearch_row(g, p, ky, kz, left_y);
+                    if (left_y < 0) continue;
+                    nr += sph__nsearch_row(g, p, ky, kz, left_y, p->runs + 2 * nr);
+                    if (nr > SPH__NS_RUNS - 2) { /* no room for another row: check these */
+                        p->n_runs = nr;
+                        sph__nsearch_flush(g, p);
+                        nr = 0;
+                    }
                 }
         }
+    p->n_runs = nr;
     sph__nsearch_flush(g, p);
     if (p->seg != NULL && p->found <= p->cap) sph__ns_sort(p->seg, p->found);
 }
@@ -2786,12 +2847,12 @@ SPH_API int sph_nsearch_build(sph_nsearch *g, int dim, sph_view xs, sph_idx n_so
         c = sph__nsearch_source_cell(g, x);
         k = g->cell_start[c]++;
         g->order[k] = i;
-        for (a = 0; a < dim; ++a) g->x[(ptrdiff_t)dim * k + a] = x[a];
+        for (a = 0; a < dim; ++a) g->x[(ptrdiff_t)a * g->n_padded + k] = x[a];
         if (hs.p[0] != NULL) g->h[k] = hs.p[0][(ptrdiff_t)i * hs.stride];
     }
     for (i = n_sources; i < g->n_padded; ++i) { /* padding: read by the blocked checks, never kept */
         g->order[i] = 0;
-        for (a = 0; a < dim; ++a) g->x[(ptrdiff_t)dim * i + a] = 0;
+        for (a = 0; a < dim; ++a) g->x[(ptrdiff_t)a * g->n_padded + i] = 0;
         if (hs.p[0] != NULL) g->h[i] = 1;
     }
     for (c = g->n_cells; c > 0; --c) g->cell_start[c] = g->cell_start[c - 1];
