@@ -2340,19 +2340,39 @@ SPH_API sph_view sph__ns_tail(sph_view v, int ncomp, sph_idx i0)
     return v;
 }
 
-/* Checks a position view of n particles: SPH_ENULL or SPH_ENONFINITE. */
-SPH_API int sph__ns_check_x(int dim, sph_view x, sph_idx n)
+/* Largest |x_a| over n particles of a view (0 for none), or -1 when one of
+ * them is NaN or infinite. One pass without a branch. */
+SPH_API sph_real sph__ns_absmax(sph_view v, int a, sph_idx n)
 {
+    const sph_real *p = v.p[a];
+    const ptrdiff_t st = v.stride;
+    sph_real m = 0;
+    int nan = 0;
     sph_idx i;
+    for (i = 0; i < n; ++i) {
+        const sph_real x = p[(ptrdiff_t)i * st], ax = x < 0 ? -x : x;
+        m = ax > m ? ax : m;
+        nan |= x != x;
+    }
+    return nan || !(m <= SPH__REAL_MAX) ? (sph_real)-1 : m;
+}
+
+/* Checks a position view of n particles: SPH_ENULL or SPH_ENONFINITE; the
+ * largest |x_a| per axis into amax (when not NULL). */
+SPH_API int sph__ns_scan_x(int dim, sph_view x, sph_idx n, sph_real *amax)
+{
     int a;
     for (a = 0; a < dim && n > 0; ++a)
         if (x.p[a] == NULL) return SPH_ENULL;
-    for (a = 0; a < dim; ++a)
-        for (i = 0; i < n; ++i)
-            if (!sph__ns_finite(sph__ns_at(x, a, i))) return SPH_ENONFINITE;
+    for (a = 0; a < dim; ++a) {
+        const sph_real m = n > 0 ? sph__ns_absmax(x, a, n) : 0;
+        if (m < 0) return SPH_ENONFINITE;
+        if (amax != NULL) amax[a] = m;
+    }
     return SPH_OK;
 }
 
+SPH_API int sph__ns_check_x(int dim, sph_view x, sph_idx n) { return sph__ns_scan_x(dim, x, n, NULL); }
 
 /* Checks n per-particle smoothing lengths (absent view: none): SPH_EH if any is bad. */
 SPH_API int sph__ns_check_h(sph_view h, sph_idx n)
@@ -2716,13 +2736,14 @@ SPH_API int sph__nsearch_geometry(sph_nsearch *g, int dim, sph_view xs, sph_idx 
                                   sph_view hs, sph_real cell, const sph_box *box)
 {
     double total = 1, extent = 0;
+    sph_real amax[3] = {0, 0, 0};
     int a, st;
     sph_idx i;
     g->dim = 0;
     if (dim < 1 || dim > 3) return SPH_EDIM;
     if (ns < 0 || ns > INT32_MAX - SPH__NS_BLOCK) return SPH_ESIZE;
     if (!(cell > 0 && cell <= SPH__REAL_MAX)) return SPH_EINVAL;
-    if ((st = sph__ns_check_x(dim, xs, ns)) != SPH_OK) return st;
+    if ((st = sph__ns_scan_x(dim, xs, ns, amax)) != SPH_OK) return st;
     if (ns > 0 && hs.p[0] != NULL && (st = sph__ns_check_h(hs, ns)) != SPH_OK) return st;
     g->n_sources = ns;
     g->n_padded = ns + SPH__NS_BLOCK;
@@ -2763,8 +2784,7 @@ SPH_API int sph__nsearch_geometry(sph_nsearch *g, int dim, sph_view xs, sph_idx 
         g->quarter[a] = per ? L / 4 : SPH__REAL_MAX;
         if (a < dim && fabs((double)lo) + (double)L + (double)g->w[a] > extent)
             extent = fabs((double)lo) + (double)L + (double)g->w[a];
-        for (i = 0; a < dim && i < ns; ++i) /* sources outside a periodic box */
-            extent = fabs((double)sph__ns_at(xs, a, i)) > extent ? fabs((double)sph__ns_at(xs, a, i)) : extent;
+        if (a < dim && (double)amax[a] > extent) extent = (double)amax[a]; /* sources outside a periodic box */
     }
     if (total > (double)SPH_NSEARCH_MAX_CELLS) return SPH_ESIZE;
     g->quarter2 = SPH__REAL_MAX;
