@@ -2263,8 +2263,10 @@ SPH_API int sph_check_field(sph_view f, int ncomp, sph_idx n, sph_idx *first_bad
  * target scans only the cells whose nearest point lies within its radius, an
  * x row of cells at a time as one contiguous run of sorted sources (two where
  * a periodic axis wraps), then sorts its list. With cells of R/2 that is about
- * 2.5 candidate checks per neighbour in 3-D (docs/neighbours.md). Runs are
- * checked in branch-free blocks of 8 sources. Count, fill and lists run in
+ * 2.5 candidate checks per neighbour in 3-D (docs/neighbours.md). A target
+ * whose reach lies inside the grid finds its rows from squared cell gaps
+ * computed once per axis. Runs are checked in branch-free blocks of 8
+ * sources. Count, fill and lists run in
  * parallel over targets under OpenMP.
  *
  * Optional locality: sph_nsearch_permutation gives perm[new] = old (sources
@@ -2683,6 +2685,50 @@ SPH_API sph_real sph__nsearch_gap2(const sph_nsearch *g, int a, sph_real t, cons
     return d * d;
 }
 
+/* Cells a target reaches on each side along one axis, at most, for the
+ * interior path of sph__nsearch_target (cells of R/2: 3). */
+#define SPH__NS_REACH 4
+
+/* The rows of a target whose reach, E[a] cells either side of its cell
+ * kc[a], lies inside the grid on every axis (no clamping, no wrapping): the
+ * squared gaps to the cells kc + d are computed once per axis, and a row's x
+ * run is the cells whose gap^2 fits in what is left of Rm^2, counted
+ * without a square root, a floor or a branch. The cells are those of the
+ * general path but for rounding in the last place, which the allowance in
+ * Rm covers; every candidate is then checked exactly. */
+SPH__INLINE void sph__nsearch_interior(const sph_nsearch *g, sph__probe *p, sph_real Rm, const int *kc, const int *E)
+{
+    sph_real G[3][2 * SPH__NS_REACH + 1];
+    int a, d, dy, dz, nr = 0;
+    for (a = 0; a < 3; ++a)
+        for (d = -E[a]; d <= E[a]; ++d) {
+            const sph_real gap = sph__nsearch_gap(g, a, p->t[a], kc[a] + d);
+            G[a][d + E[a]] = gap * gap;
+        }
+    for (dz = 0; dz <= 2 * E[2]; ++dz) {
+        const sph_real left_z = Rm * Rm - G[2][dz];
+        if (left_z < 0) continue;
+        for (dy = 0; dy <= 2 * E[1]; ++dy) {
+            const sph_real left_y = left_z - G[1][dy];
+            const sph_idx *cs = g->cell_start + g->n[0] * (kc[1] - E[1] + dy + g->n[1] * (kc[2] - E[2] + dz));
+            int k0 = kc[0], k1 = kc[0];
+            if (left_y < 0) continue;
+            for (d = 1; d <= E[0]; ++d) {
+                k0 -= G[0][E[0] - d] <= left_y;
+                k1 += G[0][E[0] + d] <= left_y;
+            }
+            p->runs[2 * nr] = cs[k0];
+            p->runs[2 * nr + 1] = cs[k1 + 1];
+            if (++nr == SPH__NS_RUNS) {
+                p->n_runs = nr;
+                sph__nsearch_flush(g, p);
+                nr = 0;
+            }
+        }
+    }
+    p->n_runs = nr;
+}
+
 /* Searches one target (found, checked, and seg when filling): the cells
  * whose nearest point lies within the search radius, layer by layer (z, y),
  * each x row as one or two runs of sorted sources. */
@@ -2692,7 +2738,7 @@ SPH_API void sph__nsearch_target(const sph_nsearch *g, sph__probe *p)
     sph_real Rs = p->kappa * (p->symmetric && hmax > p->hi ? hmax : p->hi);
     sph_real Rm, far = 0;
     sph__span sz, sy;
-    int a, rz, ry, kz, ky, nr = 0;
+    int a, rz, ry, kz, ky, nr = 0, kc[3], E[3], inside = 1;
     for (a = 0; a < 3; ++a) {
         p->t[a] = a < g->dim ? sph__nsearch_rel(g, a, p->xt[a]) : (sph_real)0.5;
         far = fabs(p->xt[a]) > far ? fabs(p->xt[a]) : far;
@@ -2708,6 +2754,18 @@ SPH_API void sph__nsearch_target(const sph_nsearch *g, sph__probe *p)
     p->found = 0;
     p->checked = 0;
     p->n_runs = 0;
+    for (a = 0; a < 3; ++a) {
+        const sph_real reach = sph__floor(Rm * g->inv_w[a]) + 1;
+        kc[a] = a < g->dim ? sph__nsearch_cell(g, a, p->t[a]) : 0;
+        E[a] = a < g->dim && reach <= SPH__NS_REACH ? (int)reach : a < g->dim ? -1 : 0;
+        inside &= E[a] >= 0 && kc[a] - E[a] >= 0 && kc[a] + E[a] < g->n[a];
+    }
+    if (inside) {
+        sph__nsearch_interior(g, p, Rm, kc, E);
+        sph__nsearch_flush(g, p);
+        if (p->seg != NULL && p->found <= p->cap) sph__ns_sort(p->seg, p->found);
+        return;
+    }
     sph__nsearch_span(g, 2, p->t[2], Rm, &sz);
     for (rz = 0; rz < sz.count; ++rz)
         for (kz = sz.lo[rz]; kz <= sz.hi[rz]; ++kz) {
