@@ -2266,7 +2266,7 @@ SPH_API int sph_check_field(sph_view f, int ncomp, sph_idx n, sph_idx *first_bad
  * 2.5 candidate checks per neighbour in 3-D (docs/neighbours.md). A target
  * whose reach lies inside the grid finds its rows from squared cell gaps
  * computed once per axis. Runs are checked in branch-free blocks of 8
- * sources. Count, fill and lists run in
+ * sources (16, two vectors, with AVX-512). Count, fill and lists run in
  * parallel over targets under OpenMP.
  *
  * Optional locality: sph_nsearch_permutation gives perm[new] = old (sources
@@ -2311,7 +2311,11 @@ typedef struct {
  * sources; the arrays of the grid are padded by one block. A target's runs
  * are collected SPH__NS_RUNS at a time before any is checked, so that the
  * cell arithmetic of one row does not wait on the checks of the last. */
+#if SPH__NS_COMPRESS
+#define SPH__NS_BLOCK 16
+#else
 #define SPH__NS_BLOCK 8
+#endif
 #define SPH__NS_RUNS 32
 
 /* Cells of one axis within reach of a target: up to two runs of cells
@@ -2522,45 +2526,52 @@ SPH__INLINE unsigned sph__nsearch_mask(const sph_nsearch *g, const sph__probe *p
     return mask;
 }
 
-#if SPH__NS_COMPRESS && SPH__NS_BLOCK == 8
-/* sph__nsearch_mask in AVX-512 registers (double): r^2 of 8 sources at
- * once. Its rounding may differ from the scalar r^2 (contraction into fused
- * multiply-adds is the compiler's choice), by at most a few ulp of r^2 for
- * this sum of three squares; a source within 16 ulp of R^2 is therefore
- * decided by sph__nsearch_in, and a block that needs the minimum image
- * (r^2 beyond the smallest squared quarter period) is redone by the scalar
- * mask, so the lists stay those of the scalar criterion bit for bit. */
-SPH__INLINE unsigned sph__nsearch_mask8(const sph_nsearch *g, const sph__probe *p, sph_idx b, sph_idx k1,
-                                        const int dim, const int HV)
+#if SPH__NS_COMPRESS
+/* sph__nsearch_mask in AVX-512 registers (double): r^2 of the 16 sources of
+ * a block, as two vectors of 8. Their rounding may differ from the scalar
+ * r^2 (contraction into fused multiply-adds is the compiler's choice), by at
+ * most a few ulp of r^2 for this sum of three squares; a source within 16
+ * ulp of R^2 is therefore decided by sph__nsearch_in, and a block that needs
+ * the minimum image (r^2 beyond the smallest squared quarter period) is
+ * redone by the scalar mask, so the lists stay those of the scalar
+ * criterion bit for bit. */
+SPH__INLINE unsigned sph__nsearch_mask16(const sph_nsearch *g, const sph__probe *p, sph_idx b, sph_idx k1,
+                                         const int dim, const int HV)
 {
-    const double *x = (const double *)g->x + b, eps = 16 * DBL_EPSILON;
+    const double eps = 16 * DBL_EPSILON;
     const ptrdiff_t stride = g->n_padded;
-    const __mmask8 live = (__mmask8)(k1 - b >= 8 ? 0xFFu : (1u << (k1 - b)) - 1u);
-    __m512d r2 = _mm512_setzero_pd(), R2 = _mm512_set1_pd((double)p->R2);
-    __mmask8 in, near_edge;
-    unsigned mask;
-    int a, k;
-    for (a = 0; a < dim; ++a) {
-        const __m512d d = _mm512_sub_pd(_mm512_set1_pd((double)p->xt[a]), _mm512_loadu_pd(x + a * stride));
-        r2 = _mm512_fmadd_pd(d, d, r2);
+    const unsigned live = k1 - b >= 16 ? 0xFFFFu : (1u << (k1 - b)) - 1u;
+    unsigned in = 0, near_edge = 0, wide = 0, mask;
+    int a, k, half;
+    for (half = 0; half < 2; ++half) {
+        const double *x = (const double *)g->x + b + 8 * half;
+        const __mmask8 lv = (__mmask8)(live >> (8 * half));
+        __m512d r2 = _mm512_setzero_pd(), R2 = _mm512_set1_pd((double)p->R2);
+        __mmask8 in8;
+        for (a = 0; a < dim; ++a) {
+            const __m512d d = _mm512_sub_pd(_mm512_set1_pd((double)p->xt[a]), _mm512_loadu_pd(x + a * stride));
+            r2 = _mm512_fmadd_pd(d, d, r2);
+        }
+        wide |= _mm512_mask_cmp_pd_mask(lv, r2, _mm512_set1_pd((double)g->quarter2), _CMP_GT_OQ);
+        if (HV) {
+            const __m512d R = _mm512_mul_pd(_mm512_set1_pd((double)p->kappa),
+                                            _mm512_max_pd(_mm512_loadu_pd((const double *)g->h + b + 8 * half),
+                                                          _mm512_set1_pd((double)p->hi)));
+            R2 = _mm512_mul_pd(R, R);
+        }
+        in8 = _mm512_mask_cmp_pd_mask(lv, r2, _mm512_mul_pd(R2, _mm512_set1_pd(1 - eps)), _CMP_LT_OQ);
+        in |= (unsigned)in8 << (8 * half);
+        near_edge |= (unsigned)(_mm512_mask_cmp_pd_mask(lv, r2, _mm512_mul_pd(R2, _mm512_set1_pd(1 + eps)), _CMP_LT_OQ) &
+                                (__mmask8)~in8) << (8 * half);
     }
-    if (_mm512_mask_cmp_pd_mask(live, r2, _mm512_set1_pd((double)g->quarter2), _CMP_GT_OQ))
-        return sph__nsearch_mask(g, p, b, k1, dim, HV);
-    if (HV) {
-        const __m512d R = _mm512_mul_pd(_mm512_set1_pd((double)p->kappa),
-                                        _mm512_max_pd(_mm512_loadu_pd((const double *)g->h + b),
-                                                      _mm512_set1_pd((double)p->hi)));
-        R2 = _mm512_mul_pd(R, R);
-    }
-    in = _mm512_mask_cmp_pd_mask(live, r2, _mm512_mul_pd(R2, _mm512_set1_pd(1 - eps)), _CMP_LT_OQ);
-    near_edge = (__mmask8)(_mm512_mask_cmp_pd_mask(live, r2, _mm512_mul_pd(R2, _mm512_set1_pd(1 + eps)), _CMP_LT_OQ) & ~in);
+    if (wide) return sph__nsearch_mask(g, p, b, k1, dim, HV);
     mask = in;
     for (k = 0; near_edge != 0; ++k, near_edge >>= 1)
         if (near_edge & 1u) mask |= (unsigned)sph__nsearch_in(g, p, b + k, dim) << k;
     return mask;
 }
 #define SPH__NSEARCH_MASK(g, p, b, k1, dim, HV)                                                                   \
-    (sizeof(sph_real) == sizeof(double) ? sph__nsearch_mask8(g, p, b, k1, dim, HV)                              \
+    (sizeof(sph_real) == sizeof(double) ? sph__nsearch_mask16(g, p, b, k1, dim, HV)                             \
                                         : sph__nsearch_mask(g, p, b, k1, dim, HV))
 #else
 #define SPH__NSEARCH_MASK(g, p, b, k1, dim, HV) sph__nsearch_mask(g, p, b, k1, dim, HV)
@@ -2580,9 +2591,9 @@ SPH__INLINE sph_off sph__nsearch_run_blocks(const sph_nsearch *g, const sph__pro
         if (p->seg == NULL)
             for (k = 0; k < SPH__NS_BLOCK; ++k) m += (mask >> k) & 1u;
         else if (m + SPH__NS_BLOCK <= p->cap) {
-#if SPH__NS_COMPRESS && SPH__NS_BLOCK == 8
-            const __m256i j = _mm256_loadu_si256((const __m256i *)(const void *)(g->order + b));
-            _mm256_storeu_si256((__m256i *)(void *)(p->seg + m), _mm256_maskz_compress_epi32((__mmask8)mask, j));
+#if SPH__NS_COMPRESS
+            const __m512i j = _mm512_loadu_si512((const void *)(g->order + b));
+            _mm512_storeu_si512((void *)(p->seg + m), _mm512_maskz_compress_epi32((__mmask16)mask, j));
             m += __builtin_popcount(mask);
 #else
             for (k = 0; k < SPH__NS_BLOCK; ++k) {
