@@ -2640,6 +2640,16 @@ SPH_API void sph__nsearch_flush(const sph_nsearch *g, sph__probe *p)
         hv ? sph__nsearch_runs(g, p, 1, 1) : sph__nsearch_runs(g, p, 1, 0);
 }
 
+/* nr runs collected in p->runs: checks them when fewer than room slots are
+ * left for the next row; returns the runs still waiting. */
+SPH_API int sph__nsearch_room(const sph_nsearch *g, sph__probe *p, int nr, int room)
+{
+    if (nr + room <= SPH__NS_RUNS) return nr;
+    p->n_runs = nr;
+    sph__nsearch_flush(g, p);
+    return 0;
+}
+
 /* One row of cells along axis 0 (cells ky, kz of axes 1, 2), radius^2 rem
  * left: its runs of sorted sources (one, or two where a periodic axis wraps)
  * into runs[]; returns how many. */
@@ -2730,26 +2740,44 @@ SPH__INLINE void sph__nsearch_interior(const sph_nsearch *g, sph__probe *p, sph_
             }
             p->runs[2 * nr] = cs[k0];
             p->runs[2 * nr + 1] = cs[k1 + 1];
-            if (++nr == SPH__NS_RUNS) {
-                p->n_runs = nr;
-                sph__nsearch_flush(g, p);
-                nr = 0;
-            }
+            nr = sph__nsearch_room(g, p, nr + 1, 1);
         }
     }
     p->n_runs = nr;
 }
 
+/* The rows of any target, search radius Rm: the cells along z, then y,
+ * within reach, clamped to the grid or wrapped round a periodic axis. */
+SPH_API void sph__nsearch_general(const sph_nsearch *g, sph__probe *p, sph_real Rm)
+{
+    sph__span sz, sy;
+    int rz, ry, kz, ky, nr = 0;
+    sph__nsearch_span(g, 2, p->t[2], Rm, &sz);
+    for (rz = 0; rz < sz.count; ++rz)
+        for (kz = sz.lo[rz]; kz <= sz.hi[rz]; ++kz) {
+            sph_real left_z = Rm * Rm - sph__nsearch_gap2(g, 2, p->t[2], &sz, rz, kz);
+            if (left_z < 0) continue;
+            sph__nsearch_span(g, 1, p->t[1], sph__sqrt(left_z), &sy);
+            for (ry = 0; ry < sy.count; ++ry)
+                for (ky = sy.lo[ry]; ky <= sy.hi[ry]; ++ky) {
+                    sph_real left_y = left_z - sph__nsearch_gap2(g, 1, p->t[1], &sy, ry, ky);
+                    if (left_y < 0) continue;
+                    nr = sph__nsearch_room(g, p, nr + sph__nsearch_row(g, p, ky, kz, left_y, p->runs + 2 * nr), 2);
+                }
+        }
+    p->n_runs = nr;
+}
+
 /* Searches one target (found, checked, and seg when filling): the cells
  * whose nearest point lies within the search radius, layer by layer (z, y),
- * each x row as one or two runs of sorted sources. */
+ * each x row as one or two runs of sorted sources; the interior path where
+ * the target's reach lies inside the grid on every axis. */
 SPH_API void sph__nsearch_target(const sph_nsearch *g, sph__probe *p)
 {
     sph_real hmax = g->h != NULL ? g->h_max : p->hu;
     sph_real Rs = p->kappa * (p->symmetric && hmax > p->hi ? hmax : p->hi);
     sph_real Rm, far = 0;
-    sph__span sz, sy;
-    int a, rz, ry, kz, ky, nr = 0, kc[3], E[3], inside = 1;
+    int a, kc[3] = {0, 0, 0}, E[3] = {0, 0, 0}, inside = 1;
     for (a = 0; a < 3; ++a) {
         p->t[a] = a < g->dim ? sph__nsearch_rel(g, a, p->xt[a]) : (sph_real)0.5;
         far = fabs(p->xt[a]) > far ? fabs(p->xt[a]) : far;
@@ -2765,37 +2793,16 @@ SPH_API void sph__nsearch_target(const sph_nsearch *g, sph__probe *p)
     p->found = 0;
     p->checked = 0;
     p->n_runs = 0;
-    for (a = 0; a < 3; ++a) {
+    for (a = 0; a < g->dim; ++a) { /* axes beyond dim: one cell, reach 0 */
         const sph_real reach = sph__floor(Rm * g->inv_w[a]) + 1;
-        kc[a] = a < g->dim ? sph__nsearch_cell(g, a, p->t[a]) : 0;
-        E[a] = a < g->dim && reach <= SPH__NS_REACH ? (int)reach : a < g->dim ? -1 : 0;
+        kc[a] = sph__nsearch_cell(g, a, p->t[a]);
+        E[a] = reach <= SPH__NS_REACH ? (int)reach : -1;
         inside &= E[a] >= 0 && kc[a] - E[a] >= 0 && kc[a] + E[a] < g->n[a];
     }
-    if (inside) {
+    if (inside)
         sph__nsearch_interior(g, p, Rm, kc, E);
-        sph__nsearch_flush(g, p);
-        if (p->seg != NULL && p->found <= p->cap) sph__ns_sort(p->seg, p->found);
-        return;
-    }
-    sph__nsearch_span(g, 2, p->t[2], Rm, &sz);
-    for (rz = 0; rz < sz.count; ++rz)
-        for (kz = sz.lo[rz]; kz <= sz.hi[rz]; ++kz) {
-            sph_real left_z = Rm * Rm - sph__nsearch_gap2(g, 2, p->t[2], &sz, rz, kz);
-            if (left_z < 0) continue;
-            sph__nsearch_span(g, 1, p->t[1], sph__sqrt(left_z), &sy);
-            for (ry = 0; ry < sy.count; ++ry)
-                for (ky = sy.lo[ry]; ky <= sy.hi[ry]; ++ky) {
-                    sph_real left_y = left_z - sph__nsearch_gap2(g, 1, p->t[1], &sy, ry, ky);
-                    if (left_y < 0) continue;
-                    nr += sph__nsearch_row(g, p, ky, kz, left_y, p->runs + 2 * nr);
-                    if (nr > SPH__NS_RUNS - 2) { /* no room for another row: check these */
-                        p->n_runs = nr;
-                        sph__nsearch_flush(g, p);
-                        nr = 0;
-                    }
-                }
-        }
-    p->n_runs = nr;
+    else
+        sph__nsearch_general(g, p, Rm);
     sph__nsearch_flush(g, p);
     if (p->seg != NULL && p->found <= p->cap) sph__ns_sort(p->seg, p->found);
 }
