@@ -118,7 +118,9 @@ typedef SPH_REAL sph_real;
 
 /* Operator pair loops (section 6): the density and the difference gradient
  * in AVX-512 registers, 8 pairs per step in one pass (1), or the portable
- * chunked loops only (0). Double precision only. */
+ * chunked loops only (0). Both precisions: with SPH_REAL float the values
+ * are read as float and the pair terms computed in double (8 lanes), then
+ * the sums rounded to float once. */
 #if SPH__SQRT_SIMD == 2 && defined(__AVX512F__) && defined(__AVX512VL__)
 #define SPH__OP_AVX512 1
 #else
@@ -1491,6 +1493,16 @@ SPH__INLINE void sph__chunk_dx(const sph__chunk *P, const int D, int k, sph_real
     n = (A->off[i + 1] - o) < SPH__CHUNK ? (int)(A->off[i + 1] - o) : SPH__CHUNK; \
     sph__chunk_eval(A, kd, D, GEN, WANT, &t, o, n, &P)
 
+#if SPH__OP_AVX512 || SPH__NS_COMPRESS
+/* 8 consecutive sph_real as doubles (exact for float), for the AVX-512 loops
+ * here and in the neighbour check (section 7); the sizeof test folds. */
+SPH__INLINE __m512d sph__load8(const sph_real *p)
+{
+    return sizeof(sph_real) == sizeof(double) ? _mm512_loadu_pd((const void *)p)
+                                              : _mm512_cvtps_pd(_mm256_loadu_ps((const float *)(const void *)p));
+}
+#endif
+
 #if SPH__OP_AVX512
 /* sph__pform_eval and sph__nshape_pick on 8 values of q. */
 SPH__INLINE __m512d sph__pform_eval8(const sph__pform *f, __m512d q)
@@ -1517,13 +1529,13 @@ SPH__INLINE __m512d sph__nshape_pick8(const sph__nshape *s, const int G, __m512d
     return v;
 }
 
-/* Can sph__t_dg8 serve this call: double precision, and F at the uniform h
- * (GRAD with per-particle h stays with the chunked loops)? Every layout of
+/* Can sph__t_dg8 serve this call: F at the uniform h (GRAD with
+ * per-particle h stays with the chunked loops)? Every layout of
  * the views takes the same path, so SoA, interleaved and AoS stay bitwise
  * equal. */
 SPH__INLINE int sph__dg8_ok(const sph__args *A, const int GRAD, const int GEN)
 {
-    return sizeof(sph_real) == sizeof(double) && !(GRAD && GEN && A->hv);
+    return !(GRAD && GEN && A->hv);
 }
 
 /* v.p[a][j * stride] for the 8 list entries j, lanes outside km from src.
@@ -1532,17 +1544,21 @@ SPH__INLINE int sph__dg8_ok(const sph__args *A, const int GRAD, const int GEN)
  * source whenever the list holds any pair. */
 SPH__INLINE __m512d sph__at8(__m512d src, __mmask8 km, const sph_idx *j, sph_view v, int a)
 {
-    const double *p = (const double *)v.p[a];
+    const sph_real *p = v.p[a];
     const ptrdiff_t st = v.stride;
-    return _mm512_mask_mov_pd(src, km, _mm512_set_pd(p[j[7] * st], p[j[6] * st], p[j[5] * st], p[j[4] * st],
-                                                      p[j[3] * st], p[j[2] * st], p[j[1] * st], p[j[0] * st]));
+    return _mm512_mask_mov_pd(src, km,
+                              _mm512_set_pd((double)p[j[7] * st], (double)p[j[6] * st], (double)p[j[5] * st],
+                                            (double)p[j[4] * st], (double)p[j[3] * st], (double)p[j[2] * st],
+                                            (double)p[j[1] * st], (double)p[j[0] * st]));
 }
 
 /* (O2) rho = sum_j m_j W_ij (DENS) and/or (O5) g = sum_j V_j (f_j - f_i) F_ij x_ij
  * (GRAD) of target t, PB: minimum image. The same pair arithmetic as the
  * chunked loops (IEEE square root, W and F from the natural pieces, the
  * division of g by q), done for 8 pairs at a time in registers in one pass
- * over the list; only the order of the sum over j differs. */
+ * over the list; only the order of the sum over j differs, and with SPH_REAL
+ * float the precision: the pair terms and sums are double, rounded to float
+ * once at the end. */
 SPH__INLINE void sph__t_dg8(const sph__args *A, const sph__kdim *kd, const int D, const int PB, const int DENS,
                             const int GRAD, const sph__tgt *t, sph_idx i, sph_real fi, sph_real *g, sph_real *rho)
 {
@@ -2527,35 +2543,37 @@ SPH__INLINE unsigned sph__nsearch_mask(const sph_nsearch *g, const sph__probe *p
 }
 
 #if SPH__NS_COMPRESS
-/* sph__nsearch_mask in AVX-512 registers (double): r^2 of the 16 sources of
- * a block, as two vectors of 8. Their rounding may differ from the scalar
- * r^2 (contraction into fused multiply-adds is the compiler's choice), by at
- * most a few ulp of r^2 for this sum of three squares; a source within 16
- * ulp of R^2 is therefore decided by sph__nsearch_in, and a block that needs
+/* sph__nsearch_mask in AVX-512 registers: r^2 of the 16 sources of a block,
+ * as two vectors of 8 doubles (float positions are widened exactly). Their
+ * rounding may differ from the scalar r^2 (contraction into fused
+ * multiply-adds is the compiler's choice; with SPH_REAL float the scalar sum
+ * is rounded to float), by at most a few ulp of sph_real for this sum of
+ * three squares; a source within 16 ulp of R^2 is therefore decided by
+ * sph__nsearch_in, and a block that needs
  * the minimum image (r^2 beyond the smallest squared quarter period) is
  * redone by the scalar mask, so the lists stay those of the scalar
  * criterion bit for bit. */
 SPH__INLINE unsigned sph__nsearch_mask16(const sph_nsearch *g, const sph__probe *p, sph_idx b, sph_idx k1,
                                          const int dim, const int HV)
 {
-    const double eps = 16 * DBL_EPSILON;
+    const double eps = 16 * (sizeof(sph_real) == sizeof(float) ? (double)FLT_EPSILON : DBL_EPSILON);
     const ptrdiff_t stride = g->n_padded;
     const unsigned live = k1 - b >= 16 ? 0xFFFFu : (1u << (k1 - b)) - 1u;
     unsigned in = 0, near_edge = 0, wide = 0, mask;
     int a, k, half;
     for (half = 0; half < 2; ++half) {
-        const double *x = (const double *)g->x + b + 8 * half;
+        const sph_real *x = g->x + b + 8 * half;
         const __mmask8 lv = (__mmask8)(live >> (8 * half));
         __m512d r2 = _mm512_setzero_pd(), R2 = _mm512_set1_pd((double)p->R2);
         __mmask8 in8;
         for (a = 0; a < dim; ++a) {
-            const __m512d d = _mm512_sub_pd(_mm512_set1_pd((double)p->xt[a]), _mm512_loadu_pd(x + a * stride));
+            const __m512d d = _mm512_sub_pd(_mm512_set1_pd((double)p->xt[a]), sph__load8(x + a * stride));
             r2 = _mm512_fmadd_pd(d, d, r2);
         }
         wide |= _mm512_mask_cmp_pd_mask(lv, r2, _mm512_set1_pd((double)g->quarter2), _CMP_GT_OQ);
         if (HV) {
             const __m512d R = _mm512_mul_pd(_mm512_set1_pd((double)p->kappa),
-                                            _mm512_max_pd(_mm512_loadu_pd((const double *)g->h + b + 8 * half),
+                                            _mm512_max_pd(sph__load8(g->h + b + 8 * half),
                                                           _mm512_set1_pd((double)p->hi)));
             R2 = _mm512_mul_pd(R, R);
         }
@@ -2570,9 +2588,7 @@ SPH__INLINE unsigned sph__nsearch_mask16(const sph_nsearch *g, const sph__probe 
         if (near_edge & 1u) mask |= (unsigned)sph__nsearch_in(g, p, b + k, dim) << k;
     return mask;
 }
-#define SPH__NSEARCH_MASK(g, p, b, k1, dim, HV)                                                                   \
-    (sizeof(sph_real) == sizeof(double) ? sph__nsearch_mask16(g, p, b, k1, dim, HV)                             \
-                                        : sph__nsearch_mask(g, p, b, k1, dim, HV))
+#define SPH__NSEARCH_MASK(g, p, b, k1, dim, HV) sph__nsearch_mask16(g, p, b, k1, dim, HV)
 #else
 #define SPH__NSEARCH_MASK(g, p, b, k1, dim, HV) sph__nsearch_mask(g, p, b, k1, dim, HV)
 #endif

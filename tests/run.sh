@@ -110,6 +110,10 @@ if has_flag gcc -march=native; then
     # pair loops (where the CPU has AVX-512) under the compiler that times them
     CONFIGS="$CONFIGS gcc-double-native"
     CFG_gcc_double_native="gcc|double|-march=native -O2 -g0|== gcc double -march=native -O2 (operator tests)||tests/test_op_*.c"
+    # the same for float: there the AVX-512 loops read float and compute in
+    # double, and the neighbour check widens float positions
+    CONFIGS="$CONFIGS gcc-float-native"
+    CFG_gcc_float_native="gcc|float|-march=native -O2 -g0|== gcc float -march=native -O2 (operator and neighbour tests)||tests/test_op_*.c tests/test_neighbours.c"
 fi
 if command -v clang > /dev/null 2>&1 && has_openmp clang; then
     # clang -fopenmp at -O2 without -g: the build where clang reports omp simd
