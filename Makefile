@@ -199,9 +199,9 @@ bench: $(BUILD)/bench/benchmark_double $(BUILD)/bench/benchmark_float tiny-size
 	   echo "$$(nproc 2> /dev/null) cores; load average at the start: $$(cut -d' ' -f1-3 /proc/loadavg 2> /dev/null)."; \
 	   echo "Ratios within one run are the numbers to read: absolute times move with other jobs on the machine."; \
 	 } > docs/benchmark.md
-	./$(BUILD)/bench/benchmark_double 64 5 docs/benchmark.md
+	./$(BUILD)/bench/benchmark_double 64 7 docs/benchmark.md
 	@echo
-	./$(BUILD)/bench/benchmark_float 64 5 docs/benchmark.md
+	./$(BUILD)/bench/benchmark_float 64 7 docs/benchmark.md
 
 tiny-size:
 	@mkdir -p $(BUILD)/bench

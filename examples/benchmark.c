@@ -10,9 +10,10 @@
  * +-10 % dx in the periodic unit box, sorted by cell (sph_nsearch_permutation
  * + sph_permute), h such that the cubic spline has ~60 neighbours; the other
  * kernels use the same support radius kappa h (equal neighbours: the same
- * list). Each repetition runs every operation once, in turn; every time is
- * the median of the repetitions, printed as ns per pair (pairs = list
- * entries, self included) and as ratios.
+ * list). Each repetition runs every operation once, in turn, with 1 and
+ * then 2 threads; a time is the median over the repetitions, printed as ns
+ * per pair (pairs = list entries, self included), and a ratio of two times
+ * the median of their ratios within each repetition.
  *
  * The same source compiled with -DBENCH_PART=name yields one wrapper around
  * sph_density_gradient built with other configuration macros (SPH_DIM and
@@ -373,6 +374,48 @@ static void run_op(scene *s, int op, sph_real *hbuf)
     }
 }
 
+/* The samples: time of operation op with thread setting ti (0: 1 thread,
+ * 1: 2 threads) in repetition r is s[(ti * T_COUNT + op) * reps + r]; 0 for
+ * an operation not timed. */
+typedef struct {
+    int reps;
+    double *s;
+} timings;
+
+static const double *samples(const timings *T, int ti, int op) { return T->s + ((size_t)ti * T_COUNT + (size_t)op) * (size_t)T->reps; }
+
+static double median(double *v, int n)
+{
+    qsort(v, (size_t)n, sizeof(double), cmp_double);
+    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+/* Median time of (ti, op). */
+static double med_time(const timings *T, int ti, int op)
+{
+    double v[64];
+    const int n = T->reps < 64 ? T->reps : 64;
+    memcpy(v, samples(T, ti, op), (size_t)n * sizeof(double));
+    return median(v, n);
+}
+
+/* Median over the repetitions of time(ti_a, a) / time(ti_b, b): the two were
+ * timed in the same repetition, seconds apart, so load from other jobs that
+ * comes and goes between repetitions cancels in each ratio. 0 if either was
+ * not timed. */
+static double med_ratio(const timings *T, int ti_a, int a, int ti_b, int b)
+{
+    const double *x = samples(T, ti_a, a), *y = samples(T, ti_b, b);
+    double v[64];
+    const int n = T->reps < 64 ? T->reps : 64;
+    int r;
+    for (r = 0; r < n; ++r) {
+        if (x[r] <= 0 || y[r] <= 0) return 0;
+        v[r] = x[r] / y[r];
+    }
+    return median(v, n);
+}
+
 /* One row of the ratio list: label, value, printf format, goal ("" if none). */
 static void put_ratio(FILE *f, int md, const char *label, double v, const char *fmt, const char *goal)
 {
@@ -386,64 +429,65 @@ static void put_ratio(FILE *f, int md, const char *label, double v, const char *
 
 /* The timing table and the ratios against the targets: as text for the
  * terminal (md 0) or as a markdown section (md 1; make bench appends both
- * precisions to docs/benchmark.md). */
-static void put_tables(FILE *f, int md, double t[2][T_COUNT], double pairs, int n, int side, int reps, double cand,
-                       double h_dx)
+ * precisions to docs/benchmark.md). Times are medians over the repetitions,
+ * every ratio the median of the per-repetition ratios (med_ratio). */
+static void put_tables(FILE *f, int md, const timings *T, double pairs, int n, int side, double cand, double h_dx)
 {
-    const double fl = t[0][T_FLOOR], tb = t[0][T_TEXT];
     char label[80];
     int op;
+#define R1(a, b) med_ratio(T, 0, a, 0, b)
     if (md)
         fprintf(f, "\n## %s\n\n%d^3 = %d particles, lattice perturbed by +-10 %% dx, periodic unit box, sorted by "
                    "cell; cubic h = %.4g dx, %.1f pairs per particle (self included), the other kernels with the same "
-                   "kappa h; median of %d repetitions (each runs every operation once, in turn); %.2f candidate distance checks per neighbour found.\n\n"
+                   "kappa h; %d repetitions, each running every operation once in turn, with 1 and then 2 threads; "
+                   "times are medians, ratios medians of the ratios within a repetition; %.2f candidate distance "
+                   "checks per neighbour found.\n\n"
                    "| operation (cubic unless named) | ns/pair | x floor | x textbook | 2 threads ns/pair | speed-up |\n"
                    "|---|---:|---:|---:|---:|---:|\n",
-                sizeof(sph_real) == sizeof(float) ? "float" : "double", side, n, h_dx, pairs / n, reps, cand);
+                sizeof(sph_real) == sizeof(float) ? "float" : "double", side, n, h_dx, pairs / n, T->reps, cand);
     else
         fprintf(f, "%-42s %9s %8s %8s %9s %8s\n", "operation (cubic unless named)", "ns/pair", "x floor", "x text.",
                 "2 thr ns", "speedup");
     for (op = 0; op < T_COUNT; ++op) {
-        const double ns = 1e9 * t[0][op] / pairs, ns2 = 1e9 * t[1][op] / pairs;
-        const double up = t[1][op] > 0 ? t[0][op] / t[1][op] : 0.0;
-        if (t[0][op] == 0) continue;
+        const double ns = 1e9 * med_time(T, 0, op) / pairs, ns2 = 1e9 * med_time(T, 1, op) / pairs;
+        const double up = med_ratio(T, 0, op, 1, op);
+        if (ns == 0) continue;
         if (op >= T_KERNEL0)
             snprintf(label, sizeof label, md ? "fused, %s" : "  %s", sph_kernel_name((sph_kernel)(op - T_KERNEL0)));
         else
             snprintf(label, sizeof label, "%s", t_name[op]);
         if (md) {
-            fprintf(f, "| %s | %.2f | %.2f | %.3f | %.2f | %.2f |\n", label, ns, t[0][op] / fl, t[0][op] / tb, ns2, up);
+            fprintf(f, "| %s | %.2f | %.2f | %.3f | %.2f | %.2f |\n", label, ns, R1(op, T_FLOOR), R1(op, T_TEXT), ns2,
+                    up);
         } else {
             if (op == T_KERNEL0) fprintf(f, "fused density + gradient, per kernel (equal neighbours):\n");
-            fprintf(f, "%-42s %9.3f %8.2f %8.3f %9.3f %8.2f\n", label, ns, t[0][op] / fl, t[0][op] / tb, ns2, up);
+            fprintf(f, "%-42s %9.3f %8.2f %8.3f %9.3f %8.2f\n", label, ns, R1(op, T_FLOOR), R1(op, T_TEXT), ns2, up);
         }
     }
     fprintf(f, md ? "\n| measure | value | target |\n|---|---:|---|\n" : "\ntargets (1 thread unless named):\n");
-    put_ratio(f, md, "fused density + gradient / floor, cubic", t[0][T_FUSED] / fl, "%.2f", "<= 1.3");
+    put_ratio(f, md, "fused density + gradient / floor, cubic", R1(T_FUSED, T_FLOOR), "%.2f", "<= 1.3");
     for (op = T_KERNEL0; op < T_COUNT; ++op)
         if (op != T_KERNEL0 + SPH_KERNEL_CUBIC) {
             snprintf(label, sizeof label, "fused density + gradient / floor, %s",
                      sph_kernel_name((sph_kernel)(op - T_KERNEL0)));
-            put_ratio(f, md, label, t[0][op] / fl, "%.2f", "<= 1.6");
+            put_ratio(f, md, label, R1(op, T_FLOOR), "%.2f", "<= 1.6");
         }
-    put_ratio(f, md, "floor + reads of m_j, V_j, f_j / floor (bound for the two above)",
-              t[0][T_FLOOR_FIELDS] / fl, "%.2f", "");
-    put_ratio(f, md, "fused density + gradient / (floor + reads), cubic", t[0][T_FUSED] / t[0][T_FLOOR_FIELDS], "%.2f",
-              "");
-    put_ratio(f, md, "textbook / fused density + gradient", tb / t[0][T_FUSED], "%.1f", ">= 10");
-    put_ratio(f, md, "textbook / (density, then gradient)", tb / t[0][T_DENS_THEN_GRAD], "%.1f", "");
-    if (t[1][T_FUSED] > 0)
-        put_ratio(f, md, "fused: 1 thread / 2 threads", t[0][T_FUSED] / t[1][T_FUSED], "%.2f", ">= 1.8");
+    put_ratio(f, md, "floor + reads of m_j, V_j, f_j / floor (bound for the two above)", R1(T_FLOOR_FIELDS, T_FLOOR),
+              "%.2f", "");
+    put_ratio(f, md, "fused density + gradient / (floor + reads), cubic", R1(T_FUSED, T_FLOOR_FIELDS), "%.2f", "");
+    put_ratio(f, md, "textbook / fused density + gradient", R1(T_TEXT, T_FUSED), "%.1f", ">= 10");
+    put_ratio(f, md, "textbook / (density, then gradient)", R1(T_TEXT, T_DENS_THEN_GRAD), "%.1f", "");
+    if (med_time(T, 1, T_FUSED) > 0)
+        put_ratio(f, md, "fused: 1 thread / 2 threads", med_ratio(T, 0, T_FUSED, 1, T_FUSED), "%.2f", ">= 1.8");
     put_ratio(f, md, "candidate checks per neighbour", cand, "%.2f", "<= 3");
-    put_ratio(f, md, "neighbour list / fused density + gradient", t[0][T_BUILD] / t[0][T_FUSED], "%.2f", "<= 2");
-    if (t[0][T_PINNED] > 0)
-        put_ratio(f, md, "run-time selected / pinned (SPH_DIM, SPH_KERNEL)", t[0][T_FUSED] / t[0][T_PINNED], "%.3f",
-                  "<= 1.05");
-    put_ratio(f, md, "library without box / hand-written, no box", t[0][T_FUSED_NOBOX] / t[0][T_HAND_NOBOX], "%.3f",
-              "<= 1.03");
-    put_ratio(f, md, "per-particle h (all equal) / uniform h", t[0][T_FUSED_HV] / t[0][T_FUSED], "%.3f", "");
-    put_ratio(f, md, "periodic box / no box", t[0][T_FUSED] / t[0][T_FUSED_NOBOX], "%.3f", "");
-    if (t[0][T_SPEC0] > 0) put_ratio(f, md, "SPH_OP_SPECIALISE 0 / 1", t[0][T_SPEC0] / t[0][T_FUSED], "%.3f", "");
+    put_ratio(f, md, "neighbour list / fused density + gradient", R1(T_BUILD, T_FUSED), "%.2f", "<= 2");
+    if (med_time(T, 0, T_PINNED) > 0)
+        put_ratio(f, md, "run-time selected / pinned (SPH_DIM, SPH_KERNEL)", R1(T_FUSED, T_PINNED), "%.3f", "<= 1.05");
+    put_ratio(f, md, "library without box / hand-written, no box", R1(T_FUSED_NOBOX, T_HAND_NOBOX), "%.3f", "<= 1.03");
+    put_ratio(f, md, "per-particle h (all equal) / uniform h", R1(T_FUSED_HV, T_FUSED), "%.3f", "");
+    put_ratio(f, md, "periodic box / no box", R1(T_FUSED, T_FUSED_NOBOX), "%.3f", "");
+    if (med_time(T, 0, T_SPEC0) > 0) put_ratio(f, md, "SPH_OP_SPECIALISE 0 / 1", R1(T_SPEC0, T_FUSED), "%.3f", "");
+#undef R1
 }
 
 int main(int argc, char **argv)
@@ -451,18 +495,21 @@ int main(int argc, char **argv)
     const int side = argc > 1 ? atoi(argv[1]) : 64, reps = argc > 2 ? atoi(argv[2]) : 5;
     FILE *md = argc > 3 ? fopen(argv[3], "a") : NULL;
     const int nthreads[2] = {1, 2};
-    static double t[2][T_COUNT];
     /* zeros for operations not timed: their median 0 leaves them out of the tables */
-    double *samp = (double *)calloc(T_COUNT * (size_t)(reps > 0 ? reps : 1), sizeof(double)), pairs;
+    timings T;
+    double pairs;
     sph_off npairs = 0, ncand = 0;
     sph_real *hbuf;
     scene s;
     int op, r, ti, i;
-    if (side < 4 || reps < 1) {
-        fprintf(stderr, "usage: %s [side >= 4] [repetitions >= 1] [markdown file to append the tables to]\n",
+    if (side < 4 || reps < 1 || reps > 64) {
+        fprintf(stderr, "usage: %s [side >= 4] [repetitions 1..64] [markdown file to append the tables to]\n",
                 argv[0]);
         return 2;
     }
+    T.reps = reps;
+    T.s = (double *)calloc(2 * T_COUNT * (size_t)reps, sizeof(double));
+    if (T.s == NULL) return 2;
     scene_init(&s, side);
     hbuf = alloc_real(s.n);
     for (i = 0; i < s.n; ++i) hbuf[i] = s.h;
@@ -481,16 +528,19 @@ int main(int argc, char **argv)
            (double)(s.h / s.dx), pairs / s.n);
     printf("neighbour search: %.3f candidate distance checks per neighbour found (cells of kappa h / 2)\n",
            (double)ncand / (double)npairs);
-    printf("median of %d repetitions; ns per pair = time / %.0f pairs\n\n", reps, pairs);
-    for (ti = 0; ti < 2; ++ti) {
+    printf("%d repetitions, each every operation once in turn with 1, then 2 threads; times: medians, ratios: "
+           "medians of the ratios within a repetition; ns per pair = time / %.0f pairs\n\n",
+           reps, pairs);
+    /* repetition r of every operation, with 1 and with 2 threads, then r + 1:
+     * a burst of load from other jobs lands on all rows alike, not on the few
+     * timed in it, and each ratio compares times taken seconds apart */
+    for (r = -1; r < reps; ++r) /* r = -1: warm-up */
+        for (ti = 0; ti < 2; ++ti) {
 #ifdef _OPENMP
-        omp_set_num_threads(nthreads[ti]);
+            omp_set_num_threads(nthreads[ti]);
 #else
-        if (nthreads[ti] > 1) break;
+            if (nthreads[ti] > 1) break;
 #endif
-        /* repetition r of every operation, then r + 1: a burst of load from
-         * other jobs then lands on all rows alike, not on the few timed in it */
-        for (r = -1; r < reps; ++r) /* r = -1: warm-up */
             for (op = 0; op < T_COUNT; ++op) {
                 double t0;
 #if !defined(BENCH_LINK_PARTS)
@@ -498,21 +548,17 @@ int main(int argc, char **argv)
 #endif
                 t0 = now();
                 run_op(&s, op, hbuf);
-                if (r >= 0) samp[(size_t)op * (size_t)reps + (size_t)r] = now() - t0;
+                if (r >= 0) T.s[((size_t)ti * T_COUNT + (size_t)op) * (size_t)reps + (size_t)r] = now() - t0;
             }
-        for (op = 0; op < T_COUNT; ++op) {
-            qsort(samp + (size_t)op * (size_t)reps, (size_t)reps, sizeof(double), cmp_double);
-            t[ti][op] = samp[(size_t)op * (size_t)reps + (size_t)(reps / 2)];
         }
-    }
-    put_tables(stdout, 0, t, pairs, s.n, side, reps, (double)ncand / (double)npairs, (double)(s.h / s.dx));
+    put_tables(stdout, 0, &T, pairs, s.n, side, (double)ncand / (double)npairs, (double)(s.h / s.dx));
     if (argc > 3 && md == NULL) fprintf(stderr, "benchmark: cannot open %s\n", argv[3]);
     if (md != NULL) {
-        put_tables(md, 1, t, pairs, s.n, side, reps, (double)ncand / (double)npairs, (double)(s.h / s.dx));
+        put_tables(md, 1, &T, pairs, s.n, side, (double)ncand / (double)npairs, (double)(s.h / s.dx));
         fclose(md);
     }
     if (g_status != SPH_OK) printf("\nERROR: a call returned %d (%s)\n", g_status, sph_strerror(g_status));
-    free(samp);
+    free(T.s);
     return g_status == SPH_OK ? 0 : 1;
 }
 #endif
