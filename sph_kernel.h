@@ -1538,14 +1538,13 @@ SPH__INLINE int sph__dg8_ok(const sph__args *A, const int GRAD, const int GEN)
     return !(GRAD && GEN && A->hv);
 }
 
-/* v.p[a][j * stride] for the 8 list entries j, lanes outside km from src.
- * Eight scalar loads, not the gather instruction, which is slower on AMD
- * Zen 4 (see docs/operators.md). A lane outside km has j = 0, a valid
- * source whenever the list holds any pair. */
-SPH__INLINE __m512d sph__at8(__m512d src, __mmask8 km, const sph_idx *j, sph_view v, int a)
+/* v.p[a][j * st] for the 8 list entries j, lanes outside km from src, st
+ * the view's stride. Eight scalar loads, not the gather instruction, which
+ * is slower on AMD Zen 4 (see docs/operators.md). A lane outside km has
+ * j = 0, a valid source whenever the list holds any pair. */
+SPH__INLINE __m512d sph__at8(__m512d src, __mmask8 km, const sph_idx *j, sph_view v, int a, ptrdiff_t st)
 {
     const sph_real *p = v.p[a];
-    const ptrdiff_t st = v.stride;
     return _mm512_mask_mov_pd(src, km,
                               _mm512_set_pd((double)p[j[7] * st], (double)p[j[6] * st], (double)p[j[5] * st],
                                             (double)p[j[4] * st], (double)p[j[3] * st], (double)p[j[2] * st],
@@ -1553,15 +1552,21 @@ SPH__INLINE __m512d sph__at8(__m512d src, __mmask8 km, const sph_idx *j, sph_vie
 }
 
 /* (O2) rho = sum_j m_j W_ij (DENS) and/or (O5) g = sum_j V_j (f_j - f_i) F_ij x_ij
- * (GRAD) of target t, PB: minimum image. The same pair arithmetic as the
+ * (GRAD) of target t, PB: minimum image; ONE_STRIDE: the views read have
+ * the stride of x (SoA, or one array of structs), so each j * stride serves
+ * every field (with a stride per view the integer multiplies cost 15-20 %
+ * of the loop). The same pair arithmetic as the
  * chunked loops (IEEE square root, W and F from the natural pieces, the
  * division of g by q), done for 8 pairs at a time in registers in one pass
  * over the list; only the order of the sum over j differs, and with SPH_REAL
  * float the precision: the pair terms and sums are double, rounded to float
  * once at the end. */
-SPH__INLINE void sph__t_dg8(const sph__args *A, const sph__kdim *kd, const int D, const int PB, const int DENS,
-                            const int GRAD, const sph__tgt *t, sph_idx i, sph_real fi, sph_real *g, sph_real *rho)
+SPH__INLINE void sph__t_dg8(const sph__args *A, const sph__kdim *kd, const int D, const int PB, const int ONE_STRIDE,
+                            const int DENS, const int GRAD, const sph__tgt *t, sph_idx i, sph_real fi, sph_real *g,
+                            sph_real *rho)
 {
+    const ptrdiff_t sx = A->x.stride, sm = ONE_STRIDE ? sx : A->m.stride, sV = ONE_STRIDE ? sx : A->V.stride,
+                    sf = ONE_STRIDE ? sx : A->f.stride;
     const sph__nshape *sh = &sph__nshapes[kd->shape];
     const __m512d hinv = _mm512_set1_pd(t->hinv), kap = _mm512_set1_pd(sh->kappa), zero = _mm512_setzero_pd();
     const __m512d vfi = _mm512_set1_pd(fi), half = _mm512_set1_pd(0.5);
@@ -1577,7 +1582,7 @@ SPH__INLINE void sph__t_dg8(const sph__args *A, const sph__kdim *kd, const int D
         _mm256_storeu_si256((__m256i *)j, _mm256_maskz_loadu_epi32(km, A->idx + o));
         for (a = 0; a < D; ++a) {
             const __m512d xi = _mm512_set1_pd((double)t->xi[a]);
-            d[a] = _mm512_sub_pd(xi, sph__at8(xi, km, j, A->x, a));
+            d[a] = _mm512_sub_pd(xi, sph__at8(xi, km, j, A->x, a, sx));
             if (PB) {
                 const __m512d img = _mm512_roundscale_pd(
                     _mm512_fmadd_pd(d[a], _mm512_set1_pd((double)A->invL[a]), half), _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC);
@@ -1589,14 +1594,14 @@ SPH__INLINE void sph__t_dg8(const sph__args *A, const sph__kdim *kd, const int D
         in = _mm512_cmp_pd_mask(q, kap, _CMP_LT_OQ) & km;
         if (DENS) {
             const __m512d W = _mm512_maskz_mul_pd(in, _mm512_set1_pd((double)t->cW), sph__nshape_pick8(sh, 0, q));
-            s3 = _mm512_fmadd_pd(sph__at8(zero, in, j, A->m, 0), W, s3);
+            s3 = _mm512_fmadd_pd(sph__at8(zero, in, j, A->m, 0, sm), W, s3);
         }
         if (GRAD) {
             __m512d gq = sph__nshape_pick8(sh, 1, q), c;
             if (sh->npiece > 1)
                 gq = _mm512_div_pd(gq, _mm512_mask_mov_pd(_mm512_set1_pd(1), _mm512_cmp_pd_mask(q, _mm512_set1_pd(sh->lo[1]), _CMP_GE_OQ), q));
-            c = _mm512_mul_pd(sph__at8(zero, in, j, A->V, 0),
-                              _mm512_sub_pd(sph__at8(vfi, in, j, A->f, 0), vfi));
+            c = _mm512_mul_pd(sph__at8(zero, in, j, A->V, 0, sV),
+                              _mm512_sub_pd(sph__at8(vfi, in, j, A->f, 0, sf), vfi));
             c = _mm512_mul_pd(c, _mm512_maskz_mul_pd(in, _mm512_set1_pd((double)t->cF), gq));
             for (a = 0; a < D; ++a) s[a] = _mm512_fmadd_pd(c, d[a], s[a]);
         }
@@ -1612,11 +1617,15 @@ SPH__INLINE int sph__dg8_try(const sph__args *A, const sph__kdim *kd, const int 
                              const int GRAD, const sph__tgt *t, sph_idx i, sph_real fi, sph_real *g, sph_real *rho)
 {
 #if SPH__OP_AVX512
+    const ptrdiff_t sx = A->x.stride;
+    const int one = (!DENS || A->m.stride == sx) && (!GRAD || (A->V.stride == sx && A->f.stride == sx));
     if (!sph__dg8_ok(A, GRAD, GEN)) return 0;
     if (GEN && A->pb)
-        sph__t_dg8(A, kd, D, 1, DENS, GRAD, t, i, fi, g, rho);
+        one ? sph__t_dg8(A, kd, D, 1, 1, DENS, GRAD, t, i, fi, g, rho)
+            : sph__t_dg8(A, kd, D, 1, 0, DENS, GRAD, t, i, fi, g, rho);
     else
-        sph__t_dg8(A, kd, D, 0, DENS, GRAD, t, i, fi, g, rho);
+        one ? sph__t_dg8(A, kd, D, 0, 1, DENS, GRAD, t, i, fi, g, rho)
+            : sph__t_dg8(A, kd, D, 0, 0, DENS, GRAD, t, i, fi, g, rho);
     return 1;
 #else
     (void)A, (void)kd, (void)D, (void)GEN, (void)DENS, (void)GRAD, (void)t, (void)i, (void)fi, (void)g, (void)rho;
