@@ -2573,6 +2573,7 @@ SPH__INLINE unsigned sph__nsearch_mask16(const sph_nsearch *g, const sph__probe 
     for (half = 0; half < 2; ++half) {
         const sph_real *x = g->x + b + 8 * half;
         const __mmask8 lv = (__mmask8)(live >> (8 * half));
+        if (lv == 0) break; /* a run of 8 or fewer: no live lane in the second vector */
         __m512d r2 = _mm512_setzero_pd(), R2 = _mm512_set1_pd((double)p->R2);
         __mmask8 in8;
         for (a = 0; a < dim; ++a) {
