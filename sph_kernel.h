@@ -1620,12 +1620,11 @@ SPH__INLINE int sph__dg8_try(const sph__args *A, const sph__kdim *kd, const int 
     const ptrdiff_t sx = A->x.stride;
     const int one = (!DENS || A->m.stride == sx) && (!GRAD || (A->V.stride == sx && A->f.stride == sx));
     if (!sph__dg8_ok(A, GRAD, GEN)) return 0;
-    if (GEN && A->pb)
-        one ? sph__t_dg8(A, kd, D, 1, 1, DENS, GRAD, t, i, fi, g, rho)
-            : sph__t_dg8(A, kd, D, 1, 0, DENS, GRAD, t, i, fi, g, rho);
-    else
-        one ? sph__t_dg8(A, kd, D, 0, 1, DENS, GRAD, t, i, fi, g, rho)
-            : sph__t_dg8(A, kd, D, 0, 0, DENS, GRAD, t, i, fi, g, rho);
+    /* GEN: the minimum image always (L = 1/L = 0 on axes without a period
+     * leave x_ij as it is, bit for bit), so that each instance of the
+     * caller holds two copies of the loop, not four: compile time */
+    one ? sph__t_dg8(A, kd, D, GEN, 1, DENS, GRAD, t, i, fi, g, rho)
+        : sph__t_dg8(A, kd, D, GEN, 0, DENS, GRAD, t, i, fi, g, rho);
     return 1;
 #else
     (void)A, (void)kd, (void)D, (void)GEN, (void)DENS, (void)GRAD, (void)t, (void)i, (void)fi, (void)g, (void)rho;
