@@ -1530,9 +1530,9 @@ SPH__INLINE __m512d sph__nshape_pick8(const sph__nshape *s, const int G, __m512d
 }
 
 /* Can sph__t_dg8 serve this call: F at the uniform h (GRAD with
- * per-particle h stays with the chunked loops)? Every layout of
- * the views takes the same path, so SoA, interleaved and AoS stay bitwise
- * equal. */
+ * per-particle h stays with the chunked loops)? Every layout of the views
+ * takes the same arithmetic (a shared stride changes only the index
+ * products), so SoA, interleaved and AoS stay bitwise equal. */
 SPH__INLINE int sph__dg8_ok(const sph__args *A, const int GRAD, const int GEN)
 {
     return !(GRAD && GEN && A->hv);
@@ -1554,7 +1554,7 @@ SPH__INLINE __m512d sph__at8(__m512d src, __mmask8 km, const sph_idx *j, sph_vie
 /* (O2) rho = sum_j m_j W_ij (DENS) and/or (O5) g = sum_j V_j (f_j - f_i) F_ij x_ij
  * (GRAD) of target t, PB: minimum image; ONE_STRIDE: the views read have
  * the stride of x (SoA, or one array of structs), so each j * stride serves
- * every field (with a stride per view the integer multiplies cost 15-20 %
+ * every field (with a stride per view the integer multiplies cost 10-20 %
  * of the loop). The same pair arithmetic as the
  * chunked loops (IEEE square root, W and F from the natural pieces, the
  * division of g by q), done for 8 pairs at a time in registers in one pass
@@ -1618,8 +1618,9 @@ SPH__INLINE int sph__dg8_try(const sph__args *A, const sph__kdim *kd, const int 
 {
 #if SPH__OP_AVX512
     const ptrdiff_t sx = A->x.stride;
-    const int one = (!DENS || A->m.stride == sx) && (!GRAD || (A->V.stride == sx && A->f.stride == sx));
+    int one;
     if (!sph__dg8_ok(A, GRAD, GEN)) return 0;
+    one = (!DENS || A->m.stride == sx) && (!GRAD || (A->V.stride == sx && A->f.stride == sx));
     /* GEN: the minimum image always (L = 1/L = 0 on axes without a period
      * leave x_ij as it is, bit for bit), so that each instance of the
      * caller holds two copies of the loop, not four: compile time */
