@@ -2500,8 +2500,10 @@ typedef struct {
     sph_off cap;      /* its length */
     sph_off found;    /* neighbours found so far */
     sph_off checked;  /* candidates checked so far */
+    sph_off redone;   /* blocks redone by sph__nsearch_in for the minimum image (tests read it) */
     int n_runs;       /* runs of sorted sources collected, not yet checked */
     sph_idx runs[2 * SPH__NS_RUNS];
+    sph_real image[SPH__NS_RUNS][3]; /* per run: w_a L_a, the sources seen at x_j + w L (w = -1, 0, 1) */
 } sph__probe;
 
 /* 1 when sorted source k meets criterion (N1)/(N2) for the target of p:
@@ -2520,13 +2522,15 @@ SPH_API int sph__nsearch_in(const sph_nsearch *g, const sph__probe *p, sph_idx k
 
 /* Bit k set when sorted source b + k (k < SPH__NS_BLOCK, b + k < k1) meets
  * the criterion, as sph__nsearch_in decides it. One loop without a branch
- * over a whole block (the padding beyond k1 is masked). Where r^2 without
- * the minimum image exceeds the smallest squared quarter period, some axis
- * difference may exceed its quarter, and the minimum image may need
- * sph_box_delta: such a block is redone by sph__nsearch_in. HV: R per
- * source (symmetric with per-source h); dim, HV constants once inlined. */
-SPH__INLINE unsigned sph__nsearch_mask(const sph_nsearch *g, const sph__probe *p, sph_idx b, sph_idx k1,
-                                       const int dim, const int HV)
+ * over a whole block (the padding beyond k1 is masked). The run's image
+ * offset s (eq. (N7)) gives d_a = (x_t - x_j) - s_a, bit for bit the value
+ * sph__nsearch_delta returns whenever |d_a| is at most the quarter period.
+ * Where r^2 exceeds the smallest squared quarter period that may not hold
+ * (a wrong image, or a box not much larger than the radius): such a block
+ * is redone by sph__nsearch_in. HV: R per source (symmetric with
+ * per-source h); dim, HV constants once inlined. */
+SPH__INLINE unsigned sph__nsearch_mask(const sph_nsearch *g, sph__probe *p, sph_idx b, sph_idx k1,
+                                       const sph_real *s, const int dim, const int HV)
 {
     const sph_real *x = g->x + b;
     const ptrdiff_t stride = g->n_padded;
@@ -2535,35 +2539,46 @@ SPH__INLINE unsigned sph__nsearch_mask(const sph_nsearch *g, const sph__probe *p
     for (k = 0; k < SPH__NS_BLOCK; ++k) {
         sph_real r2 = 0, R2 = p->R2;
         for (a = 0; a < dim; ++a) {
-            const sph_real d = p->xt[a] - x[a * stride + k];
+            const sph_real d = (p->xt[a] - x[a * stride + k]) - s[a];
             r2 += d * d;
         }
-        wide |= r2 > g->quarter2;
+        wide |= (r2 > g->quarter2) & (b + k < k1);
         if (HV) {
             const sph_real hj = g->h[b + k], R = p->kappa * (hj > p->hi ? hj : p->hi);
             R2 = R * R;
         }
         mask |= (unsigned)((r2 < R2) & (b + k < k1)) << k;
     }
-    if (wide)
+    if (wide) {
+        ++p->redone;
         for (mask = 0, k = 0; k < SPH__NS_BLOCK && b + k < k1; ++k)
             mask |= (unsigned)sph__nsearch_in(g, p, b + k, dim) << k;
+    }
     return mask;
 }
 
 #if SPH__NS_COMPRESS
+/* 8 doubles rounded to float (for SPH_REAL float). */
+SPH__INLINE __m512d sph__nsearch_round8(__m512d v)
+{
+    return _mm512_cvtps_pd(_mm512_cvtpd_ps(v));
+}
+
 /* sph__nsearch_mask in AVX-512 registers: r^2 of the 16 sources of a block,
- * as two vectors of 8 doubles (float positions are widened exactly). Their
- * rounding may differ from the scalar r^2 (contraction into fused
- * multiply-adds is the compiler's choice; with SPH_REAL float the scalar sum
- * is rounded to float), by at most a few ulp of sph_real for this sum of
- * three squares; a source within 16 ulp of R^2 is therefore decided by
- * sph__nsearch_in, and a block that needs
- * the minimum image (r^2 beyond the smallest squared quarter period) is
- * redone by the scalar mask, so the lists stay those of the scalar
- * criterion bit for bit. */
-SPH__INLINE unsigned sph__nsearch_mask16(const sph_nsearch *g, const sph__probe *p, sph_idx b, sph_idx k1,
-                                         const int dim, const int HV)
+ * as two vectors of 8 doubles. With double, d_a is the scalar value bit for
+ * bit. With float, positions are widened exactly, and d_a = x_t - x_j is
+ * exact, within half a float ulp of the scalar d_a; where an image offset
+ * is subtracted, x_t - x_j is first rounded to float as the scalar one is
+ * (unrounded, its error of half an ulp of the period would be many ulp of
+ * d_a). The sum of squares may round otherwise than the scalar r^2
+ * (contraction into fused multiply-adds is the compiler's choice; with
+ * SPH_REAL float the scalar sum is rounded to float), so r^2 differs from
+ * the scalar one by at most a few ulp of sph_real; a source within 16 ulp
+ * of R^2 is therefore decided by sph__nsearch_in, and a block beyond the
+ * smallest squared quarter period is redone by the scalar mask, so the
+ * lists stay those of the scalar criterion bit for bit. */
+SPH__INLINE unsigned sph__nsearch_mask16(const sph_nsearch *g, sph__probe *p, sph_idx b, sph_idx k1,
+                                         const sph_real *s, const int dim, const int HV)
 {
     const double eps = 16 * (sizeof(sph_real) == sizeof(float) ? (double)FLT_EPSILON : DBL_EPSILON);
     const ptrdiff_t stride = g->n_padded;
@@ -2577,7 +2592,9 @@ SPH__INLINE unsigned sph__nsearch_mask16(const sph_nsearch *g, const sph__probe 
         __m512d r2 = _mm512_setzero_pd(), R2 = _mm512_set1_pd((double)p->R2);
         __mmask8 in8;
         for (a = 0; a < dim; ++a) {
-            const __m512d d = _mm512_sub_pd(_mm512_set1_pd((double)p->xt[a]), sph__load8(x + a * stride));
+            __m512d d = _mm512_sub_pd(_mm512_set1_pd((double)p->xt[a]), sph__load8(x + a * stride));
+            if (sizeof(sph_real) == sizeof(float) && s[a] != 0) d = sph__nsearch_round8(d);
+            d = _mm512_sub_pd(d, _mm512_set1_pd((double)s[a]));
             r2 = _mm512_fmadd_pd(d, d, r2);
         }
         wide |= _mm512_mask_cmp_pd_mask(lv, r2, _mm512_set1_pd((double)g->quarter2), _CMP_GT_OQ);
@@ -2592,28 +2609,28 @@ SPH__INLINE unsigned sph__nsearch_mask16(const sph_nsearch *g, const sph__probe 
         near_edge |= (unsigned)(_mm512_mask_cmp_pd_mask(lv, r2, _mm512_mul_pd(R2, _mm512_set1_pd(1 + eps)), _CMP_LT_OQ) &
                                 (__mmask8)~in8) << (8 * half);
     }
-    if (wide) return sph__nsearch_mask(g, p, b, k1, dim, HV);
+    if (wide) return sph__nsearch_mask(g, p, b, k1, s, dim, HV);
     mask = in;
     for (k = 0; near_edge != 0; ++k, near_edge >>= 1)
         if (near_edge & 1u) mask |= (unsigned)sph__nsearch_in(g, p, b + k, dim) << k;
     return mask;
 }
-#define SPH__NSEARCH_MASK(g, p, b, k1, dim, HV) sph__nsearch_mask16(g, p, b, k1, dim, HV)
+#define SPH__NSEARCH_MASK(g, p, b, k1, s, dim, HV) sph__nsearch_mask16(g, p, b, k1, s, dim, HV)
 #else
-#define SPH__NSEARCH_MASK(g, p, b, k1, dim, HV) sph__nsearch_mask(g, p, b, k1, dim, HV)
+#define SPH__NSEARCH_MASK(g, p, b, k1, s, dim, HV) sph__nsearch_mask(g, p, b, k1, s, dim, HV)
 #endif
 
 /* Counts (p->seg NULL) or appends to the target's segment (never past its
  * end) the sorted sources k0..k1-1 that meet the criterion; returns the new
  * count. A block with room for all its sources in the segment stores them
  * all and keeps those inside, without a branch. */
-SPH__INLINE sph_off sph__nsearch_run_blocks(const sph_nsearch *g, const sph__probe *p, sph_idx k0, sph_idx k1,
-                                            sph_off m, const int dim, const int HV)
+SPH__INLINE sph_off sph__nsearch_run_blocks(const sph_nsearch *g, sph__probe *p, sph_idx k0, sph_idx k1,
+                                            const sph_real *s, sph_off m, const int dim, const int HV)
 {
     sph_idx b;
     int k;
     for (b = k0; b < k1; b += SPH__NS_BLOCK) {
-        const unsigned mask = SPH__NSEARCH_MASK(g, p, b, k1, dim, HV);
+        const unsigned mask = SPH__NSEARCH_MASK(g, p, b, k1, s, dim, HV);
         if (p->seg == NULL)
             for (k = 0; k < SPH__NS_BLOCK; ++k) m += (mask >> k) & 1u;
         else if (m + SPH__NS_BLOCK <= p->cap) {
@@ -2646,7 +2663,7 @@ SPH__INLINE void sph__nsearch_runs(const sph_nsearch *g, sph__probe *p, const in
     int r;
     for (r = 0; r < p->n_runs; ++r) {
         const sph_idx k0 = p->runs[2 * r], k1 = p->runs[2 * r + 1];
-        m = sph__nsearch_run_blocks(g, p, k0, k1, m, dim, HV);
+        m = sph__nsearch_run_blocks(g, p, k0, k1, p->image[r], m, dim, HV);
         checked += k1 - k0;
     }
     p->found = m;
@@ -2676,11 +2693,32 @@ SPH_API int sph__nsearch_room(const sph_nsearch *g, sph__probe *p, int nr, int r
     return 0;
 }
 
-/* One row of cells along axis 0 (cells ky, kz of axes 1, 2), radius^2 rem
- * left: its runs of sorted sources (one, or two where a periodic axis wraps)
- * into runs[]; returns how many. */
-SPH__INLINE int sph__nsearch_row(const sph_nsearch *g, const sph__probe *p, int ky, int kz, sph_real rem,
-                                 sph_idx *runs)
+/* Run r of the probe: sorted sources k0..k1-1, seen at the image offsets
+ * (sx, sy, sz) of eq. (N7). */
+SPH__INLINE void sph__nsearch_put(sph__probe *p, int r, sph_idx k0, sph_idx k1, sph_real sx, sph_real sy,
+                                  sph_real sz)
+{
+    p->runs[2 * r] = k0;
+    p->runs[2 * r + 1] = k1;
+    p->image[r][0] = sx;
+    p->image[r][1] = sy;
+    p->image[r][2] = sz;
+}
+
+/* Image offset along axis a of the cells of run r of span s: w L with w
+ * = shift / n, the periods the cells' geometric position lies from their
+ * own (0 on a full axis: every source is then taken at its own position
+ * and its block left to the minimum image of sph__nsearch_in). */
+SPH_API sph_real sph__nsearch_image(const sph_nsearch *g, int a, const sph__span *s, int r)
+{
+    return s->shift[r] == 0 ? 0 : s->shift[r] > 0 ? g->box.length[a] : -g->box.length[a];
+}
+
+/* One row of cells along axis 0 (cells ky, kz of axes 1, 2, image offsets
+ * sy, sz), radius^2 rem left: its runs of sorted sources (one, or two where
+ * a periodic axis wraps) into the probe from run nr on; returns how many. */
+SPH__INLINE int sph__nsearch_row(const sph_nsearch *g, sph__probe *p, int nr, int ky, int kz, sph_real sy,
+                                 sph_real sz, sph_real rem)
 {
     sph__span s;
     const sph_idx *cs = g->cell_start + g->n[0] * (ky + g->n[1] * kz);
@@ -2688,17 +2726,13 @@ SPH__INLINE int sph__nsearch_row(const sph_nsearch *g, const sph__probe *p, int 
                    k1 = sph__floor((p->t[0] + hw) * g->inv_w[0]);
     int r, n = 0;
     if (k0 >= 0 && k1 < (sph_real)g->n[0]) { /* inside the grid: one run, as sph__nsearch_span finds */
-        runs[0] = cs[(int)k0];
-        runs[1] = cs[(int)k1 + 1];
+        sph__nsearch_put(p, nr, cs[(int)k0], cs[(int)k1 + 1], 0, sy, sz);
         return 1;
     }
     sph__nsearch_span(g, 0, p->t[0], hw, &s);
     for (r = 0; r < s.count; ++r)
-        if (s.lo[r] <= s.hi[r]) {
-            runs[2 * n] = cs[s.lo[r]];
-            runs[2 * n + 1] = cs[s.hi[r] + 1];
-            ++n;
-        }
+        if (s.lo[r] <= s.hi[r])
+            sph__nsearch_put(p, nr + n++, cs[s.lo[r]], cs[s.hi[r] + 1], sph__nsearch_image(g, 0, &s, r), sy, sz);
     return n;
 }
 
@@ -2737,36 +2771,53 @@ SPH_API sph_real sph__nsearch_gap2(const sph_nsearch *g, int a, sph_real t, cons
 #define SPH__NS_REACH 4
 
 /* The rows of a target whose reach, E[a] cells either side of its cell
- * kc[a], lies inside the grid on every axis (no clamping, no wrapping): the
- * squared gaps to the cells kc + d are computed once per axis, and a row's x
- * run is the cells whose gap^2 fits in what is left of Rm^2, counted
- * without a square root, a floor or a branch. The cells are those of the
- * general path but for rounding in the last place, which the allowance in
- * Rm covers; every candidate is then checked exactly. */
+ * kc[a], lies inside the grid on every axis, or wraps round a periodic axis
+ * of at least 2 E[a] + 1 cells (each cell then comes once): the squared gaps
+ * to the geometric cells kc + d, their cells in the grid and their image
+ * offsets (eq. (N7)) are computed once per axis, and a row's x run is the
+ * cells whose gap^2 fits in what is left of Rm^2, counted without a square
+ * root, a floor or a branch. The cells are those of the general path but
+ * for rounding in the last place, which the allowance in Rm covers; every
+ * candidate is then checked exactly. Rows come in ascending cell order (a
+ * wrapped axis starts at its cell 0), so the lists of cell-sorted particles
+ * need no sort. */
 SPH__INLINE void sph__nsearch_interior(const sph_nsearch *g, sph__probe *p, sph_real Rm, const int *kc, const int *E)
 {
-    sph_real G[3][2 * SPH__NS_REACH + 1];
-    int a, d, dy, dz, nr = 0;
+    sph_real G[3][2 * SPH__NS_REACH + 1], S[3][2 * SPH__NS_REACH + 1];
+    int K[3][2 * SPH__NS_REACH + 1], first[3], a, i, d, iy, iz, nr = 0;
     for (a = 0; a < 3; ++a)
-        for (d = -E[a]; d <= E[a]; ++d) {
-            const sph_real gap = sph__nsearch_gap(g, a, p->t[a], kc[a] + d);
-            G[a][d + E[a]] = gap * gap;
+        for (first[a] = 0, i = 0; i <= 2 * E[a]; ++i) {
+            const int k = kc[a] - E[a] + i, w = k < 0 ? -1 : k >= g->n[a];
+            const sph_real gap = sph__nsearch_gap(g, a, p->t[a], k);
+            G[a][i] = gap * gap;
+            K[a][i] = k - w * g->n[a];
+            S[a][i] = w == 0 ? 0 : w > 0 ? g->box.length[a] : -g->box.length[a];
+            first[a] = K[a][i] == 0 ? i : first[a];
         }
-    for (dz = 0; dz <= 2 * E[2]; ++dz) {
+    for (iz = 0; iz <= 2 * E[2]; ++iz) {
+        const int dz = iz + first[2] - (iz + first[2] > 2 * E[2] ? 2 * E[2] + 1 : 0);
         const sph_real left_z = Rm * Rm - G[2][dz];
         if (left_z < 0) continue;
-        for (dy = 0; dy <= 2 * E[1]; ++dy) {
+        for (iy = 0; iy <= 2 * E[1]; ++iy) {
+            const int dy = iy + first[1] - (iy + first[1] > 2 * E[1] ? 2 * E[1] + 1 : 0);
             const sph_real left_y = left_z - G[1][dy];
-            const sph_idx *cs = g->cell_start + g->n[0] * (kc[1] - E[1] + dy + g->n[1] * (kc[2] - E[2] + dz));
+            const sph_idx *cs = g->cell_start + g->n[0] * (K[1][dy] + g->n[1] * K[2][dz]);
+            const int n0 = g->n[0];
             int k0 = kc[0], k1 = kc[0];
             if (left_y < 0) continue;
             for (d = 1; d <= E[0]; ++d) {
                 k0 -= G[0][E[0] - d] <= left_y;
                 k1 += G[0][E[0] + d] <= left_y;
             }
-            p->runs[2 * nr] = cs[k0];
-            p->runs[2 * nr + 1] = cs[k1 + 1];
-            nr = sph__nsearch_room(g, p, nr + 1, 1);
+            if (k0 >= 0 && k1 < n0)
+                sph__nsearch_put(p, nr++, cs[k0], cs[k1 + 1], 0, S[1][dy], S[2][dz]);
+            else { /* x wraps: the run from cell 0 first, then the one up to cell n0 - 1 */
+                sph__nsearch_put(p, nr++, cs[0], cs[(k1 < n0 ? k1 : k1 - n0) + 1],
+                                 k1 < n0 ? 0 : g->box.length[0], S[1][dy], S[2][dz]);
+                sph__nsearch_put(p, nr++, cs[k0 < 0 ? k0 + n0 : k0], cs[n0],
+                                 k0 < 0 ? -g->box.length[0] : 0, S[1][dy], S[2][dz]);
+            }
+            nr = sph__nsearch_room(g, p, nr, 2);
         }
     }
     p->n_runs = nr;
@@ -2788,7 +2839,9 @@ SPH_API void sph__nsearch_general(const sph_nsearch *g, sph__probe *p, sph_real 
                 for (ky = sy.lo[ry]; ky <= sy.hi[ry]; ++ky) {
                     sph_real left_y = left_z - sph__nsearch_gap2(g, 1, p->t[1], &sy, ry, ky);
                     if (left_y < 0) continue;
-                    nr = sph__nsearch_room(g, p, nr + sph__nsearch_row(g, p, ky, kz, left_y, p->runs + 2 * nr), 2);
+                    nr += sph__nsearch_row(g, p, nr, ky, kz, sph__nsearch_image(g, 1, &sy, ry),
+                                           sph__nsearch_image(g, 2, &sz, rz), left_y);
+                    nr = sph__nsearch_room(g, p, nr, 2);
                 }
         }
     p->n_runs = nr;
@@ -2818,12 +2871,14 @@ SPH_API void sph__nsearch_target(const sph_nsearch *g, sph__probe *p)
     }
     p->found = 0;
     p->checked = 0;
+    p->redone = 0;
     p->n_runs = 0;
     for (a = 0; a < g->dim; ++a) { /* axes beyond dim: one cell, reach 0 */
         const sph_real reach = sph__floor(Rm * g->inv_w[a]) + 1;
         kc[a] = sph__nsearch_cell(g, a, p->t[a]);
         E[a] = reach <= SPH__NS_REACH ? (int)reach : -1;
-        inside &= E[a] >= 0 && kc[a] - E[a] >= 0 && kc[a] + E[a] < g->n[a];
+        inside &= E[a] >= 0 && ((kc[a] - E[a] >= 0 && kc[a] + E[a] < g->n[a]) ||
+                                (g->box.periodic[a] && 2 * E[a] + 1 <= g->n[a]));
     }
     if (inside)
         sph__nsearch_interior(g, p, Rm, kc, E);
@@ -3012,18 +3067,20 @@ SPH_API void sph__nsearch_probe(const sph_nsearch *g, sph_view xt, sph_view ht, 
 
 /* Runs the search for every target: counts into count[i + 1] (when count
  * != NULL), fills index (when index != NULL, segments given by offset),
- * sums pairs and candidates. Returns SPH_EINVAL when a target's count differs
- * from its segment. Parallel over targets under OpenMP, same result. */
+ * sums into stats (when not NULL) the pairs, the candidates checked and the
+ * blocks redone for the minimum image. Returns SPH_EINVAL when a target's
+ * count differs from its segment. Parallel over targets under OpenMP, same
+ * result. */
 SPH_API int sph__nsearch_run(const sph_nsearch *g, sph_view xt, sph_idx nt, sph_view ht,
                              sph_real h, sph_real kappa, int mode, sph_off *count,
-                             const sph_off *offset, sph_idx *index, sph_off *pairs,
-                             sph_off *candidates)
+                             const sph_off *offset, sph_idx *index, sph_off *stats)
 {
-    sph_off sum_pairs = 0, sum_checked = 0;
+    sph_off sum_pairs = 0, sum_checked = 0, sum_redone = 0;
     int bad = 0;
     sph_idx i;
 #ifdef _OPENMP
-#pragma omp parallel for schedule(dynamic, 64) if (nt >= 512) reduction(+ : sum_pairs, sum_checked) reduction(| : bad)
+#pragma omp parallel for schedule(dynamic, 64) if (nt >= 512) reduction(+ : sum_pairs, sum_checked, sum_redone) \
+    reduction(| : bad)
 #endif
     for (i = 0; i < nt; ++i) {
         sph__probe p;
@@ -3035,9 +3092,13 @@ SPH_API int sph__nsearch_run(const sph_nsearch *g, sph_view xt, sph_idx nt, sph_
         if (index != NULL) bad |= p.found != p.cap;
         sum_pairs += p.found;
         sum_checked += p.checked;
+        sum_redone += p.redone;
     }
-    if (pairs != NULL) *pairs = sum_pairs;
-    if (candidates != NULL) *candidates = sum_checked;
+    if (stats != NULL) {
+        stats[0] = sum_pairs;
+        stats[1] = sum_checked;
+        stats[2] = sum_redone;
+    }
     return bad ? SPH_EINVAL : SPH_OK;
 }
 
@@ -3051,7 +3112,7 @@ SPH_API int sph_nsearch_count(const sph_nsearch *g, sph_view xt, sph_idx n_targe
     if (st != SPH_OK) return st;
     if (offset == NULL) return SPH_ENULL;
     offset[0] = 0;
-    sph__nsearch_run(g, xt, n_targets, ht, h, kappa, mode, offset, NULL, NULL, NULL, NULL);
+    sph__nsearch_run(g, xt, n_targets, ht, h, kappa, mode, offset, NULL, NULL, NULL);
     for (i = 0; i < n_targets; ++i) offset[i + 1] += offset[i];
     return SPH_OK;
 }
@@ -3074,7 +3135,7 @@ SPH_API int sph_nsearch_fill(const sph_nsearch *g, sph_view xt, sph_idx n_target
     if (offset[n_targets] > capacity) return SPH_ESIZE;
     if (index == NULL && offset[n_targets] > 0) return SPH_ENULL;
     if (n_targets == 0 || index == NULL) return SPH_OK;
-    return sph__nsearch_run(g, xt, n_targets, ht, h, kappa, mode, NULL, offset, index, NULL, NULL);
+    return sph__nsearch_run(g, xt, n_targets, ht, h, kappa, mode, NULL, offset, index, NULL);
 }
 
 /* Targets lo..hi-1 of sph_nsearch_lists into index[s0 .. s1-1] one after
@@ -3152,7 +3213,7 @@ SPH_API int sph_nsearch_lists(const sph_nsearch *g, sph_view xt, sph_idx n_targe
     }
     if (b < nb) /* from the first block that outgrew its share: a fill pass over the rest */
         return sph__nsearch_run(g, sph__ns_tail(xt, g->dim, lo[b]), n_targets - lo[b], sph__ns_tail(ht, 1, lo[b]),
-                                h, kappa, mode, NULL, offset + lo[b], index, NULL, NULL);
+                                h, kappa, mode, NULL, offset + lo[b], index, NULL);
     return SPH_OK;
 }
 
@@ -3161,10 +3222,14 @@ SPH_API int sph_nsearch_lists(const sph_nsearch *g, sph_view xt, sph_idx n_targe
 SPH_API int sph_nsearch_stats(const sph_nsearch *g, sph_view xt, sph_idx n_targets, sph_view ht,
                               sph_real h, sph_real kappa, int mode, sph_off *pairs, sph_off *candidates)
 {
+    sph_off stats[3];
     int st = sph__nsearch_check(g, xt, n_targets, ht, h, kappa, mode);
     if (st != SPH_OK) return st;
     if (pairs == NULL || candidates == NULL) return SPH_ENULL;
-    return sph__nsearch_run(g, xt, n_targets, ht, h, kappa, mode, NULL, NULL, NULL, pairs, candidates);
+    sph__nsearch_run(g, xt, n_targets, ht, h, kappa, mode, NULL, NULL, NULL, stats);
+    *pairs = stats[0];
+    *candidates = stats[1];
+    return SPH_OK;
 }
 
 /* The sph_neighbours view (CSR, section 4) of arrays filled by sph_nsearch_count / _fill. */

@@ -751,6 +751,127 @@ static void test_candidate_ratio(void)
     free(x);
 }
 
+/* Redone blocks (stats[2] of sph__nsearch_run) of the search for p. */
+static long nb_redone(const nb_problem *p)
+{
+    sph_view v = sph_view_interleaved(p->xs, 3);
+    sph_view hv = sph_view_soa(p->hs, NULL, NULL);
+    sph_off stats[3] = {-1, -1, -1};
+    size_t bytes = 0;
+    sph_nsearch g;
+    void *work;
+    int st = sph_nsearch_workspace_size(p->dim, v, p->ns, hv, p->cell, p->box, &bytes);
+    work = malloc(bytes);
+    st |= sph_nsearch_build(&g, p->dim, v, p->ns, hv, p->cell, p->box, work, bytes);
+    st |= sph__nsearch_run(&g, v, p->ns, hv, p->h, p->kappa, p->mode, NULL, NULL, NULL, stats);
+    TH_CHECK(st == SPH_OK, "status %d", st);
+    free(work);
+    return (long)stats[2];
+}
+
+/* Periodic images (eq. (N5)): with every particle inside the box, each run
+ * of candidates is checked at the image that holds its sources, wrapped
+ * rows of the interior path and clamped or wrapped rows of the general path
+ * alike, so no block is redone by the scalar minimum image. A run checked at
+ * a wrong image still gives the right list (through that redo, only slower),
+ * so the lists cannot show it: the count of redone blocks does. Sources
+ * moved one period out of the box need the redo, and are counted. Perturbed
+ * lattices in 1-3-D, every axis periodic or the last one not, cells of R/2
+ * and R/3, gather with uniform h and symmetric with per-source h. The redo
+ * is decided on r^2 against (L/4)^2, and with cells of R/2 candidates lie up
+ * to ~1.9 R away: the box must be more than ~7.5 R across for no block to
+ * need it, hence 30 neighbours in 3-D (L = 8.3 R). */
+static void test_images(void)
+{
+    int dim, open_last, c, sym;
+    for (dim = 1; dim <= 3; ++dim)
+        for (open_last = 0; open_last < (dim > 1 ? 2 : 1); ++open_last)
+            for (c = 1; c <= 2; ++c)
+                for (sym = 0; sym < 2; ++sym) {
+                    const int side = dim == 1 ? 200 : dim == 2 ? 40 : 16, n = tp_lattice_count(dim, side);
+                    const double dx = 1.0 / side, nbrs = dim == 1 ? 8 : dim == 2 ? 20 : 30;
+                    /* R = kappa h holding nbrs neighbours on average */
+                    const double R = dim == 1 ? nbrs * dx / 2
+                                   : dim == 2 ? sqrt(nbrs / 3.14159265358979) * dx
+                                              : cbrt(nbrs * 3 / (4 * 3.14159265358979)) * dx;
+                    sph_real *x = nb_alloc(n), *h = (sph_real *)malloc(sizeof(sph_real) * (size_t)n);
+                    sph_box box = nb_box(!(open_last && dim == 1), !(open_last && dim == 2), !(open_last && dim == 3), 1.0);
+                    tp_rng rng = {(uint64_t)(1000 + 100 * dim + 10 * open_last + 2 * c + sym)};
+                    nb_problem p;
+                    long redone;
+                    int i;
+                    tp_lattice(dim, side, dx, x);
+                    tp_perturb(dim, n, 0.25 * dx, &rng, x);
+                    for (i = 0; i < n; ++i) h[i] = (sph_real)(R / 2 * tp_range(&rng, 0.8, 1.0));
+                    p = nb_make(dim, x, n, (sph_real)(R / 2), 2, (sph_real)(nb_cells[c] * R));
+                    p.box = &box;
+                    if (sym) {
+                        p.mode = SPH_NSEARCH_SYMMETRIC;
+                        p.hs = h;
+                        p.ht = h;
+                    }
+                    th_begin("images %dD, %s, cells of R/%d, %s: no block redone inside the box, list equals brute "
+                             "force", dim, open_last ? "last axis open" : "periodic", c + 1,
+                             sym ? "symmetric, per-particle h" : "gather");
+                    nb_compare(&p);
+                    redone = nb_redone(&p);
+                    TH_CHECK(redone == 0, "%ld blocks redone", redone);
+                    th_end();
+                    for (i = 0; i < n; i += 5) x[3 * i] += 1; /* one period out along x */
+                    th_begin("images %dD, %s, cells of R/%d, %s: sources out of the box, blocks redone, list "
+                             "equals brute force", dim, open_last ? "last axis open" : "periodic", c + 1,
+                             sym ? "symmetric, per-particle h" : "gather");
+                    nb_compare(&p);
+                    TH_CHECK(nb_redone(&p) > 0, "no block redone");
+                    th_end();
+                    free(x);
+                    free(h);
+                }
+}
+
+/* Rounding across the period: targets just above x = 0 and sources just
+ * below x = L, each target's R a hair above (even i) or below (odd i) its
+ * distance to one source through the face, as the brute force computes it
+ * (sph_box_delta of x_t - x_j in sph_real). Pairs so short next to L make
+ * the rounding of x_t - x_j, half an ulp of L, many ulp of r^2 in float: a
+ * check that took the difference unrounded before subtracting the period
+ * decides some of these pairs otherwise. Cells of L/12: the interior path
+ * wraps round every axis. */
+static void test_image_rounding(void)
+{
+    int dim;
+    for (dim = 1; dim <= 3; ++dim) {
+        enum { N = 600 };
+        sph_real *x = nb_alloc(N), *h = (sph_real *)malloc(sizeof(sph_real) * N);
+        sph_box box = nb_box(1, 1, 1, 1.0);
+        tp_rng rng = {(uint64_t)(500 + dim)};
+        nb_problem p;
+        int i, a;
+        for (i = 0; i < N; ++i)
+            for (a = 0; a < dim; ++a)
+                x[3 * i + a] = (sph_real)(a > 0 ? tp_range(&rng, 0.4, 0.41)
+                                          : i % 2 ? tp_range(&rng, 0.985, 1.0) : tp_range(&rng, 0, 0.015));
+        for (i = 0; i < N; ++i) { /* source j: an odd particle, across the face from an even i */
+            const int j = 2 * (int)(tp_uniform(&rng) * (N / 2)) + 1 - i % 2;
+            const sph_real r2 = tp_r2(dim, x + 3 * i, x + 3 * j, &box);
+            sph_real R = (sph_real)sqrt((double)r2);
+            if (i % 2 == 0)
+                while (R * R <= r2) R = nb_next(R, 1e9);
+            else
+                while (R * R >= r2) R = nb_next(R, -1e9);
+            h[i] = R;
+        }
+        p = nb_make(dim, x, N, 0, 1, (sph_real)(1.0 / 12));
+        p.ht = h;
+        p.box = &box;
+        th_begin("pairs through the periodic face %dD, radii a hair above and below: list equals brute force", dim);
+        nb_compare(&p);
+        th_end();
+        free(x);
+        free(h);
+    }
+}
+
 /* OpenMP: the lists built with 1 and 2 threads are the same arrays. */
 static void test_threads(void)
 {
@@ -827,6 +948,8 @@ int main(void)
     test_permutation();
     test_errors();
     test_candidate_ratio();
+    test_images();
+    test_image_rounding();
     test_threads();
     test_lists_blocks();
     return th_summary();
