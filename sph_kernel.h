@@ -2289,8 +2289,9 @@ SPH_API int sph_check_field(sph_view f, int ncomp, sph_idx n, sph_idx *first_bad
  * x row of cells at a time as one contiguous run of sorted sources (two where
  * a periodic axis wraps), then sorts its list. With cells of R/2 that is about
  * 2.5 candidate checks per neighbour in 3-D (docs/neighbours.md). A target
- * whose reach lies inside the grid finds its rows from squared cell gaps
- * computed once per axis. Runs are checked in branch-free blocks of 8
+ * whose reach lies inside the grid, or wraps round a periodic axis, finds
+ * its rows from squared cell gaps computed once per axis; each run carries
+ * its periodic image offset. Runs are checked in branch-free blocks of 8
  * sources (16, two vectors, with AVX-512). Count, fill and lists run in
  * parallel over targets under OpenMP.
  *
