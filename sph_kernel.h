@@ -2504,8 +2504,22 @@ typedef struct {
     sph_off redone;   /* blocks redone by sph__nsearch_in for the minimum image (tests read it) */
     int n_runs;       /* runs of sorted sources collected, not yet checked */
     sph_idx runs[2 * SPH__NS_RUNS];
-    sph_real image[SPH__NS_RUNS][3]; /* per run: w_a L_a, the sources seen at x_j + w L (w = -1, 0, 1) */
+    int image[SPH__NS_RUNS]; /* per run: the sources are seen at x_j + w L, eq. (N7): sph__ns_image */
 } sph__probe;
+
+/* Image code of w = -1, 0, 1 periods along axis a: 2 bits per axis, 0 for
+ * none, so that a run without any image has code 0. */
+SPH_API int sph__ns_image(int w, int a) { return (w > 0 ? 1 : w < 0 ? 2 : 0) << (2 * a); }
+
+/* The image offsets s_a = w_a L_a of eq. (N7) of an image code. */
+SPH_API void sph__ns_offsets(const sph_nsearch *g, int code, sph_real *s)
+{
+    int a;
+    for (a = 0; a < 3; ++a) {
+        const int c = (code >> (2 * a)) & 3;
+        s[a] = c == 0 ? 0 : c == 1 ? g->box.length[a] : -g->box.length[a];
+    }
+}
 
 /* 1 when sorted source k meets criterion (N1)/(N2) for the target of p:
  * r_ij^2 of eq. (N3), summed in axis order, against R^2 = (kappa h)^2. */
@@ -2524,14 +2538,14 @@ SPH_API int sph__nsearch_in(const sph_nsearch *g, const sph__probe *p, sph_idx k
 /* Bit k set when sorted source b + k (k < SPH__NS_BLOCK, b + k < k1) meets
  * the criterion, as sph__nsearch_in decides it. One loop without a branch
  * over a whole block (the padding beyond k1 is masked). The run's image
- * offset s (eq. (N7)) gives d_a = (x_t - x_j) - s_a, bit for bit the value
+ * offset s (eq. (N7), IMG: a run with one) gives d_a = (x_t - x_j) - s_a, bit for bit the value
  * sph__nsearch_delta returns whenever |d_a| is at most the quarter period.
  * Where r^2 exceeds the smallest squared quarter period that may not hold
  * (a wrong image, or a box not much larger than the radius): such a block
  * is redone by sph__nsearch_in. HV: R per source (symmetric with
  * per-source h); dim, HV constants once inlined. */
 SPH__INLINE unsigned sph__nsearch_mask(const sph_nsearch *g, sph__probe *p, sph_idx b, sph_idx k1,
-                                       const sph_real *s, const int dim, const int HV)
+                                       const sph_real *s, const int dim, const int HV, const int IMG)
 {
     const sph_real *x = g->x + b;
     const ptrdiff_t stride = g->n_padded;
@@ -2540,7 +2554,7 @@ SPH__INLINE unsigned sph__nsearch_mask(const sph_nsearch *g, sph__probe *p, sph_
     for (k = 0; k < SPH__NS_BLOCK; ++k) {
         sph_real r2 = 0, R2 = p->R2;
         for (a = 0; a < dim; ++a) {
-            const sph_real d = (p->xt[a] - x[a * stride + k]) - s[a];
+            const sph_real d = IMG ? (p->xt[a] - x[a * stride + k]) - s[a] : p->xt[a] - x[a * stride + k];
             r2 += d * d;
         }
         wide |= (r2 > g->quarter2) & (b + k < k1);
@@ -2579,7 +2593,7 @@ SPH__INLINE __m512d sph__nsearch_round8(__m512d v)
  * smallest squared quarter period is redone by the scalar mask, so the
  * lists stay those of the scalar criterion bit for bit. */
 SPH__INLINE unsigned sph__nsearch_mask16(const sph_nsearch *g, sph__probe *p, sph_idx b, sph_idx k1,
-                                         const sph_real *s, const int dim, const int HV)
+                                         const sph_real *s, const int dim, const int HV, const int IMG)
 {
     const double eps = 16 * (sizeof(sph_real) == sizeof(float) ? (double)FLT_EPSILON : DBL_EPSILON);
     const ptrdiff_t stride = g->n_padded;
@@ -2594,8 +2608,8 @@ SPH__INLINE unsigned sph__nsearch_mask16(const sph_nsearch *g, sph__probe *p, sp
         __mmask8 in8;
         for (a = 0; a < dim; ++a) {
             __m512d d = _mm512_sub_pd(_mm512_set1_pd((double)p->xt[a]), sph__load8(x + a * stride));
-            if (sizeof(sph_real) == sizeof(float) && s[a] != 0) d = sph__nsearch_round8(d);
-            d = _mm512_sub_pd(d, _mm512_set1_pd((double)s[a]));
+            if (IMG && sizeof(sph_real) == sizeof(float) && s[a] != 0) d = sph__nsearch_round8(d);
+            if (IMG) d = _mm512_sub_pd(d, _mm512_set1_pd((double)s[a]));
             r2 = _mm512_fmadd_pd(d, d, r2);
         }
         wide |= _mm512_mask_cmp_pd_mask(lv, r2, _mm512_set1_pd((double)g->quarter2), _CMP_GT_OQ);
@@ -2610,15 +2624,15 @@ SPH__INLINE unsigned sph__nsearch_mask16(const sph_nsearch *g, sph__probe *p, sp
         near_edge |= (unsigned)(_mm512_mask_cmp_pd_mask(lv, r2, _mm512_mul_pd(R2, _mm512_set1_pd(1 + eps)), _CMP_LT_OQ) &
                                 (__mmask8)~in8) << (8 * half);
     }
-    if (wide) return sph__nsearch_mask(g, p, b, k1, s, dim, HV);
+    if (wide) return sph__nsearch_mask(g, p, b, k1, s, dim, HV, IMG);
     mask = in;
     for (k = 0; near_edge != 0; ++k, near_edge >>= 1)
         if (near_edge & 1u) mask |= (unsigned)sph__nsearch_in(g, p, b + k, dim) << k;
     return mask;
 }
-#define SPH__NSEARCH_MASK(g, p, b, k1, s, dim, HV) sph__nsearch_mask16(g, p, b, k1, s, dim, HV)
+#define SPH__NSEARCH_MASK(g, p, b, k1, s, dim, HV, IMG) sph__nsearch_mask16(g, p, b, k1, s, dim, HV, IMG)
 #else
-#define SPH__NSEARCH_MASK(g, p, b, k1, s, dim, HV) sph__nsearch_mask(g, p, b, k1, s, dim, HV)
+#define SPH__NSEARCH_MASK(g, p, b, k1, s, dim, HV, IMG) sph__nsearch_mask(g, p, b, k1, s, dim, HV, IMG)
 #endif
 
 /* Counts (p->seg NULL) or appends to the target's segment (never past its
@@ -2626,12 +2640,13 @@ SPH__INLINE unsigned sph__nsearch_mask16(const sph_nsearch *g, sph__probe *p, sp
  * count. A block with room for all its sources in the segment stores them
  * all and keeps those inside, without a branch. */
 SPH__INLINE sph_off sph__nsearch_run_blocks(const sph_nsearch *g, sph__probe *p, sph_idx k0, sph_idx k1,
-                                            const sph_real *s, sph_off m, const int dim, const int HV)
+                                            const sph_real *s, sph_off m, const int dim, const int HV,
+                                            const int IMG)
 {
     sph_idx b;
     int k;
     for (b = k0; b < k1; b += SPH__NS_BLOCK) {
-        const unsigned mask = SPH__NSEARCH_MASK(g, p, b, k1, s, dim, HV);
+        const unsigned mask = SPH__NSEARCH_MASK(g, p, b, k1, s, dim, HV, IMG);
         if (p->seg == NULL)
             for (k = 0; k < SPH__NS_BLOCK; ++k) m += (mask >> k) & 1u;
         else if (m + SPH__NS_BLOCK <= p->cap) {
@@ -2657,14 +2672,21 @@ SPH__INLINE sph_off sph__nsearch_run_blocks(const sph_nsearch *g, sph__probe *p,
 }
 
 /* Checks the collected runs of sorted sources: counts them or appends them.
- * The count stays in a register across the runs; dim and HV are constants. */
+ * The count stays in a register across the runs; dim and HV are constants,
+ * and runs without an image offset (most) skip its subtraction. */
 SPH__INLINE void sph__nsearch_runs(const sph_nsearch *g, sph__probe *p, const int dim, const int HV)
 {
     sph_off m = p->found, checked = 0;
+    sph_real s[3] = {0, 0, 0};
     int r;
     for (r = 0; r < p->n_runs; ++r) {
         const sph_idx k0 = p->runs[2 * r], k1 = p->runs[2 * r + 1];
-        m = sph__nsearch_run_blocks(g, p, k0, k1, p->image[r], m, dim, HV);
+        if (p->image[r] == 0)
+            m = sph__nsearch_run_blocks(g, p, k0, k1, s, m, dim, HV, 0);
+        else {
+            sph__ns_offsets(g, p->image[r], s);
+            m = sph__nsearch_run_blocks(g, p, k0, k1, s, m, dim, HV, 1);
+        }
         checked += k1 - k0;
     }
     p->found = m;
@@ -2694,32 +2716,27 @@ SPH_API int sph__nsearch_room(const sph_nsearch *g, sph__probe *p, int nr, int r
     return 0;
 }
 
-/* Run r of the probe: sorted sources k0..k1-1, seen at the image offsets
- * (sx, sy, sz) of eq. (N7). */
-SPH__INLINE void sph__nsearch_put(sph__probe *p, int r, sph_idx k0, sph_idx k1, sph_real sx, sph_real sy,
-                                  sph_real sz)
+/* Run r of the probe: sorted sources k0..k1-1, seen at the image of code
+ * img (sph__ns_image). */
+SPH__INLINE void sph__nsearch_put(sph__probe *p, int r, sph_idx k0, sph_idx k1, int img)
 {
     p->runs[2 * r] = k0;
     p->runs[2 * r + 1] = k1;
-    p->image[r][0] = sx;
-    p->image[r][1] = sy;
-    p->image[r][2] = sz;
+    p->image[r] = img;
 }
 
-/* Image offset along axis a of the cells of run r of span s: w L with w
- * = shift / n, the periods the cells' geometric position lies from their
- * own (0 on a full axis: every source is then taken at its own position
- * and its block left to the minimum image of sph__nsearch_in). */
-SPH_API sph_real sph__nsearch_image(const sph_nsearch *g, int a, const sph__span *s, int r)
-{
-    return s->shift[r] == 0 ? 0 : s->shift[r] > 0 ? g->box.length[a] : -g->box.length[a];
-}
+/* Image code along axis a of the cells of run r of span s: w = shift / n,
+ * the periods the cells' geometric position lies from their own (0 on a
+ * full axis: every source is then taken at its own position and its block
+ * left to the minimum image of sph__nsearch_in). */
+SPH_API int sph__nsearch_image(int a, const sph__span *s, int r) { return sph__ns_image(s->shift[r], a); }
 
-/* One row of cells along axis 0 (cells ky, kz of axes 1, 2, image offsets
- * sy, sz), radius^2 rem left: its runs of sorted sources (one, or two where
- * a periodic axis wraps) into the probe from run nr on; returns how many. */
-SPH__INLINE int sph__nsearch_row(const sph_nsearch *g, sph__probe *p, int nr, int ky, int kz, sph_real sy,
-                                 sph_real sz, sph_real rem)
+/* One row of cells along axis 0 (cells ky, kz of axes 1, 2, image code
+ * img of theirs), radius^2 rem left: its runs of sorted sources (one, or two
+ * where a periodic axis wraps) into the probe from run nr on; returns how
+ * many. */
+SPH__INLINE int sph__nsearch_row(const sph_nsearch *g, sph__probe *p, int nr, int ky, int kz, int img,
+                                 sph_real rem)
 {
     sph__span s;
     const sph_idx *cs = g->cell_start + g->n[0] * (ky + g->n[1] * kz);
@@ -2727,13 +2744,13 @@ SPH__INLINE int sph__nsearch_row(const sph_nsearch *g, sph__probe *p, int nr, in
                    k1 = sph__floor((p->t[0] + hw) * g->inv_w[0]);
     int r, n = 0;
     if (k0 >= 0 && k1 < (sph_real)g->n[0]) { /* inside the grid: one run, as sph__nsearch_span finds */
-        sph__nsearch_put(p, nr, cs[(int)k0], cs[(int)k1 + 1], 0, sy, sz);
+        sph__nsearch_put(p, nr, cs[(int)k0], cs[(int)k1 + 1], img);
         return 1;
     }
     sph__nsearch_span(g, 0, p->t[0], hw, &s);
     for (r = 0; r < s.count; ++r)
         if (s.lo[r] <= s.hi[r])
-            sph__nsearch_put(p, nr + n++, cs[s.lo[r]], cs[s.hi[r] + 1], sph__nsearch_image(g, 0, &s, r), sy, sz);
+            sph__nsearch_put(p, nr + n++, cs[s.lo[r]], cs[s.hi[r] + 1], img | sph__nsearch_image(0, &s, r));
     return n;
 }
 
@@ -2771,29 +2788,34 @@ SPH_API sph_real sph__nsearch_gap2(const sph_nsearch *g, int a, sph_real t, cons
  * interior path of sph__nsearch_target (cells of R/2: 3). */
 #define SPH__NS_REACH 4
 
-/* The rows of a target whose reach, E[a] cells either side of its cell
- * kc[a], lies inside the grid on every axis, or wraps round a periodic axis
- * of at least 2 E[a] + 1 cells (each cell then comes once): the squared gaps
- * to the geometric cells kc + d, their cells in the grid and their image
- * offsets (eq. (N7)) are computed once per axis, and a row's x run is the
- * cells whose gap^2 fits in what is left of Rm^2, counted without a square
- * root, a floor or a branch. The cells are those of the general path but
- * for rounding in the last place, which the allowance in Rm covers; every
- * candidate is then checked exactly. Rows come in ascending cell order (a
- * wrapped axis starts at its cell 0), so the lists of cell-sorted particles
- * need no sort. */
-SPH__INLINE void sph__nsearch_interior(const sph_nsearch *g, sph__probe *p, sph_real Rm, const int *kc, const int *E)
+/* The rows of a target whose reach spans E[a] cells either side of its
+ * cell kc[a] (at most SPH__NS_REACH; a periodic axis needs at least
+ * 2 E[a] + 1 cells, so that each comes once): for the geometric cells
+ * kc + d, the squared gaps, their cells in the grid and their image offsets
+ * (eq. (N7)) are computed once per axis; a cell beyond the grid on an axis
+ * without a period gets an infinite gap. A row's x run is the cells whose
+ * gap^2 fits in what is left of Rm^2, counted without a square root, a
+ * floor or a branch (the gaps grow away from kc, so the count is a run).
+ * The cells are those of the general path but for rounding in the last
+ * place, which the allowance in Rm covers; every candidate is then checked
+ * exactly. Rows come in ascending cell order (a wrapped axis starts at its
+ * cell 0), so the lists of cell-sorted particles need no sort. EDGE (a
+ * constant): some cell kc + d lies beyond the grid; without, the cells are
+ * kc + d themselves (the usual case, kept free of the work of edges). */
+SPH__INLINE void sph__nsearch_interior(const sph_nsearch *g, sph__probe *p, sph_real Rm, const int *kc, const int *E,
+                                       const int EDGE)
 {
-    sph_real G[3][2 * SPH__NS_REACH + 1], S[3][2 * SPH__NS_REACH + 1];
-    int K[3][2 * SPH__NS_REACH + 1], first[3], a, i, d, iy, iz, nr = 0;
+    sph_real G[3][2 * SPH__NS_REACH + 1];
+    int K[3][2 * SPH__NS_REACH + 1], C[3][2 * SPH__NS_REACH + 1], first[3] = {0, 0, 0}, a, i, d, iy, iz, nr = 0;
     for (a = 0; a < 3; ++a)
-        for (first[a] = 0, i = 0; i <= 2 * E[a]; ++i) {
-            const int k = kc[a] - E[a] + i, w = k < 0 ? -1 : k >= g->n[a];
+        for (i = 0; i <= 2 * E[a]; ++i) {
+            const int k = kc[a] - E[a] + i, per = EDGE && g->box.periodic[a] && a < g->dim;
+            const int w = per ? (k < 0 ? -1 : k >= g->n[a]) : 0, in = !EDGE || per || (k >= 0 && k < g->n[a]);
             const sph_real gap = sph__nsearch_gap(g, a, p->t[a], k);
-            G[a][i] = gap * gap;
-            K[a][i] = k - w * g->n[a];
-            S[a][i] = w == 0 ? 0 : w > 0 ? g->box.length[a] : -g->box.length[a];
-            first[a] = K[a][i] == 0 ? i : first[a];
+            G[a][i] = in ? gap * gap : SPH__REAL_MAX;
+            K[a][i] = in ? k - w * g->n[a] : 0;
+            C[a][i] = sph__ns_image(w, a);
+            if (EDGE) first[a] = in && K[a][i] == 0 ? i : first[a];
         }
     for (iz = 0; iz <= 2 * E[2]; ++iz) {
         const int dz = iz + first[2] - (iz + first[2] > 2 * E[2] ? 2 * E[2] + 1 : 0);
@@ -2810,13 +2832,13 @@ SPH__INLINE void sph__nsearch_interior(const sph_nsearch *g, sph__probe *p, sph_
                 k0 -= G[0][E[0] - d] <= left_y;
                 k1 += G[0][E[0] + d] <= left_y;
             }
-            if (k0 >= 0 && k1 < n0)
-                sph__nsearch_put(p, nr++, cs[k0], cs[k1 + 1], 0, S[1][dy], S[2][dz]);
+            if (!EDGE || (k0 >= 0 && k1 < n0))
+                sph__nsearch_put(p, nr++, cs[k0], cs[k1 + 1], C[1][dy] | C[2][dz]);
             else { /* x wraps: the run from cell 0 first, then the one up to cell n0 - 1 */
                 sph__nsearch_put(p, nr++, cs[0], cs[(k1 < n0 ? k1 : k1 - n0) + 1],
-                                 k1 < n0 ? 0 : g->box.length[0], S[1][dy], S[2][dz]);
+                                 sph__ns_image(k1 >= n0, 0) | C[1][dy] | C[2][dz]);
                 sph__nsearch_put(p, nr++, cs[k0 < 0 ? k0 + n0 : k0], cs[n0],
-                                 k0 < 0 ? -g->box.length[0] : 0, S[1][dy], S[2][dz]);
+                                 sph__ns_image(-(k0 < 0), 0) | C[1][dy] | C[2][dz]);
             }
             nr = sph__nsearch_room(g, p, nr, 2);
         }
@@ -2840,8 +2862,8 @@ SPH_API void sph__nsearch_general(const sph_nsearch *g, sph__probe *p, sph_real 
                 for (ky = sy.lo[ry]; ky <= sy.hi[ry]; ++ky) {
                     sph_real left_y = left_z - sph__nsearch_gap2(g, 1, p->t[1], &sy, ry, ky);
                     if (left_y < 0) continue;
-                    nr += sph__nsearch_row(g, p, nr, ky, kz, sph__nsearch_image(g, 1, &sy, ry),
-                                           sph__nsearch_image(g, 2, &sz, rz), left_y);
+                    nr += sph__nsearch_row(g, p, nr, ky, kz,
+                                           sph__nsearch_image(1, &sy, ry) | sph__nsearch_image(2, &sz, rz), left_y);
                     nr = sph__nsearch_room(g, p, nr, 2);
                 }
         }
@@ -2851,13 +2873,14 @@ SPH_API void sph__nsearch_general(const sph_nsearch *g, sph__probe *p, sph_real 
 /* Searches one target (found, checked, and seg when filling): the cells
  * whose nearest point lies within the search radius, layer by layer (z, y),
  * each x row as one or two runs of sorted sources; the interior path where
- * the target's reach lies inside the grid on every axis. */
+ * the target's reach is at most SPH__NS_REACH cells on every axis and each
+ * periodic axis has room for it, else the general path. */
 SPH_API void sph__nsearch_target(const sph_nsearch *g, sph__probe *p)
 {
     sph_real hmax = g->h != NULL ? g->h_max : p->hu;
     sph_real Rs = p->kappa * (p->symmetric && hmax > p->hi ? hmax : p->hi);
     sph_real Rm, far = 0;
-    int a, kc[3] = {0, 0, 0}, E[3] = {0, 0, 0}, inside = 1;
+    int a, kc[3] = {0, 0, 0}, E[3] = {0, 0, 0}, inside = 1, edge = 0;
     for (a = 0; a < 3; ++a) {
         p->t[a] = a < g->dim ? sph__nsearch_rel(g, a, p->xt[a]) : (sph_real)0.5;
         far = fabs(p->xt[a]) > far ? fabs(p->xt[a]) : far;
@@ -2878,11 +2901,14 @@ SPH_API void sph__nsearch_target(const sph_nsearch *g, sph__probe *p)
         const sph_real reach = sph__floor(Rm * g->inv_w[a]) + 1;
         kc[a] = sph__nsearch_cell(g, a, p->t[a]);
         E[a] = reach <= SPH__NS_REACH ? (int)reach : -1;
-        inside &= E[a] >= 0 && ((kc[a] - E[a] >= 0 && kc[a] + E[a] < g->n[a]) ||
-                                (g->box.periodic[a] && 2 * E[a] + 1 <= g->n[a]));
+        inside &= E[a] >= 0 && (!g->box.periodic[a] || 2 * E[a] + 1 <= g->n[a]);
+        edge |= kc[a] - E[a] < 0 || kc[a] + E[a] >= g->n[a];
     }
-    if (inside)
-        sph__nsearch_interior(g, p, Rm, kc, E);
+    inside &= Rm * Rm <= SPH__REAL_MAX; /* the infinite gap of the interior path stays out of reach */
+    if (inside && edge)
+        sph__nsearch_interior(g, p, Rm, kc, E, 1);
+    else if (inside)
+        sph__nsearch_interior(g, p, Rm, kc, E, 0);
     else
         sph__nsearch_general(g, p, Rm);
     sph__nsearch_flush(g, p);

@@ -777,16 +777,19 @@ static long nb_redone(const nb_problem *p)
  * so the lists cannot show it: the count of redone blocks does. Sources
  * moved one period out of the box need the redo, and are counted. Perturbed
  * lattices in 1-3-D, every axis periodic or the last one not, cells of R/2
- * and R/3, gather with uniform h and symmetric with per-source h. The redo
+ * and R/3 (the interior path, clamped at the open faces) and R/5 (a reach
+ * of 6 cells: the general path), gather with uniform h and symmetric with
+ * per-source h. The redo
  * is decided on r^2 against (L/4)^2, and with cells of R/2 candidates lie up
  * to ~1.9 R away: the box must be more than ~7.5 R across for no block to
  * need it, hence 30 neighbours in 3-D (L = 8.3 R). */
 static void test_images(void)
 {
+    static const int per_R[3] = {2, 3, 5};
     int dim, open_last, c, sym;
     for (dim = 1; dim <= 3; ++dim)
         for (open_last = 0; open_last < (dim > 1 ? 2 : 1); ++open_last)
-            for (c = 1; c <= 2; ++c)
+            for (c = 0; c < 3; ++c)
                 for (sym = 0; sym < 2; ++sym) {
                     const int side = dim == 1 ? 200 : dim == 2 ? 40 : 16, n = tp_lattice_count(dim, side);
                     const double dx = 1.0 / side, nbrs = dim == 1 ? 8 : dim == 2 ? 20 : 30;
@@ -803,7 +806,7 @@ static void test_images(void)
                     tp_lattice(dim, side, dx, x);
                     tp_perturb(dim, n, 0.25 * dx, &rng, x);
                     for (i = 0; i < n; ++i) h[i] = (sph_real)(R / 2 * tp_range(&rng, 0.8, 1.0));
-                    p = nb_make(dim, x, n, (sph_real)(R / 2), 2, (sph_real)(nb_cells[c] * R));
+                    p = nb_make(dim, x, n, (sph_real)(R / 2), 2, (sph_real)(R / per_R[c]));
                     p.box = &box;
                     if (sym) {
                         p.mode = SPH_NSEARCH_SYMMETRIC;
@@ -811,7 +814,7 @@ static void test_images(void)
                         p.ht = h;
                     }
                     th_begin("images %dD, %s, cells of R/%d, %s: no block redone inside the box, list equals brute "
-                             "force", dim, open_last ? "last axis open" : "periodic", c + 1,
+                             "force", dim, open_last ? "last axis open" : "periodic", per_R[c],
                              sym ? "symmetric, per-particle h" : "gather");
                     nb_compare(&p);
                     redone = nb_redone(&p);
@@ -819,7 +822,7 @@ static void test_images(void)
                     th_end();
                     for (i = 0; i < n; i += 5) x[3 * i] += 1; /* one period out along x */
                     th_begin("images %dD, %s, cells of R/%d, %s: sources out of the box, blocks redone, list "
-                             "equals brute force", dim, open_last ? "last axis open" : "periodic", c + 1,
+                             "equals brute force", dim, open_last ? "last axis open" : "periodic", per_R[c],
                              sym ? "symmetric, per-particle h" : "gather");
                     nb_compare(&p);
                     TH_CHECK(nb_redone(&p) > 0, "no block redone");
