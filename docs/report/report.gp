@@ -21,6 +21,8 @@ set linetype 7 lc rgb "#0072b2" lw 2 pt 7 ps 1.3
 # difference = filled circle, standard = square, symmetric = triangle,
 # corrected = diamond, pressure = inverted triangle
 ptype(op) = op == 2 ? 5 : op == 4 ? 9 : (op == 5 || op == 8) ? 13 : op == 6 ? 11 : 7
+schemes = "plain/difference standard symmetric corrected pressure"
+spts = "7 5 9 13 11"
 
 set terminal pngcairo size 1500,620 font "Sans,12"
 set grid xtics ytics mxtics mytics lt 1 lw 1 lc rgb "#e0e0e0"
@@ -37,9 +39,13 @@ do for [g in "density interpolation gradient divergence laplacian"] {
     set ylabel "L2 error"
     blk = (dim - 2) * 4 + 1
     if (dim == 2) { unset key } else { set key }
+    # legend: colour = kernel (filled circles), shape = scheme (grey); the
+    # data points themselves take their shape from the scheme (pt variable)
     plot for [k=0:6] sprintf("%s/pareto_%s.csv", dir, g) \
            using (($1 == dim && strcol(2) eq "perturbed10" && $4 == k) ? $8 : 1/0):9:(ptype($7)) \
-           every ::1 with points lt k+1 pt variable title word(names, k+1), \
+           every ::1 with points lt k+1 pt variable notitle, \
+         for [k=0:6] keyentry with points lt k+1 pt 7 title word(names, k+1), \
+         for [s=1:words(schemes)] keyentry with points pt (word(spts, s) + 0) ps 1.3 lc rgb "#808080" title word(schemes, s), \
          sprintf("%s/pareto_front_%s.csv", dir, g) index blk using 8:9 with steps lc rgb "#000000" lw 1.5 title "front", \
          "" index blk using 8:9 with points pt 6 ps 2.2 lc rgb "#000000" notitle
   }
