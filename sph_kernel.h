@@ -2638,7 +2638,8 @@ SPH__INLINE unsigned sph__nsearch_mask16(const sph_nsearch *g, sph__probe *p, sp
 /* Counts (p->seg NULL) or appends to the target's segment (never past its
  * end) the sorted sources k0..k1-1 that meet the criterion; returns the new
  * count. A block with room for all its sources in the segment stores them
- * all and keeps those inside, without a branch. */
+ * all and keeps those inside, without a branch; with AVX-512 a block whose
+ * accepted sources fit (the last of an exact segment) stores just those. */
 SPH__INLINE sph_off sph__nsearch_run_blocks(const sph_nsearch *g, sph__probe *p, sph_idx k0, sph_idx k1,
                                             const sph_real *s, sph_off m, const int dim, const int HV,
                                             const int IMG)
@@ -2647,26 +2648,43 @@ SPH__INLINE sph_off sph__nsearch_run_blocks(const sph_nsearch *g, sph__probe *p,
     int k;
     for (b = k0; b < k1; b += SPH__NS_BLOCK) {
         const unsigned mask = SPH__NSEARCH_MASK(g, p, b, k1, s, dim, HV, IMG);
-        if (p->seg == NULL)
-            for (k = 0; k < SPH__NS_BLOCK; ++k) m += (mask >> k) & 1u;
-        else if (m + SPH__NS_BLOCK <= p->cap) {
 #if SPH__NS_COMPRESS
-            const __m512i j = _mm512_loadu_si512((const void *)(g->order + b));
-            _mm512_storeu_si512((void *)(p->seg + m), _mm512_maskz_compress_epi32((__mmask16)mask, j));
-            m += __builtin_popcount(mask);
+        /* the accepted indices compressed into one register, stored whole
+           where the segment has room for 16, else as many as were accepted
+           (a masked store: an exact segment, as fill gives each target) */
+        const int got = __builtin_popcount(mask);
+        if (p->seg == NULL) {
+            m += got;
+            continue;
+        }
+        if (m + SPH__NS_BLOCK <= p->cap || m + got <= p->cap) {
+            const __m512i j = _mm512_maskz_compress_epi32((__mmask16)mask,
+                                                          _mm512_loadu_si512((const void *)(g->order + b)));
+            if (m + SPH__NS_BLOCK <= p->cap)
+                _mm512_storeu_si512((void *)(p->seg + m), j);
+            else
+                _mm512_mask_storeu_epi32((void *)(p->seg + m), (__mmask16)((1u << got) - 1u), j);
+            m += got;
+            continue;
+        }
 #else
+        if (p->seg == NULL) {
+            for (k = 0; k < SPH__NS_BLOCK; ++k) m += (mask >> k) & 1u;
+            continue;
+        }
+        if (m + SPH__NS_BLOCK <= p->cap) {
             for (k = 0; k < SPH__NS_BLOCK; ++k) {
                 p->seg[m] = g->order[b + k];
                 m += (mask >> k) & 1u;
             }
-#endif
+            continue;
         }
-        else
-            for (k = 0; k < SPH__NS_BLOCK; ++k)
-                if ((mask >> k) & 1u) {
-                    if (m < p->cap) p->seg[m] = g->order[b + k];
-                    ++m;
-                }
+#endif
+        for (k = 0; k < SPH__NS_BLOCK; ++k) /* past the segment's end: count, store what fits */
+            if ((mask >> k) & 1u) {
+                if (m < p->cap) p->seg[m] = g->order[b + k];
+                ++m;
+            }
     }
     return m;
 }
