@@ -14,6 +14,7 @@
 #define _POSIX_C_SOURCE 199309L
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 #include <time.h>
 
 #include "particles.h"
@@ -37,6 +38,7 @@ static void run(const char *label, const sph_real *x, int n, sph_real h, sph_rea
     void *work;
     double t0, t1, t2, t3, t4;
     int st;
+    memset(&g, 0, sizeof g); /* printed even when the build fails */
     sph_nsearch_workspace_size(3, v, n, sph_view_none(), cell, box, &bytes);
     work = malloc(bytes);
     t0 = now();
@@ -67,7 +69,7 @@ int main(int argc, char **argv)
     int side = argc > 1 ? atoi(argv[1]) : 64, n, i, a, c;
     double dx;
     sph_real *x, *xs, kappa = 2, h;
-    sph_idx *perm;
+    sph_idx *perm[3];
     sph_box box;
     tp_rng rng = {1};
     static const double cells[3] = {1, 0.5, 1.0 / 3};
@@ -77,7 +79,7 @@ int main(int argc, char **argv)
     h = (sph_real)(cbrt(60 * 3 / (4 * 3.14159265358979)) * dx / 2); /* 4/3 pi R^3 = 60 dx^3 */
     x = (sph_real *)malloc(sizeof(sph_real) * 3 * (size_t)n);
     xs = (sph_real *)malloc(sizeof(sph_real) * 3 * (size_t)n);
-    perm = (sph_idx *)malloc(sizeof(sph_idx) * (size_t)n);
+    for (c = 0; c < 3; ++c) perm[c] = (sph_idx *)malloc(sizeof(sph_idx) * (size_t)n);
     for (a = 0; a < 3; ++a) {
         box.lo[a] = 0;
         box.length[a] = 1;
@@ -95,11 +97,13 @@ int main(int argc, char **argv)
     }
     printf("%d particles (%d^3), periodic perturbed lattice, %s\n", n, side,
            sizeof(sph_real) == sizeof(float) ? "float" : "double");
-    for (c = 0; c < 3; ++c) run("shuffled", x, n, h, kappa, cells[c], &box, perm);
-    sph_permute(sph_view_interleaved(x, 3), 3, n, perm, sph_out_interleaved(xs, 3));
-    for (c = 0; c < 3; ++c) run("cell-sorted", xs, n, h, kappa, cells[c], &box, NULL);
+    for (c = 0; c < 3; ++c) run("shuffled", x, n, h, kappa, cells[c], &box, perm[c]);
+    for (c = 0; c < 3; ++c) { /* sorted by the cells of the grid that searches them */
+        sph_permute(sph_view_interleaved(x, 3), 3, n, perm[c], sph_out_interleaved(xs, 3));
+        run("cell-sorted", xs, n, h, kappa, cells[c], &box, NULL);
+    }
     free(x);
     free(xs);
-    free(perm);
+    for (c = 0; c < 3; ++c) free(perm[c]);
     return 0;
 }
