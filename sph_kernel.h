@@ -2289,9 +2289,10 @@ SPH_API int sph_check_field(sph_view f, int ncomp, sph_idx n, sph_idx *first_bad
  * x row of cells at a time as one contiguous run of sorted sources (two where
  * a periodic axis wraps), then sorts its list. With cells of R/2 that is about
  * 2.5 candidate checks per neighbour in 3-D (docs/neighbours.md). A target
- * whose reach lies inside the grid, or wraps round a periodic axis, finds
- * its rows from squared cell gaps computed once per axis; each run carries
- * its periodic image offset. Runs are checked in branch-free blocks of 8
+ * whose reach is at most 4 cells finds its rows from squared cell gaps
+ * computed once per axis (clamped at open faces, wrapped round periodic
+ * axes); each run carries its periodic image offset, so the checks need no
+ * minimum image. Runs are checked in branch-free blocks of 8
  * sources (16, two vectors, with AVX-512). Count, fill and lists run in
  * parallel over targets under OpenMP.
  *
@@ -2538,12 +2539,12 @@ SPH_API int sph__nsearch_in(const sph_nsearch *g, const sph__probe *p, sph_idx k
 /* Bit k set when sorted source b + k (k < SPH__NS_BLOCK, b + k < k1) meets
  * the criterion, as sph__nsearch_in decides it. One loop without a branch
  * over a whole block (the padding beyond k1 is masked). The run's image
- * offset s (eq. (N7), IMG: a run with one) gives d_a = (x_t - x_j) - s_a, bit for bit the value
- * sph__nsearch_delta returns whenever |d_a| is at most the quarter period.
- * Where r^2 exceeds the smallest squared quarter period that may not hold
- * (a wrong image, or a box not much larger than the radius): such a block
- * is redone by sph__nsearch_in. HV: R per source (symmetric with
- * per-source h); dim, HV constants once inlined. */
+ * offset s (eq. (N7); IMG: the run has one) gives d_a = (x_t - x_j) - s_a,
+ * bit for bit the value sph__nsearch_delta returns whenever |d_a| is at
+ * most the quarter period. Where r^2 exceeds the smallest squared quarter
+ * period that may not hold (a wrong image, or a box not much larger than
+ * the radius): such a block is redone by sph__nsearch_in. HV: R per source
+ * (symmetric with per-source h); dim, HV, IMG constants once inlined. */
 SPH__INLINE unsigned sph__nsearch_mask(const sph_nsearch *g, sph__probe *p, sph_idx b, sph_idx k1,
                                        const sph_real *s, const int dim, const int HV, const int IMG)
 {
@@ -2657,7 +2658,7 @@ SPH__INLINE sph_off sph__nsearch_run_blocks(const sph_nsearch *g, sph__probe *p,
             m += got;
             continue;
         }
-        if (m + SPH__NS_BLOCK <= p->cap || m + got <= p->cap) {
+        if (m + got <= p->cap) {
             const __m512i j = _mm512_maskz_compress_epi32((__mmask16)mask,
                                                           _mm512_loadu_si512((const void *)(g->order + b)));
             if (m + SPH__NS_BLOCK <= p->cap)
@@ -2827,7 +2828,7 @@ SPH__INLINE void sph__nsearch_interior(const sph_nsearch *g, sph__probe *p, sph_
     int K[3][2 * SPH__NS_REACH + 1], C[3][2 * SPH__NS_REACH + 1], first[3] = {0, 0, 0}, a, i, d, iy, iz, nr = 0;
     for (a = 0; a < 3; ++a)
         for (i = 0; i <= 2 * E[a]; ++i) {
-            const int k = kc[a] - E[a] + i, per = EDGE && g->box.periodic[a] && a < g->dim;
+            const int k = kc[a] - E[a] + i, per = EDGE && g->box.periodic[a];
             const int w = per ? (k < 0 ? -1 : k >= g->n[a]) : 0, in = !EDGE || per || (k >= 0 && k < g->n[a]);
             const sph_real gap = sph__nsearch_gap(g, a, p->t[a], k);
             G[a][i] = in ? gap * gap : SPH__REAL_MAX;
