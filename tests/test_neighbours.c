@@ -769,20 +769,19 @@ static long nb_redone(const nb_problem *p)
     return (long)stats[2];
 }
 
-/* Periodic images (eq. (N5)): with every particle inside the box, each run
- * of candidates is checked at the image that holds its sources, wrapped
- * rows of the interior path and clamped or wrapped rows of the general path
- * alike, so no block is redone by the scalar minimum image. A run checked at
- * a wrong image still gives the right list (through that redo, only slower),
- * so the lists cannot show it: the count of redone blocks does. Sources
- * moved one period out of the box need the redo, and are counted. Perturbed
- * lattices in 1-3-D, every axis periodic or the last one not, cells of R/2
- * and R/3 (the interior path, clamped at the open faces) and R/5 (a reach
- * of 6 cells: the general path), gather with uniform h and symmetric with
- * per-source h. The redo
- * is decided on r^2 against (L/4)^2, and with cells of R/2 candidates lie up
- * to ~1.9 R away: the box must be more than ~7.5 R across for no block to
- * need it, hence 30 neighbours in 3-D (L = 8.3 R). */
+/* Periodic images (eq. (N7)): with every particle inside the box, each run
+ * of candidates is checked at the image that holds its sources, on the
+ * interior path (rows wrapped, or clamped at an open face) and the general
+ * path alike, so no block is redone by the scalar minimum image. A run
+ * checked at a wrong image still gives the right list (through that redo,
+ * only slower), so the lists cannot show it: the count of redone blocks
+ * does. Sources moved one period out of the box need the redo, and are
+ * counted. Perturbed lattices in 1-3-D, every axis periodic or the last one
+ * not, cells of R/2 and R/3 (the interior path) and R/5 (a reach of 6
+ * cells: the general path), gather with uniform h and symmetric with
+ * per-source h. The redo is decided on r^2 against (L/4)^2, and with cells
+ * of R/2 candidates lie up to ~1.9 R away: the box must be more than ~7.5 R
+ * across for no block to need it, hence 30 neighbours in 3-D (L = 8.3 R). */
 static void test_images(void)
 {
     static const int per_R[3] = {2, 3, 5};
@@ -798,7 +797,8 @@ static void test_images(void)
                                    : dim == 2 ? sqrt(nbrs / 3.14159265358979) * dx
                                               : cbrt(nbrs * 3 / (4 * 3.14159265358979)) * dx;
                     sph_real *x = nb_alloc(n), *h = (sph_real *)malloc(sizeof(sph_real) * (size_t)n);
-                    sph_box box = nb_box(!(open_last && dim == 1), !(open_last && dim == 2), !(open_last && dim == 3), 1.0);
+                    sph_box box =
+                        nb_box(!(open_last && dim == 1), !(open_last && dim == 2), !(open_last && dim == 3), 1.0);
                     tp_rng rng = {(uint64_t)(1000 + 100 * dim + 10 * open_last + 2 * c + sym)};
                     nb_problem p;
                     long redone;
@@ -832,14 +832,14 @@ static void test_images(void)
                 }
 }
 
-/* Rounding across the period: targets just above x = 0 and sources just
- * below x = L, each target's R a hair above (even i) or below (odd i) its
- * distance to one source through the face, as the brute force computes it
- * (sph_box_delta of x_t - x_j in sph_real). Pairs so short next to L make
- * the rounding of x_t - x_j, half an ulp of L, many ulp of r^2 in float: a
- * check that took the difference unrounded before subtracting the period
- * decides some of these pairs otherwise. Cells of L/12: the interior path
- * wraps round every axis. */
+/* Rounding across the period: particles just above x = 0 (even i) and just
+ * below x = L (odd i), each one's R a hair above (even i) or below (odd i)
+ * its distance to a particle of the other kind, through the face, as the
+ * brute force computes it (sph_box_delta of x_t - x_j in sph_real). Pairs
+ * so short next to L make the rounding of x_t - x_j, half an ulp of L, many
+ * ulp of r^2 in float: a check that took the difference unrounded before
+ * subtracting the period decides some of these pairs otherwise. Cells of
+ * L/12: the interior path wraps round every axis. */
 static void test_image_rounding(void)
 {
     int dim;
