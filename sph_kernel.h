@@ -2807,6 +2807,10 @@ SPH_API sph_real sph__nsearch_gap2(const sph_nsearch *g, int a, sph_real t, cons
  * interior path of sph__nsearch_target (cells of R/2: 3). */
 #define SPH__NS_REACH 4
 
+/* The i-th of the 2 E + 1 offsets of an axis in ascending cell order: from
+ * first (the offset of cell 0 where the axis wraps, else 0) round to first - 1. */
+SPH_API int sph__ns_turn(int i, int first, int E) { return i + first - (i + first > 2 * E ? 2 * E + 1 : 0); }
+
 /* The rows of a target whose reach spans E[a] cells either side of its
  * cell kc[a] (at most SPH__NS_REACH; a periodic axis needs at least
  * 2 E[a] + 1 cells, so that each comes once): for the geometric cells
@@ -2837,11 +2841,11 @@ SPH__INLINE void sph__nsearch_interior(const sph_nsearch *g, sph__probe *p, sph_
             if (EDGE) first[a] = in && K[a][i] == 0 ? i : first[a];
         }
     for (iz = 0; iz <= 2 * E[2]; ++iz) {
-        const int dz = iz + first[2] - (iz + first[2] > 2 * E[2] ? 2 * E[2] + 1 : 0);
+        const int dz = sph__ns_turn(iz, first[2], E[2]);
         const sph_real left_z = Rm * Rm - G[2][dz];
         if (left_z < 0) continue;
         for (iy = 0; iy <= 2 * E[1]; ++iy) {
-            const int dy = iy + first[1] - (iy + first[1] > 2 * E[1] ? 2 * E[1] + 1 : 0);
+            const int dy = sph__ns_turn(iy, first[1], E[1]);
             const sph_real left_y = left_z - G[1][dy];
             const sph_idx *cs = g->cell_start + g->n[0] * (K[1][dy] + g->n[1] * K[2][dz]);
             const int n0 = g->n[0];

@@ -751,20 +751,22 @@ static void test_candidate_ratio(void)
     free(x);
 }
 
-/* Redone blocks (stats[2] of sph__nsearch_run) of the search for p. */
+/* Redone blocks (stats[2] of sph__nsearch_run) of the search for p, on the
+ * grid nb_search builds. */
 static long nb_redone(const nb_problem *p)
 {
-    sph_view v = sph_view_interleaved(p->xs, 3);
-    sph_view hv = sph_view_soa(p->hs, NULL, NULL);
+    const sph_real *xt = p->xt ? p->xt : p->xs;
+    const int nt = p->xt ? p->nt : p->ns;
     sph_off stats[3] = {-1, -1, -1};
-    size_t bytes = 0;
     sph_nsearch g;
+    tp_list got;
     void *work;
-    int st = sph_nsearch_workspace_size(p->dim, v, p->ns, hv, p->cell, p->box, &bytes);
-    work = malloc(bytes);
-    st |= sph_nsearch_build(&g, p->dim, v, p->ns, hv, p->cell, p->box, work, bytes);
-    st |= sph__nsearch_run(&g, v, p->ns, hv, p->h, p->kappa, p->mode, NULL, NULL, NULL, stats);
+    int st = nb_search(p, &g, &work, &got);
+    if (st == SPH_OK)
+        st = sph__nsearch_run(&g, sph_view_interleaved(xt, 3), nt, sph_view_soa(p->ht, NULL, NULL), p->h, p->kappa,
+                              p->mode, NULL, NULL, NULL, stats);
     TH_CHECK(st == SPH_OK, "status %d", st);
+    tp_free_list(&got);
     free(work);
     return (long)stats[2];
 }
