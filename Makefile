@@ -186,9 +186,9 @@ $(BUILD)/bench/%_float.o: examples/benchmark.c sph_kernel.h
 .PRECIOUS: $(BUILD)/bench/%.o
 BENCH_main   := -DBENCH_LINK_PARTS
 BENCH_pinned := -DBENCH_PART=bench_pinned $(BENCH_PIN)
-BENCH_spec0  := -DBENCH_PART=bench_spec0 -DSPH_OP_SPECIALISE=0
+BENCH_reference := -DBENCH_PART=bench_reference -DSPH_OP_REFERENCE
 
-$(BUILD)/bench/benchmark_%: $(BUILD)/bench/main_%.o $(BUILD)/bench/pinned_%.o $(BUILD)/bench/spec0_%.o
+$(BUILD)/bench/benchmark_%: $(BUILD)/bench/main_%.o $(BUILD)/bench/pinned_%.o $(BUILD)/bench/reference_%.o
 	$(CC) -fopenmp $^ -o $@ -lm
 
 # make bench prints the tables and writes them to docs/benchmark.md (with the
@@ -209,11 +209,11 @@ tiny-size:
 	@echo "examples/tiny_density.c (SPH_DIM 2, SPH_KERNEL cubic, sph_density), $(CC) -O2:"
 	@size $(BUILD)/bench/tiny_density.o
 	@echo "examples/gradient_unit.c (sph_gradient, kernel and dimension at run time), $(CC) -O2:"
-	@for s in 1 0; do \
+	@for s in "" -DSPH_OP_REFERENCE; do \
 	    t0=$$(date +%s.%N); \
-	    $(CC) -O2 -std=c99 -Wall -Wextra -pedantic -Werror -I. -DSPH_OP_SPECIALISE=$$s \
-	        -c examples/gradient_unit.c -o $(BUILD)/bench/gradient_unit_$$s.o || exit 1; \
+	    $(CC) -O2 -std=c99 -Wall -Wextra -pedantic -Werror -I. $$s \
+	        -c examples/gradient_unit.c -o $(BUILD)/bench/gradient_unit.o || exit 1; \
 	    t1=$$(date +%s.%N); \
-	    printf '  SPH_OP_SPECIALISE %s: compile %.2f s, text %s bytes\n' $$s \
-	        $$(awk "BEGIN {print $$t1 - $$t0}") $$(size $(BUILD)/bench/gradient_unit_$$s.o | awk 'NR == 2 {print $$1}'); \
+	    printf '  %-20s compile %.2f s, text %s bytes\n' "$${s:-fast loops}" \
+	        $$(awk "BEGIN {print $$t1 - $$t0}") $$(size $(BUILD)/bench/gradient_unit.o | awk 'NR == 2 {print $$1}'); \
 	done

@@ -33,16 +33,13 @@
  *               Pinning changes code size and compile time, not speed: the
  *               run-time choice is made once per call, outside the pair loop
  *               (examples/benchmark.c measures both).
- *   SPH_OP_SPECIALISE  1 (default): one operator loop per kernel x dimension,
- *               the kernel's natural pieces and their coefficients folded at
- *               compile time, so the pair loop vectorises. 0: one loop per
- *               dimension, the kernel read at run time (scalar pair loop).
- *               Measured (`make tiny-size`, `make bench`, README
- *               "Performance"): 0 compiles a unit calling sph_gradient about
- *               3.5x faster into an object about 3x smaller, and its pair loop
- *               is about 2x slower. 1 for production builds, 0 while
- *               developing. Pinning SPH_KERNEL makes the choice moot: one
- *               kernel, one loop either way.
+ *   SPH_OP_REFERENCE  compile only the plain reference loops of the array
+ *               operators (one pair at a time through the section-5 pair
+ *               terms): the smallest and simplest code, several times slower.
+ *               Default: the fast loops (chunked, vectorised; AVX-512 one-pass
+ *               density and gradient where the target has it), tested equal
+ *               to the reference loops, which ctx.loops = SPH_LOOPS_REFERENCE
+ *               also selects at run time.
  *   SPH_NO_INTRINSICS  use only portable C: no SSE/AVX square-root helper in
  *               the operator loops, no AVX-512 one-pass loop for the density
  *               and difference gradient (results within 1e-13 of the pair
@@ -127,9 +124,6 @@ typedef SPH_REAL sph_real;
 #define SPH__OP_AVX512 0
 #endif
 
-#ifndef SPH_OP_SPECIALISE
-#define SPH_OP_SPECIALISE 1
-#endif
 
 /* Tables are read by host and device code alike: under nvcc the device pass
  * keeps its own copy in device memory. */
@@ -1160,6 +1154,13 @@ enum {
     SPH_VALIDATE_ARGS = 1  /* arguments only (O(1)): the caller has checked list and data */
 };
 
+/* Which loops an operator runs (the results agree to round-off, bitwise
+ * without OpenMP and AVX-512; tests/test_op_reference.c). */
+enum {
+    SPH_LOOPS_FAST = 0,     /* default: chunked vector loops (section 6, "Fast loops") */
+    SPH_LOOPS_REFERENCE = 1 /* the plain reference loops, one pair at a time: to check a result */
+};
+
 /* Gradient, divergence and curl schemes (docs/operators.md (O4)-(O11), (O17)). */
 typedef enum {
     SPH_SCHEME_STANDARD,   /* sum V_j f_j grad_i W_ij                       */
@@ -1188,6 +1189,7 @@ typedef struct {
     sph_view rho_target;        /* target densities (pressure form, when x_target is given) */
     sph_real rcond_min;         /* corrected schemes: fall back below this 1-norm rcond (1e-3) */
     int validate;               /* SPH_VALIDATE_FULL (default) or SPH_VALIDATE_ARGS */
+    int loops;                  /* SPH_LOOPS_FAST (default) or SPH_LOOPS_REFERENCE */
 } sph_ctx;
 
 /* An absent view (every pointer NULL). */
@@ -1208,6 +1210,7 @@ SPH_API sph_ctx sph_ctx_init(sph_kernel kernel, int dim, sph_real h, const sph_n
     c.x_target = c.h_source = c.h_target = c.V = c.m = c.rho = c.rho_target = sph_view_none();
     c.rcond_min = SPH__C(1e-3);
     c.validate = SPH_VALIDATE_FULL;
+    c.loops = SPH_LOOPS_FAST;
     return c;
 }
 
@@ -1229,136 +1232,6 @@ SPH_API int sph_neighbours_check(const sph_neighbours *list)
     for (o = 0; o < list->offset[list->n_targets]; ++o)
         if (list->index[o] < 0 || list->index[o] >= list->n_sources) return SPH_EINDEX;
     return SPH_OK;
-}
-
-#define SPH__AT(v, a, i) ((v).p[a][(ptrdiff_t)(i) * (v).stride])
-
-/* Operators of the loop body (compile-time constants of its instances). */
-enum {
-    SPH__OP_DENSITY, SPH__OP_INTERP, SPH__OP_SHEPARD, /* gather h: W only */
-    SPH__OP_GRAD_STD, SPH__OP_GRAD_DIFF, SPH__OP_GRAD_SYM, SPH__OP_GRAD_CORR, SPH__OP_GRAD_PRES,
-    SPH__OP_GRADV_STD, SPH__OP_GRADV_DIFF, SPH__OP_GRADV_SYM, SPH__OP_GRADV_CORR,
-    SPH__OP_DIV_STD, SPH__OP_DIV_DIFF, SPH__OP_DIV_CORR, SPH__OP_CURL_STD, SPH__OP_CURL_DIFF,
-    SPH__OP_LAPLACIAN, SPH__OP_DIFFUSION, SPH__OP_CORRECTION, SPH__OP_DENS_GRAD
-};
-
-/* Everything an operator loop reads, resolved and checked. */
-typedef struct {
-    sph_kernel kernel;
-    int dim, hv, pb; /* per-particle h; periodic box */
-    sph_real L[3], invL[3]; /* period and 1 / period per axis, 0 where not periodic */
-    sph_idx nt;
-    sph_real h, rcond_min;
-    const sph_box *box;
-    const sph_off *off;
-    const sph_idx *idx;
-    sph_view x, xt, hs, ht, V, m, rho, rhot, f, ft, k, kt;
-    sph_out out, out2; /* out2: the density of SPH__OP_DENS_GRAD */
-    sph_real *T;
-    ptrdiff_t Ts;
-} sph__args;
-
-/* The pair loop instances. K is a kernel (compile-time constant) or -1 (the
- * kernel read once per target from A: SPH_OP_SPECIALISE 0); D the dimension;
- * GEN 0 is the uniform-h, no-box instance (no trace of those options in it),
- * GEN 1 handles per-particle h and periodic boxes.
- *
- * Each target's list is walked in chunks of SPH__CHUNK sources, and each
- * chunk in three simple loops the compiler vectorises: gather the sources'
- * positions into dx and r^2 (and per-pair h), take the square roots, evaluate
- * the kernel (all natural pieces, selected by comparisons: no branch); the operator then sums the
- * chunk. The arithmetic of every pair term is that of the pair-term functions
- * of section 5; only the order of the sum over j may differ (a SIMD reduction
- * under OpenMP, the same for any thread count). */
-#ifndef SPH__CHUNK
-#define SPH__CHUNK 32 /* a multiple of 8 */
-#endif
-
-/* omp simd (OpenMP 4.0 and later); nothing without OpenMP, so builds without
- * it see no unknown pragma. The SUM forms reduce into s0.., m0... */
-#if defined(_OPENMP) && _OPENMP >= 201307
-#define SPH__SIMD _Pragma("omp simd")
-#define SPH__SIMD_SUM1 _Pragma("omp simd reduction(+ : s0)")
-#define SPH__SIMD_SUM2 _Pragma("omp simd reduction(+ : s0, s1)")
-#define SPH__SIMD_SUM3 _Pragma("omp simd reduction(+ : s0, s1, s2)")
-#define SPH__SIMD_SUM4 _Pragma("omp simd reduction(+ : s0, s1, s2, s3)")
-#if defined(__clang__)
-/* clang does not vectorise a kernel loop over a run-time piece table and
- * then warns that the requested transformation failed (-Wpass-failed, an
- * error under -Werror): there, kernel loops go without the request. */
-#define SPH__SIMD_KERNEL
-#else
-#define SPH__SIMD_KERNEL SPH__SIMD
-#endif
-#else
-#define SPH__SIMD_KERNEL
-#define SPH__SIMD
-#define SPH__SIMD_SUM1
-#define SPH__SIMD_SUM2
-#define SPH__SIMD_SUM3
-#define SPH__SIMD_SUM4
-#endif
-
-/* What to evaluate per pair: W (gather h_i) and/or F (h_ij). */
-enum { SPH__WANT_W = 1, SPH__WANT_F = 2 };
-
-/* One target: position, h_i, 1/h_i and the factors alpha h^-D (W), alpha h^-(D+2) (F). */
-typedef struct {
-    sph_real xi[3], hi, hinv, cW, cF;
-} sph__tgt;
-
-/* Pair data of one chunk of a target's list (positions k = 0..n-1). */
-typedef struct {
-    sph_real dx[3][SPH__CHUNK]; /* x_i - x_j, minimum image */
-    sph_real r[SPH__CHUNK];     /* r^2, then r (padded with zeros to a multiple of 8) */
-    sph_real W[SPH__CHUNK], F[SPH__CHUNK];
-    sph_idx j[SPH__CHUNK];
-} sph__chunk;
-
-/* r[0..n) = sqrt(r[0..n)), n a multiple of 8 (zero padded): IEEE square roots,
- * bit for bit those of sph__sqrt, without the errno test that keeps compilers
- * from vectorising sqrt(). SPH_NO_INTRINSICS selects the portable loop. */
-SPH__INLINE void sph__sqrt_chunk(sph_real *r, int n)
-{
-    int k;
-#if SPH__SQRT_SIMD == 2
-    if (sizeof(sph_real) == sizeof(double)) {
-        for (k = 0; k < n; k += 4)
-            _mm256_storeu_pd((double *)r + k, _mm256_sqrt_pd(_mm256_loadu_pd((const double *)r + k)));
-    } else {
-        for (k = 0; k < n; k += 8)
-            _mm256_storeu_ps((float *)r + k, _mm256_sqrt_ps(_mm256_loadu_ps((const float *)r + k)));
-    }
-#elif SPH__SQRT_SIMD == 1
-    if (sizeof(sph_real) == sizeof(double)) {
-        for (k = 0; k < n; k += 2)
-            _mm_storeu_pd((double *)r + k, _mm_sqrt_pd(_mm_loadu_pd((const double *)r + k)));
-    } else {
-        for (k = 0; k < n; k += 4)
-            _mm_storeu_ps((float *)r + k, _mm_sqrt_ps(_mm_loadu_ps((const float *)r + k)));
-    }
-#else
-    for (k = 0; k < n; ++k) r[k] = sph__sqrt(r[k]);
-#endif
-}
-
-/* Kernel data of the instance. */
-SPH__INLINE const sph__kdim *sph__kdk(const sph__args *A, const int K, const int D)
-{
-    return &sph__kdims[K < 0 ? (int)A->kernel : K][D - 1];
-}
-
-/* Target i: position, h_i (the target's h, or the uniform h), 1/h_i and the
- * factors alpha h_i^-D (W) and alpha h_i^-(D+2) (F). */
-SPH__INLINE void sph__tinit(const sph__args *A, const sph__kdim *kd, const int D, const int GEN,
-                            const sph_idx i, sph__tgt *t)
-{
-    int a;
-    for (a = 0; a < 3; ++a) t->xi[a] = a < D ? SPH__AT(A->xt, a, i) : 0;
-    t->hi = (GEN && A->hv) ? SPH__AT(A->ht, 0, i) : A->h;
-    t->hinv = 1 / t->hi;
-    t->cW = sph__hpow(kd->alpha, t->hinv, D);
-    t->cF = sph__hpow(kd->alpha, t->hinv, D + 2);
 }
 
 /* Complete unrolling of the short constant-count loops of the kernel forms
@@ -1389,9 +1262,10 @@ SPH__INLINE sph_real sph__pform_eval(const sph__pform *f, sph_real q)
 SPH__INLINE sph_real sph__nshape_pick(const sph__nshape *s, const int G, sph_real q)
 {
     sph_real v = sph__pform_eval(G ? &s->piece[0].g : &s->piece[0].w, q);
+    const int np = s->npiece < 3 ? s->npiece : 3; /* at most 3 pieces: no read past the table */
     int p;
     SPH__UNROLL
-    for (p = 1; p < s->npiece; ++p) {
+    for (p = 1; p < np; ++p) {
         const sph_real x = sph__pform_eval(G ? &s->piece[p].g : &s->piece[p].w, q);
         v = q >= s->lo[p] ? x : v;
     }
@@ -1414,95 +1288,544 @@ SPH__INLINE sph_real sph__nshape_g(const sph__nshape *s, sph_real q)
     return q < s->kappa ? g : 0;
 }
 
-/* (O0) dx = x_i - x_j of the n pairs of list positions o0..o0+n-1, with the
- * minimum image when PB (a constant: one loop per value), r^2 and j. */
-SPH__INLINE void sph__chunk_gather(const sph__args *A, const int D, const int PB, const sph__tgt *t, sph_off o0,
-                                   int n, sph__chunk *P)
-{
-    int k, a;
-    SPH__SIMD
-    for (k = 0; k < n; ++k) {
-        const sph_idx j = A->idx[o0 + k];
-        sph_real r2 = 0;
-        for (a = 0; a < D; ++a) {
-            sph_real d = t->xi[a] - SPH__AT(A->x, a, j);
-            if (PB) d -= A->L[a] * sph__floor(d * A->invL[a] + (sph_real)0.5);
-            P->dx[a][k] = d;
-            r2 += d * d;
-        }
-        P->j[k] = j;
-        P->r[k] = r2;
-    }
-}
 
-/* (O0), (O1) the n pairs of list positions o0..o0+n-1: dx = x_i - x_j
- * (minimum image: sph_box_delta with 1/L taken once per call, so no division
- * per pair; d * (1/L) and d / L round to the same integer, and the image is
- * the same bit for bit, unless |image| is within an ulp of L/2, where both
- * images are equally near and beyond the support of any list pair), r, and W (at h_i) and/or F (at h_ij = (h_i + h_j) / 2 with
- * per-particle h, else h), each from the natural pieces (sph__nshape_w/_g). */
-SPH__INLINE void sph__chunk_eval(const sph__args *A, const sph__kdim *kd, const int D, const int GEN,
-                                 const int WANT, const sph__tgt *t, sph_off o0, int n, sph__chunk *P)
-{
-    const sph__nshape *sh = &sph__nshapes[kd->shape];
-    const int hv = GEN && A->hv && (WANT & SPH__WANT_F), pb = GEN && A->pb;
-    int k;
-    /* the options are tested once per chunk, outside the pair loops: inside,
-     * the vectoriser would evaluate both sides of every option per pair */
-    if (pb)
-        sph__chunk_gather(A, D, 1, t, o0, n, P);
-    else
-        sph__chunk_gather(A, D, 0, t, o0, n, P);
-    for (k = n; (k & 7) != 0; ++k) P->r[k] = 0;
-    sph__sqrt_chunk(P->r, k);
-    if (WANT & SPH__WANT_W) {
-        SPH__SIMD_KERNEL
-        for (k = 0; k < n; ++k) P->W[k] = t->cW * sph__nshape_w(sh, P->r[k] * t->hinv);
-    }
-    if ((WANT & SPH__WANT_F) && hv) {
-        SPH__SIMD_KERNEL
-        for (k = 0; k < n; ++k) {
-            const sph_real hinv = 2 / (t->hi + SPH__AT(A->hs, 0, P->j[k]));
-            P->F[k] = sph__hpow(kd->alpha, hinv, D + 2) * sph__nshape_g(sh, P->r[k] * hinv);
-        }
-    } else if (WANT & SPH__WANT_F) {
-        SPH__SIMD_KERNEL
-        for (k = 0; k < n; ++k) P->F[k] = t->cF * sph__nshape_g(sh, P->r[k] * t->hinv);
-    }
-}
+#define SPH__AT(v, a, i) ((v).p[a][(ptrdiff_t)(i) * (v).stride])
 
-/* dx of chunk position k as a vector (zeros beyond D). */
-SPH__INLINE void sph__chunk_dx(const sph__chunk *P, const int D, int k, sph_real *dx)
-{
-    int a;
-    for (a = 0; a < 3; ++a) dx[a] = a < D ? P->dx[a][k] : 0;
-}
+/* The operators and the family of loops that computes each: one list makes
+ * the enum and the fast path's instances. */
+#define SPH__OPS(X)                                                                        \
+    X(DENSITY, sum) X(INTERP, sum) X(SHEPARD, sum)                                         \
+    X(GRAD_STD, grad) X(GRAD_DIFF, grad) X(GRAD_SYM, grad) X(GRAD_CORR, grad)              \
+    X(GRAD_PRES, grad) X(DENS_GRAD, grad)                                                  \
+    X(GRADV_STD, tensor) X(GRADV_DIFF, tensor) X(GRADV_SYM, tensor) X(GRADV_CORR, tensor)  \
+    X(DIV_CORR, tensor) X(CORRECTION, tensor)                                              \
+    X(DIV_STD, divcurl) X(DIV_DIFF, divcurl) X(CURL_STD, divcurl) X(CURL_DIFF, divcurl)    \
+    X(LAPLACIAN, lap) X(DIFFUSION, lap)
 
-/* The loop head shared by the families: declarations, target setup; the
- * chunk loop is `for (o = A->off[i]; o < A->off[i + 1]; o += n)`. */
-#define SPH__TARGET_HEAD(WANT)                                                     \
-    const sph__kdim *kd = sph__kdk(A, K, D);                                       \
-    sph__tgt t;                                                                    \
-    sph__chunk P;                                                                  \
-    sph_off o;                                                                     \
-    int n, k, a;                                                                   \
-    sph__tinit(A, kd, D, GEN, i, &t)
+#define SPH__X(name, family) SPH__OP_##name,
+enum { SPH__OPS(SPH__X) SPH__OP_COUNT };
+#undef SPH__X
 
-/* The next chunk: n sources from list position o, evaluated. */
-#define SPH__NEXT_CHUNK(WANT)                                                      \
-    n = (A->off[i + 1] - o) < SPH__CHUNK ? (int)(A->off[i + 1] - o) : SPH__CHUNK; \
-    sph__chunk_eval(A, kd, D, GEN, WANT, &t, o, n, &P)
+/* Everything an operator loop reads, resolved and checked. */
+typedef struct {
+    sph_kernel kernel;
+    int op, dim, hv;        /* operator, dimension, per-particle h */
+    int reference;          /* run the reference loops (ctx.loops) */
+    sph_real L[3], invL[3]; /* period and 1 / period per axis, 0 where not periodic */
+    sph_idx nt;
+    sph_real h, rcond_min;
+    const sph_off *off;
+    const sph_idx *idx;
+    sph_view x, xt, hs, ht, V, m, rho, rhot, f, ft, k, kt;
+    sph_out out, out2; /* out2: the density of SPH__OP_DENS_GRAD */
+    sph_real *T;
+    ptrdiff_t Ts;
+} sph__args;
 
-#if SPH__OP_AVX512 || SPH__NS_COMPRESS
-/* 8 consecutive sph_real as doubles (exact for float), for the AVX-512 loops
- * here and in the neighbour check (section 7); the sizeof test folds. */
-SPH__INLINE __m512d sph__load8(const sph_real *p)
-{
-    return sizeof(sph_real) == sizeof(double) ? _mm512_loadu_pd((const void *)p)
-                                              : _mm512_cvtps_pd(_mm256_loadu_ps((const float *)(const void *)p));
-}
+/* The dimension and kernel of a loop: compile-time constants where SPH_DIM
+ * and SPH_KERNEL pin them (the compiler then folds the kernel's pieces). */
+#if defined(SPH_DIM)
+#define SPH__DIM(A) (SPH_DIM)
+#else
+#define SPH__DIM(A) ((A)->dim)
+#endif
+#if defined(SPH_KERNEL)
+#define SPH__KERN(A) ((int)(SPH_KERNEL))
+#else
+#define SPH__KERN(A) ((int)(A)->kernel)
 #endif
 
+/* What a loop evaluates per pair: W (at h_i) and/or F (at h_ij). */
+enum { SPH__WANT_W = 1, SPH__WANT_F = 2 };
+
+/* One target: position, h_i, 1/h_i, the kernel's shape and alpha_d, and the
+ * factors alpha h_i^-d (W) and alpha h_i^-(d+2) (F). */
+typedef struct {
+    const sph__nshape *sh;
+    int shape;
+    sph_real xi[3], hi, hinv, alpha, cW, cF;
+} sph__tgt;
+
+SPH__INLINE void sph__tinit(const sph__args *A, sph_idx i, sph__tgt *t)
+{
+    const int D = SPH__DIM(A);
+    const sph__kdim *kd = &sph__kdims[SPH__KERN(A)][D - 1];
+    int a;
+    for (a = 0; a < 3; ++a) t->xi[a] = a < D ? SPH__AT(A->xt, a, i) : 0;
+    t->shape = kd->shape;
+    t->sh = &sph__nshapes[kd->shape];
+    t->alpha = kd->alpha;
+    t->hi = A->hv ? SPH__AT(A->ht, 0, i) : A->h;
+    t->hinv = 1 / t->hi;
+    t->cW = sph__hpow(kd->alpha, t->hinv, D);
+    t->cF = sph__hpow(kd->alpha, t->hinv, D + 2);
+}
+
+/* (O0), (O1) pair (i, j): dx = x_i - x_j with the minimum image on periodic
+ * axes (sph_box_delta's image, with 1/L taken once per call so that no pair
+ * divides), W at h_i and, with SPH__WANT_F, F at h_ij = (h_i + h_j) / 2
+ * (per-particle h) or h. The arithmetic every loop below shares. */
+SPH__INLINE void sph__pair(const sph__args *A, const sph__tgt *t, sph_idx j, int want, sph_real *dx,
+                           sph_real *W, sph_real *F)
+{
+    const int D = SPH__DIM(A);
+    sph_real r2 = 0, r, hinv = t->hinv, c = t->cF;
+    int a;
+    for (a = 0; a < 3; ++a) dx[a] = 0;
+    for (a = 0; a < D; ++a) {
+        sph_real d = t->xi[a] - SPH__AT(A->x, a, j);
+        if (A->L[a] != 0) d -= A->L[a] * sph__floor(d * A->invL[a] + (sph_real)0.5);
+        dx[a] = d;
+        r2 += d * d;
+    }
+    r = sph__sqrt(r2);
+    *W = (want & SPH__WANT_W) ? t->cW * sph__nshape_w(t->sh, r * t->hinv) : 0;
+    if (!(want & SPH__WANT_F)) return;
+    if (A->hv) {
+        hinv = 2 / (t->hi + SPH__AT(A->hs, 0, j));
+        c = sph__hpow(t->alpha, hinv, D + 2);
+    }
+    *F = c * sph__nshape_g(t->sh, r * hinv);
+}
+
+/* ---- the end of a target, shared by the reference and the fast loops ---- */
+
+/* (O2), (O3): rho or <f>, or Shepard's s / sV; returns 1 for an empty Shepard target. */
+SPH__INLINE int sph__end_sum(const sph__args *A, sph_idx i, sph_real s, sph_real sV)
+{
+    if (A->op != SPH__OP_SHEPARD) {
+        SPH__AT(A->out, 0, i) = s;
+        return 0;
+    }
+    SPH__AT(A->out, 0, i) = sV != 0 ? s / sV : 0;
+    return sV == 0;
+}
+
+/* (O4)-(O8): rho_i g (pressure form; rho_i = 1 otherwise), B_i g (corrected,
+ * (O7)) or g; the density of the fused pass. Returns 1 for a fallback. */
+SPH__INLINE int sph__end_grad(const sph__args *A, sph_idx i, sph_real rhoi, const sph_real *g, int fb,
+                              const sph_real *B, sph_real rho)
+{
+    const int D = SPH__DIM(A);
+    int a, b;
+    for (a = 0; a < D; ++a) {
+        sph_real y = rhoi * g[a];
+        if (A->op == SPH__OP_GRAD_CORR)
+            for (y = 0, b = 0; b < D; ++b) y += B[3 * a + b] * g[b];
+        SPH__AT(A->out, a, i) = y;
+    }
+    if (A->op == SPH__OP_DENS_GRAD) SPH__AT(A->out2, 0, i) = rho;
+    return fb;
+}
+
+/* (O15)-(O18): the tensor S (velocity gradient), S B (corrected, (O17)),
+ * its trace (corrected divergence, (O18)) or B itself. */
+SPH__INLINE int sph__end_tensor(const sph__args *A, sph_idx i, const sph_real *S, const sph_real *M)
+{
+    const int D = SPH__DIM(A), op = A->op;
+    const int corr = op == SPH__OP_GRADV_CORR || op == SPH__OP_DIV_CORR || op == SPH__OP_CORRECTION;
+    sph_real B[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1}, div = 0;
+    int fb = 0, a, b, e;
+    if (corr) fb = !sph_correction_invert(D, M, A->rcond_min, B);
+    for (a = 0; a < D; ++a)
+        for (b = 0; b < D; ++b) {
+            sph_real y = S[3 * a + b];
+            if (op == SPH__OP_CORRECTION) y = B[3 * a + b];
+            else if (corr)
+                for (y = 0, e = 0; e < D; ++e) y += S[3 * a + e] * B[3 * e + b];
+            if (op == SPH__OP_DIV_CORR) div += a == b ? y : 0;
+            else A->T[(ptrdiff_t)i * A->Ts + a * D + b] = y;
+        }
+    if (op == SPH__OP_DIV_CORR) SPH__AT(A->out, 0, i) = div;
+    return fb;
+}
+
+/* (O9)-(O11): the divergence, or the curl (a scalar in 2-D, a vector in 3-D). */
+SPH__INLINE int sph__end_divcurl(const sph__args *A, sph_idx i, const sph_real *s)
+{
+    SPH__AT(A->out, 0, i) = s[0];
+    if ((A->op == SPH__OP_CURL_STD || A->op == SPH__OP_CURL_DIFF) && SPH__DIM(A) == 3) {
+        SPH__AT(A->out, 1, i) = s[1];
+        SPH__AT(A->out, 2, i) = s[2];
+    }
+    return 0;
+}
+
+/* f_i (and, for the pressure form, rho_i and P_i = p_i / rho_i^2) of target i. */
+SPH__INLINE sph_real sph__fi(const sph__args *A, sph_idx i)
+{
+    return A->op == SPH__OP_GRAD_STD ? 0 : SPH__AT(A->ft, 0, i);
+}
+
+/* ---- reference loops: one per family, one pair at a time ---- */
+/* Each target sums its own list in order over the pair terms of section 5.
+ * These loops define the results; the fast loops below are tested equal. */
+
+/* (O2), (O3) density, interpolation, Shepard at target i. */
+SPH_API int sph__ref_sum(const sph__args *A, sph_idx i)
+{
+    sph__tgt t;
+    sph_real s = 0, sV = 0, dx[3], W, F;
+    sph_off o;
+    sph__tinit(A, i, &t);
+    for (o = A->off[i]; o < A->off[i + 1]; ++o) {
+        const sph_idx j = A->idx[o];
+        sph__pair(A, &t, j, SPH__WANT_W, dx, &W, &F);
+        if (A->op == SPH__OP_DENSITY) {
+            s += sph_pair_density(SPH__AT(A->m, 0, j), W);
+        } else {
+            const sph_real Vj = SPH__AT(A->V, 0, j);
+            s += sph_pair_interpolate(Vj, SPH__AT(A->f, 0, j), W);
+            sV += Vj * W;
+        }
+    }
+    return sph__end_sum(A, i, s, sV);
+}
+
+/* (O4)-(O8) gradient of a scalar, and (O2) + (O5) fused, at target i. */
+SPH_API int sph__ref_grad(const sph__args *A, sph_idx i)
+{
+    const int D = SPH__DIM(A), op = A->op;
+    const sph_real fi = sph__fi(A, i), rhoi = op == SPH__OP_GRAD_PRES ? SPH__AT(A->rhot, 0, i) : 1;
+    const sph_real Pi = op == SPH__OP_GRAD_PRES ? sph_pressure_factor(fi, rhoi) : 0;
+    sph_real g[3] = {0, 0, 0}, M[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0}, B[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+    sph_real rho = 0, dx[3], W, F;
+    sph__tgt t;
+    sph_off o;
+    sph__tinit(A, i, &t);
+    for (o = A->off[i]; o < A->off[i + 1]; ++o) {
+        const sph_idx j = A->idx[o];
+        const sph_real fj = SPH__AT(A->f, 0, j);
+        sph__pair(A, &t, j, op == SPH__OP_DENS_GRAD ? SPH__WANT_W | SPH__WANT_F : SPH__WANT_F, dx, &W, &F);
+        if (op == SPH__OP_GRAD_PRES)
+            sph_pair_grad_pressure(D, SPH__AT(A->m, 0, j), Pi, sph_pressure_factor(fj, SPH__AT(A->rho, 0, j)), F,
+                                   dx, g);
+        else if (op == SPH__OP_GRAD_STD)
+            sph_pair_grad_standard(D, SPH__AT(A->V, 0, j), fj, F, dx, g);
+        else if (op == SPH__OP_GRAD_SYM)
+            sph_pair_grad_symmetric(D, SPH__AT(A->V, 0, j), fi, fj, F, dx, g);
+        else
+            sph_pair_grad_difference(D, SPH__AT(A->V, 0, j), fi, fj, F, dx, g);
+        if (op == SPH__OP_DENS_GRAD) rho += sph_pair_density(SPH__AT(A->m, 0, j), W);
+        if (op == SPH__OP_GRAD_CORR) sph_pair_correction(D, SPH__AT(A->V, 0, j), F, dx, M);
+    }
+    /* (O7) corrected: B_i g, or the difference scheme where M_i is ill-conditioned */
+    return sph__end_grad(A, i, rhoi, g, op == SPH__OP_GRAD_CORR && !sph_correction_invert(D, M, A->rcond_min, B), B,
+                         rho);
+}
+
+/* (O15)-(O18) velocity gradient, corrected divergence, correction matrix at target i. */
+SPH_API int sph__ref_tensor(const sph__args *A, sph_idx i)
+{
+    const int D = SPH__DIM(A), op = A->op;
+    sph_real vi[3] = {0, 0, 0}, S[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0}, M[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0}, dx[3], W, F;
+    sph__tgt t;
+    sph_off o;
+    int a;
+    sph__tinit(A, i, &t);
+    for (a = 0; op != SPH__OP_GRADV_STD && op != SPH__OP_CORRECTION && a < D; ++a) vi[a] = SPH__AT(A->ft, a, i);
+    for (o = A->off[i]; o < A->off[i + 1]; ++o) {
+        const sph_idx j = A->idx[o];
+        const sph_real Vj = SPH__AT(A->V, 0, j);
+        sph__pair(A, &t, j, SPH__WANT_F, dx, &W, &F);
+        for (a = 0; op != SPH__OP_CORRECTION && a < D; ++a) {
+            const sph_real vj = SPH__AT(A->f, a, j);
+            if (op == SPH__OP_GRADV_STD) sph_pair_grad_standard(D, Vj, vj, F, dx, S + 3 * a);
+            else if (op == SPH__OP_GRADV_SYM) sph_pair_grad_symmetric(D, Vj, vi[a], vj, F, dx, S + 3 * a);
+            else sph_pair_grad_difference(D, Vj, vi[a], vj, F, dx, S + 3 * a);
+        }
+        if (op == SPH__OP_GRADV_CORR || op == SPH__OP_DIV_CORR || op == SPH__OP_CORRECTION)
+            sph_pair_correction(D, Vj, F, dx, M);
+    }
+    return sph__end_tensor(A, i, S, M);
+}
+
+/* (O9)-(O11) divergence and curl, standard (u = v_j) and difference (u = v_j - v_i), at target i. */
+SPH_API int sph__ref_divcurl(const sph__args *A, sph_idx i)
+{
+    const int D = SPH__DIM(A), op = A->op;
+    const int diff = op == SPH__OP_DIV_DIFF || op == SPH__OP_CURL_DIFF;
+    sph_real vi[3] = {0, 0, 0}, s[3] = {0, 0, 0}, dx[3], W, F;
+    sph__tgt t;
+    sph_off o;
+    int a;
+    sph__tinit(A, i, &t);
+    for (a = 0; diff && a < D; ++a) vi[a] = SPH__AT(A->ft, a, i);
+    for (o = A->off[i]; o < A->off[i + 1]; ++o) {
+        const sph_idx j = A->idx[o];
+        sph_real u[3] = {0, 0, 0};
+        sph__pair(A, &t, j, SPH__WANT_F, dx, &W, &F);
+        for (a = 0; a < D; ++a) u[a] = SPH__AT(A->f, a, j) - vi[a];
+        if (op == SPH__OP_CURL_STD || op == SPH__OP_CURL_DIFF) sph_pair_curl(D, SPH__AT(A->V, 0, j), u, F, dx, s);
+        else s[0] += sph_pair_div_standard(D, SPH__AT(A->V, 0, j), u, F, dx);
+    }
+    return sph__end_divcurl(A, i, s);
+}
+
+/* (O12)-(O14) Laplacian and variable-coefficient diffusion at target i. */
+SPH_API int sph__ref_lap(const sph__args *A, sph_idx i)
+{
+    const sph_real fi = SPH__AT(A->ft, 0, i), ki = A->op == SPH__OP_DIFFUSION ? SPH__AT(A->kt, 0, i) : 0;
+    sph_real s = 0, dx[3], W, F;
+    sph__tgt t;
+    sph_off o;
+    sph__tinit(A, i, &t);
+    for (o = A->off[i]; o < A->off[i + 1]; ++o) {
+        const sph_idx j = A->idx[o];
+        const sph_real Vj = SPH__AT(A->V, 0, j), fj = SPH__AT(A->f, 0, j);
+        sph__pair(A, &t, j, SPH__WANT_F, dx, &W, &F);
+        if (A->op == SPH__OP_LAPLACIAN) s += sph_pair_laplacian(Vj, fi, fj, F);
+        else s += sph_pair_diffusion(Vj, sph_harmonic_k(ki, SPH__AT(A->k, 0, j)), fi, fj, F);
+    }
+    SPH__AT(A->out, 0, i) = s;
+    return 0;
+}
+
+#ifdef _OPENMP
+#define SPH__OMP_FOR _Pragma("omp parallel for schedule(static) reduction(+ : n)")
+#else
+#define SPH__OMP_FOR
+#endif
+
+/* Every target through the reference loop of op's family; returns the
+ * number of fallbacks (corrected schemes) or empty targets (Shepard). */
+SPH_API sph_idx sph__run_reference(const sph__args *A)
+{
+    int (*target)(const sph__args *, sph_idx) = NULL;
+    sph_idx i, n = 0;
+    switch (A->op) {
+#define SPH__X(name, family) case SPH__OP_##name: target = sph__ref_##family; break;
+        SPH__OPS(SPH__X)
+#undef SPH__X
+    default: return 0;
+    }
+    SPH__OMP_FOR
+    for (i = 0; i < A->nt; ++i) n += target(A, i);
+    return n;
+}
+
+/* ======================================================================== */
+/* Fast loops (compiled unless SPH_OP_REFERENCE is defined)                 */
+/* ======================================================================== */
+/* The reference loops' arithmetic, reorganised for the vector units: each
+ * target's list is taken in chunks of up to SPH__CHUNK pairs, and each chunk
+ * in simple loops the compiler vectorises (gather x_j axis by axis into dx
+ * and r^2, square roots, the kernel over the chunk, one pass per pair term).
+ * Every sum runs over j in list order, as in the reference loops, so without
+ * OpenMP the results are bitwise theirs; with OpenMP the sums over a chunk
+ * are SIMD reductions (the same for any thread count). The kernel is
+ * evaluated by one function per shape (its pieces folded to constants there)
+ * called once per chunk, so the operators need no copy per kernel. With
+ * AVX-512 the density and difference gradient take a one-pass loop in
+ * registers instead (sph__dg8). */
+#if !defined(SPH_OP_REFERENCE)
+
+#ifndef SPH__CHUNK
+#define SPH__CHUNK 32 /* a multiple of 8 */
+#endif
+
+/* omp simd (OpenMP 4.0 and later); nothing without OpenMP, so builds without
+ * it see no unknown pragma. The SUM forms reduce into s0 and s1. */
+#if defined(_OPENMP) && _OPENMP >= 201307
+#define SPH__SIMD _Pragma("omp simd")
+#define SPH__SIMD_SUM1 _Pragma("omp simd reduction(+ : s0)")
+#define SPH__SIMD_SUM2 _Pragma("omp simd reduction(+ : s0, s1)")
+#if defined(__clang__)
+/* clang reports kernel loops it could not vectorise as errors under
+ * -Werror (-Wpass-failed): there they go without the request. */
+#define SPH__SIMD_KERNEL
+#else
+#define SPH__SIMD_KERNEL SPH__SIMD
+#endif
+#else
+#define SPH__SIMD
+#define SPH__SIMD_SUM1
+#define SPH__SIMD_SUM2
+#define SPH__SIMD_KERNEL
+#endif
+
+#if defined(__CUDACC__)
+#define SPH__NOINLINE static __noinline__ SPH_HOSTDEV
+#elif defined(__GNUC__) || defined(__clang__)
+#define SPH__NOINLINE static __attribute__((noinline, unused))
+#else
+#define SPH__NOINLINE static inline
+#endif
+
+/* The pairs of one chunk (positions k = 0..n-1 of the target's list). */
+typedef struct {
+    sph_real dx[3][SPH__CHUNK]; /* x_i - x_j, minimum image */
+    sph_real r[SPH__CHUNK];     /* r^2, then r (zero padded to a multiple of 8) */
+    sph_real q[SPH__CHUNK], W[SPH__CHUNK], F[SPH__CHUNK];
+    sph_real c[SPH__CHUNK];     /* scratch: h_ij, then a pair term's coefficient */
+    sph_real u[3][SPH__CHUNK];  /* scratch: v_j - v_i (divergence, curl) */
+    sph_idx j[SPH__CHUNK];
+} sph__chunk;
+
+/* r[0..n) = sqrt(r[0..n)), n a multiple of 8 (zero padded): IEEE square roots,
+ * bit for bit those of sph__sqrt, without the errno test that keeps compilers
+ * from vectorising sqrt(). SPH_NO_INTRINSICS selects the portable loop. */
+SPH__INLINE void sph__sqrt_chunk(sph_real *r, int n)
+{
+    int k;
+#if SPH__SQRT_SIMD == 2
+    if (sizeof(sph_real) == sizeof(double)) {
+        for (k = 0; k < n; k += 4)
+            _mm256_storeu_pd((double *)r + k, _mm256_sqrt_pd(_mm256_loadu_pd((const double *)r + k)));
+    } else {
+        for (k = 0; k < n; k += 8)
+            _mm256_storeu_ps((float *)r + k, _mm256_sqrt_ps(_mm256_loadu_ps((const float *)r + k)));
+    }
+#elif SPH__SQRT_SIMD == 1
+    if (sizeof(sph_real) == sizeof(double)) {
+        for (k = 0; k < n; k += 2)
+            _mm_storeu_pd((double *)r + k, _mm_sqrt_pd(_mm_loadu_pd((const double *)r + k)));
+    } else {
+        for (k = 0; k < n; k += 4)
+            _mm_storeu_ps((float *)r + k, _mm_sqrt_ps(_mm_loadu_ps((const float *)r + k)));
+    }
+#else
+    for (k = 0; k < n; ++k) r[k] = sph__sqrt(r[k]);
+#endif
+}
+
+/* w(q) into w and g(q) = w'(q)/q into g (either may be NULL) for n values of
+ * q: (K1), (K2) from the natural pieces, instantiated once per shape below. */
+SPH__INLINE void sph__shape_run(const sph__nshape *s, const sph_real *q, sph_real *w, sph_real *g, int n)
+{
+    int k;
+    if (w != NULL) {
+        SPH__SIMD_KERNEL
+        for (k = 0; k < n; ++k) w[k] = sph__nshape_w(s, q[k]);
+    }
+    if (g != NULL) {
+        SPH__SIMD_KERNEL
+        for (k = 0; k < n; ++k) g[k] = sph__nshape_g(s, q[k]);
+    }
+}
+
+#define SPH__SHAPE_IDS(X) X(0) X(1) X(2) X(3) X(4) X(5) X(6) X(7) X(8) X(9)
+typedef char sph__shape_ids_cover_every_shape[SPH__SHAPE_COUNT == 10 ? 1 : -1];
+
+#define SPH__X(S)                                                                          \
+    SPH__NOINLINE void sph__shape_run##S(const sph_real *q, sph_real *w, sph_real *g, int n) \
+    {                                                                                      \
+        sph__shape_run(&sph__nshapes[S], q, w, g, n);                                      \
+    }
+SPH__SHAPE_IDS(SPH__X)
+#undef SPH__X
+
+SPH__INLINE void sph__shape_chunk(int shape, const sph_real *q, sph_real *w, sph_real *g, int n)
+{
+    switch (shape) {
+#define SPH__X(S) case S: sph__shape_run##S(q, w, g, n); break;
+        SPH__SHAPE_IDS(SPH__X)
+#undef SPH__X
+    default: break;
+    }
+}
+
+/* (O0), (O1) the n pairs of list positions o..o+n-1 of target t: sph__pair's
+ * arithmetic, axis by axis and pass by pass over the chunk. */
+SPH__INLINE void sph__chunk_eval(const sph__args *A, const sph__tgt *t, sph_off o, int n, int want, sph__chunk *P)
+{
+    const int D = SPH__DIM(A);
+    int k, a, m;
+    for (k = 0; k < n; ++k) {
+        P->j[k] = A->idx[o + k];
+        P->r[k] = 0;
+    }
+    for (a = 0; a < D; ++a) {
+        const sph_real *x = A->x.p[a], xi = t->xi[a], L = A->L[a], iL = A->invL[a];
+        const ptrdiff_t s = A->x.stride;
+        sph_real *d = P->dx[a];
+        /* the image is tested once per axis, outside the pair loops: inside,
+         * the vectoriser would evaluate both sides per pair */
+        if (L != 0) {
+            SPH__SIMD
+            for (k = 0; k < n; ++k) {
+                sph_real e = xi - x[(ptrdiff_t)P->j[k] * s];
+                e -= L * sph__floor(e * iL + (sph_real)0.5);
+                d[k] = e;
+                P->r[k] += e * e;
+            }
+        } else {
+            SPH__SIMD
+            for (k = 0; k < n; ++k) {
+                const sph_real e = xi - x[(ptrdiff_t)P->j[k] * s];
+                d[k] = e;
+                P->r[k] += e * e;
+            }
+        }
+    }
+    for (m = n; (m & 7) != 0; ++m) P->r[m] = 0;
+    sph__sqrt_chunk(P->r, m);
+    if ((want & SPH__WANT_W) || !A->hv)
+        for (k = 0; k < n; ++k) P->q[k] = P->r[k] * t->hinv;
+    if (want == (SPH__WANT_W | SPH__WANT_F) && !A->hv) {
+        sph__shape_chunk(t->shape, P->q, P->W, P->F, n);
+    } else {
+        if (want & SPH__WANT_W) sph__shape_chunk(t->shape, P->q, P->W, NULL, n);
+        if (want & SPH__WANT_F) {
+            if (A->hv) {
+                const sph_real *hs = A->hs.p[0];
+                const ptrdiff_t sh = A->hs.stride;
+                for (k = 0; k < n; ++k) {
+                    P->c[k] = 2 / (t->hi + hs[(ptrdiff_t)P->j[k] * sh]);
+                    P->q[k] = P->r[k] * P->c[k];
+                }
+            }
+            sph__shape_chunk(t->shape, P->q, NULL, P->F, n);
+        }
+    }
+    if (want & SPH__WANT_W)
+        for (k = 0; k < n; ++k) P->W[k] = t->cW * P->W[k];
+    if ((want & SPH__WANT_F) && A->hv) {
+        /* alpha h_ij^-(d+2), multiplied as sph__hpow does */
+        for (k = 0; k < n; ++k) P->q[k] = t->alpha;
+        for (a = 0; a < D + 2; ++a)
+            for (k = 0; k < n; ++k) P->q[k] *= P->c[k];
+        for (k = 0; k < n; ++k) P->F[k] = P->q[k] * P->F[k];
+    } else if (want & SPH__WANT_F) {
+        for (k = 0; k < n; ++k) P->F[k] = t->cF * P->F[k];
+    }
+}
+
+/* The next chunk of target i from list position o; returns its size. */
+SPH__INLINE int sph__chunk_next(const sph__args *A, const sph__tgt *t, sph_idx i, sph_off o, int want,
+                                sph__chunk *P)
+{
+    const int n = (A->off[i + 1] - o) < SPH__CHUNK ? (int)(A->off[i + 1] - o) : SPH__CHUNK;
+    sph__chunk_eval(A, t, o, n, want, P);
+    return n;
+}
+
+/* out[e] += sum_k c[k] dx[a][k] (dx[b][k]) in list order: the axis passes of
+ * the vector pair terms (b < 0: one factor). */
+SPH__INLINE void sph__chunk_axpy(const sph__chunk *P, int n, int a, int b, sph_real *out)
+{
+    sph_real s0 = *out;
+    int k;
+    if (b < 0) {
+        SPH__SIMD_SUM1
+        for (k = 0; k < n; ++k) s0 += P->c[k] * P->dx[a][k];
+    } else {
+        SPH__SIMD_SUM1
+        for (k = 0; k < n; ++k) s0 += P->c[k] * P->dx[a][k] * P->dx[b][k];
+    }
+    *out = s0;
+}
+
+/* (O15) M += sum -V_j F dx_a dx_b over the chunk (c is overwritten). */
+SPH__INLINE void sph__chunk_correction(const sph__args *A, const int D, sph__chunk *P, int n, sph_real *M)
+{
+    int k, a, b;
+    for (k = 0; k < n; ++k) P->c[k] = -SPH__AT(A->V, 0, P->j[k]) * P->F[k];
+    for (a = 0; a < D; ++a)
+        for (b = 0; b < D; ++b) sph__chunk_axpy(P, n, a, b, M + 3 * a + b);
+}
+
+/* ---- AVX-512: density and difference gradient in one pass (SPH__OP_AVX512) ---- */
 #if SPH__OP_AVX512
 /* sph__pform_eval and sph__nshape_pick on 8 values of q. */
 SPH__INLINE __m512d sph__pform_eval8(const sph__pform *f, __m512d q)
@@ -1529,123 +1852,130 @@ SPH__INLINE __m512d sph__nshape_pick8(const sph__nshape *s, const int G, __m512d
     return v;
 }
 
-/* Can sph__t_dg8 serve this call: F at the uniform h (GRAD with
- * per-particle h stays with the chunked loops)? Every layout of the views
- * takes the same arithmetic (a shared stride changes only the index
- * products), so SoA, interleaved and AoS stay bitwise equal. */
-SPH__INLINE int sph__dg8_ok(const sph__args *A, const int GRAD, const int GEN)
+/* p[o[k]] for the 8 lanes in km, src elsewhere: eight scalar loads (the
+ * gather instruction is slower on AMD Zen 4, docs/operators.md). */
+SPH__INLINE __m512d sph__at8(__m512d src, __mmask8 km, const sph_real *p, const ptrdiff_t *o)
 {
-    return !(GRAD && GEN && A->hv);
-}
-
-/* v.p[a][j * st] for the 8 list entries j, lanes outside km from src, st
- * the view's stride. Eight scalar loads, not the gather instruction, which
- * is slower on AMD Zen 4 (see docs/operators.md). A lane outside km has
- * j = 0, a valid source whenever the list holds any pair. */
-SPH__INLINE __m512d sph__at8(__m512d src, __mmask8 km, const sph_idx *j, sph_view v, int a, ptrdiff_t st)
-{
-    const sph_real *p = v.p[a];
     return _mm512_mask_mov_pd(src, km,
-                              _mm512_set_pd((double)p[j[7] * st], (double)p[j[6] * st], (double)p[j[5] * st],
-                                            (double)p[j[4] * st], (double)p[j[3] * st], (double)p[j[2] * st],
-                                            (double)p[j[1] * st], (double)p[j[0] * st]));
+                              _mm512_set_pd((double)p[o[7]], (double)p[o[6]], (double)p[o[5]], (double)p[o[4]],
+                                            (double)p[o[3]], (double)p[o[2]], (double)p[o[1]], (double)p[o[0]]));
 }
 
-/* (O2) rho = sum_j m_j W_ij (DENS) and/or (O5) g = sum_j V_j (f_j - f_i) F_ij x_ij
- * (GRAD) of target t, PB: minimum image; ONE_STRIDE: the views read have
- * the stride of x (SoA, or one array of structs), so each j * stride serves
- * every field (with a stride per view the integer multiplies cost 10-20 %
- * of the loop). The same pair arithmetic as the
- * chunked loops (IEEE square root, W and F from the natural pieces, the
- * division of g by q), done for 8 pairs at a time in registers in one pass
- * over the list; only the order of the sum over j differs, and with SPH_REAL
- * float the precision: the pair terms and sums are double, rounded to float
- * once at the end. */
-SPH__INLINE void sph__t_dg8(const sph__args *A, const sph__kdim *kd, const int D, const int PB, const int ONE_STRIDE,
-                            const int DENS, const int GRAD, const sph__tgt *t, sph_idx i, sph_real fi, sph_real *g,
-                            sph_real *rho)
+/* x_i - x_j on axis a for 8 lanes, with the minimum image where periodic. */
+SPH__INLINE __m512d sph__dx8(const sph__args *A, const sph__tgt *t, int a, __mmask8 km, const ptrdiff_t *ox)
 {
-    const ptrdiff_t sx = A->x.stride, sm = ONE_STRIDE ? sx : A->m.stride, sV = ONE_STRIDE ? sx : A->V.stride,
-                    sf = ONE_STRIDE ? sx : A->f.stride;
-    const sph__nshape *sh = &sph__nshapes[kd->shape];
+    const __m512d xi = _mm512_set1_pd((double)t->xi[a]);
+    __m512d d = _mm512_sub_pd(xi, sph__at8(xi, km, A->x.p[a], ox));
+    if (A->L[a] != 0) {
+        const __m512d img = _mm512_roundscale_pd(
+            _mm512_fmadd_pd(d, _mm512_set1_pd((double)A->invL[a]), _mm512_set1_pd(0.5)),
+            _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC);
+        d = _mm512_fnmadd_pd(_mm512_set1_pd((double)A->L[a]), img, d);
+    }
+    return d;
+}
+
+/* (O2) rho = sum_j m_j W_ij (dens) and/or (O5) g = sum_j V_j (f_j - f_i) F_ij x_ij
+ * (grad) of target t, 8 pairs per step: the chunked loops' arithmetic (IEEE
+ * square root, the natural pieces, the division of g by q) in registers, in
+ * double for either sph_real; only the order of the sum over j differs. */
+SPH__INLINE void sph__dg8_body(const sph__args *A, const sph__nshape *sh, const sph__tgt *t, sph_idx i, int dens,
+                               int grad, sph_real fi, sph_real *g, sph_real *rho)
+{
+    const int D = SPH__DIM(A);
+    const ptrdiff_t sx = A->x.stride, sm = A->m.stride, sV = A->V.stride, sf = A->f.stride;
+    /* views sharing the stride of x (SoA, or one array of structs) share its offsets */
+    const int one = (!dens || sm == sx) && (!grad || (sV == sx && sf == sx));
     const __m512d hinv = _mm512_set1_pd(t->hinv), kap = _mm512_set1_pd(sh->kappa), zero = _mm512_setzero_pd();
-    const __m512d vfi = _mm512_set1_pd(fi), half = _mm512_set1_pd(0.5);
-    __m512d s[3] = {zero, zero, zero}, s3 = zero;
+    const __m512d vfi = _mm512_set1_pd(fi);
+    __m512d s0 = zero, s1 = zero, s2 = zero, sr = zero;
     sph_off o;
-    int a;
+    int k;
     for (o = A->off[i]; o < A->off[i + 1]; o += 8) {
         const sph_off left = A->off[i + 1] - o;
         const __mmask8 km = (__mmask8)(left >= 8 ? 0xff : (1u << left) - 1);
         sph_idx j[8];
-        __m512d d[3], r2 = zero, q;
+        ptrdiff_t ox[8], om[8], oV[8], of[8];
+        __m512d d0, d1 = zero, d2 = zero, r2, q;
         __mmask8 in;
         _mm256_storeu_si256((__m256i *)j, _mm256_maskz_loadu_epi32(km, A->idx + o));
-        for (a = 0; a < D; ++a) {
-            const __m512d xi = _mm512_set1_pd((double)t->xi[a]);
-            d[a] = _mm512_sub_pd(xi, sph__at8(xi, km, j, A->x, a, sx));
-            if (PB) {
-                const __m512d img = _mm512_roundscale_pd(
-                    _mm512_fmadd_pd(d[a], _mm512_set1_pd((double)A->invL[a]), half), _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC);
-                d[a] = _mm512_fnmadd_pd(_mm512_set1_pd((double)A->L[a]), img, d[a]);
-            }
-            r2 = _mm512_fmadd_pd(d[a], d[a], r2);
-        }
+        for (k = 0; k < 8; ++k) ox[k] = (ptrdiff_t)j[k] * sx;
+        if (!one)
+            for (k = 0; k < 8; ++k) om[k] = (ptrdiff_t)j[k] * sm, oV[k] = (ptrdiff_t)j[k] * sV, of[k] = (ptrdiff_t)j[k] * sf;
+        d0 = sph__dx8(A, t, 0, km, ox);
+        r2 = _mm512_mul_pd(d0, d0);
+        if (D > 1) d1 = sph__dx8(A, t, 1, km, ox), r2 = _mm512_fmadd_pd(d1, d1, r2);
+        if (D > 2) d2 = sph__dx8(A, t, 2, km, ox), r2 = _mm512_fmadd_pd(d2, d2, r2);
         q = _mm512_mul_pd(_mm512_sqrt_pd(r2), hinv);
         in = _mm512_cmp_pd_mask(q, kap, _CMP_LT_OQ) & km;
-        if (DENS) {
+        if (dens) {
             const __m512d W = _mm512_maskz_mul_pd(in, _mm512_set1_pd((double)t->cW), sph__nshape_pick8(sh, 0, q));
-            s3 = _mm512_fmadd_pd(sph__at8(zero, in, j, A->m, 0, sm), W, s3);
+            sr = _mm512_fmadd_pd(sph__at8(zero, in, A->m.p[0], one ? ox : om), W, sr);
         }
-        if (GRAD) {
+        if (grad) {
             __m512d gq = sph__nshape_pick8(sh, 1, q), c;
             if (sh->npiece > 1)
-                gq = _mm512_div_pd(gq, _mm512_mask_mov_pd(_mm512_set1_pd(1), _mm512_cmp_pd_mask(q, _mm512_set1_pd(sh->lo[1]), _CMP_GE_OQ), q));
-            c = _mm512_mul_pd(sph__at8(zero, in, j, A->V, 0, sV),
-                              _mm512_sub_pd(sph__at8(vfi, in, j, A->f, 0, sf), vfi));
+                gq = _mm512_div_pd(gq, _mm512_mask_mov_pd(_mm512_set1_pd(1),
+                                                          _mm512_cmp_pd_mask(q, _mm512_set1_pd(sh->lo[1]), _CMP_GE_OQ), q));
+            c = _mm512_mul_pd(sph__at8(zero, in, A->V.p[0], one ? ox : oV),
+                              _mm512_sub_pd(sph__at8(vfi, in, A->f.p[0], one ? ox : of), vfi));
             c = _mm512_mul_pd(c, _mm512_maskz_mul_pd(in, _mm512_set1_pd((double)t->cF), gq));
-            for (a = 0; a < D; ++a) s[a] = _mm512_fmadd_pd(c, d[a], s[a]);
+            s0 = _mm512_fmadd_pd(c, d0, s0);
+            if (D > 1) s1 = _mm512_fmadd_pd(c, d1, s1);
+            if (D > 2) s2 = _mm512_fmadd_pd(c, d2, s2);
         }
     }
-    for (a = 0; GRAD && a < 3; ++a) g[a] = a < D ? (sph_real)_mm512_reduce_add_pd(s[a]) : 0;
-    if (DENS) *rho = (sph_real)_mm512_reduce_add_pd(s3);
+    if (grad) {
+        g[0] = (sph_real)_mm512_reduce_add_pd(s0);
+        g[1] = D > 1 ? (sph_real)_mm512_reduce_add_pd(s1) : 0;
+        g[2] = D > 2 ? (sph_real)_mm512_reduce_add_pd(s2) : 0;
+    }
+    if (dens) *rho = (sph_real)_mm512_reduce_add_pd(sr);
 }
-#endif
 
-/* The one-pass AVX-512 loop for target i where it can serve (returns 1 with
- * g and/or rho written), else 0: the caller runs the chunked loops. */
-SPH__INLINE int sph__dg8_try(const sph__args *A, const sph__kdim *kd, const int D, const int GEN, const int DENS,
-                             const int GRAD, const sph__tgt *t, sph_idx i, sph_real fi, sph_real *g, sph_real *rho)
+#define SPH__X(S)                                                                                  \
+    SPH__NOINLINE void sph__dg8_##S(const sph__args *A, const sph__tgt *t, sph_idx i, int dens, int grad, \
+                                    sph_real fi, sph_real *g, sph_real *rho)                        \
+    {                                                                                              \
+        sph__dg8_body(A, &sph__nshapes[S], t, i, dens, grad, fi, g, rho);                          \
+    }
+SPH__SHAPE_IDS(SPH__X)
+#undef SPH__X
+#endif /* SPH__OP_AVX512 */
+
+/* The one-pass loop for target i where it serves (F at the uniform h; the
+ * gradient with per-particle h stays with the chunks): returns 1 with g
+ * and/or rho written, else 0. */
+SPH__INLINE int sph__dg8(const sph__args *A, const sph__tgt *t, sph_idx i, int dens, int grad, sph_real fi,
+                         sph_real *g, sph_real *rho)
 {
 #if SPH__OP_AVX512
-    const ptrdiff_t sx = A->x.stride;
-    int one;
-    if (!sph__dg8_ok(A, GRAD, GEN)) return 0;
-    one = (!DENS || A->m.stride == sx) && (!GRAD || (A->V.stride == sx && A->f.stride == sx));
-    /* GEN: the minimum image always (L = 1/L = 0 on axes without a period
-     * leave x_ij as it is, bit for bit), so that each instance of the
-     * caller holds two copies of the loop, not four: compile time */
-    one ? sph__t_dg8(A, kd, D, GEN, 1, DENS, GRAD, t, i, fi, g, rho)
-        : sph__t_dg8(A, kd, D, GEN, 0, DENS, GRAD, t, i, fi, g, rho);
-    return 1;
+    if (grad && A->hv) return 0;
+    switch (t->shape) {
+#define SPH__X(S) case S: sph__dg8_##S(A, t, i, dens, grad, fi, g, rho); return 1;
+        SPH__SHAPE_IDS(SPH__X)
+#undef SPH__X
+    default: return 0;
+    }
 #else
-    (void)A, (void)kd, (void)D, (void)GEN, (void)DENS, (void)GRAD, (void)t, (void)i, (void)fi, (void)g, (void)rho;
+    (void)A, (void)t, (void)i, (void)dens, (void)grad, (void)fi, (void)g, (void)rho;
     return 0;
 #endif
 }
 
-/* (O2), (O3) density, interpolation, Shepard; returns 1 for an empty Shepard target. */
-SPH__INLINE int sph__t_sum(const sph__args *A, const int OP, const int K, const int D,
-                           const int GEN, const sph_idx i)
+/* ---- the fast twin of each reference loop; OP is a constant of the instance ---- */
+
+SPH__INLINE int sph__fast_sum(const sph__args *A, const int OP, sph_idx i)
 {
+    sph__tgt t;
+    sph__chunk P;
     sph_real s0 = 0, s1 = 0;
-    SPH__TARGET_HEAD(SPH__WANT_W);
-    (void)a;
-    if (OP == SPH__OP_DENSITY && sph__dg8_try(A, kd, D, GEN, 1, 0, &t, i, 0, NULL, &s0)) {
-        SPH__AT(A->out, 0, i) = s0;
-        return 0;
-    }
+    sph_off o;
+    int n, k;
+    sph__tinit(A, i, &t);
+    if (OP == SPH__OP_DENSITY && sph__dg8(A, &t, i, 1, 0, 0, NULL, &s0)) return sph__end_sum(A, i, s0, 0);
     for (o = A->off[i]; o < A->off[i + 1]; o += n) {
-        SPH__NEXT_CHUNK(SPH__WANT_W);
+        n = sph__chunk_next(A, &t, i, o, SPH__WANT_W, &P);
         if (OP == SPH__OP_DENSITY) {
             SPH__SIMD_SUM1
             for (k = 0; k < n; ++k) s0 += sph_pair_density(SPH__AT(A->m, 0, P.j[k]), P.W[k]);
@@ -1658,160 +1988,134 @@ SPH__INLINE int sph__t_sum(const sph__args *A, const int OP, const int K, const 
             }
         }
     }
-    if (OP == SPH__OP_SHEPARD) {
-        SPH__AT(A->out, 0, i) = s1 != 0 ? s0 / s1 : 0;
-        return s1 == 0;
-    }
-    SPH__AT(A->out, 0, i) = s0;
-    return 0;
+    return sph__end_sum(A, i, s0, s1);
 }
 
-/* (O4)-(O8) scalar gradient, and the density with the difference gradient in
- * one pass (O2)+(O5); returns 1 when the corrected scheme fell back. */
-SPH__INLINE int sph__t_grad(const sph__args *A, const int OP, const int K, const int D,
-                            const int GEN, const sph_idx i)
+SPH__INLINE int sph__fast_grad(const sph__args *A, const int OP, sph_idx i)
 {
-    const int corr = OP == SPH__OP_GRAD_CORR, dens = OP == SPH__OP_DENS_GRAD;
-    const int want = dens ? SPH__WANT_W | SPH__WANT_F : SPH__WANT_F;
-    const sph_real fi = OP == SPH__OP_GRAD_STD ? 0 : SPH__AT(A->ft, 0, i);
-    const sph_real rhoi = OP == SPH__OP_GRAD_PRES ? SPH__AT(A->rhot, 0, i) : 1;
+    const int D = SPH__DIM(A);
+    const sph_real fi = sph__fi(A, i), rhoi = OP == SPH__OP_GRAD_PRES ? SPH__AT(A->rhot, 0, i) : 1;
     const sph_real Pi = OP == SPH__OP_GRAD_PRES ? sph_pressure_factor(fi, rhoi) : 0;
-    sph_real g[3] = {0, 0, 0}, M[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0}, B[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
-    sph_real s0 = 0, s1 = 0, s2 = 0, s3 = 0;
-    int fb = 0, b;
-    SPH__TARGET_HEAD(want);
-    /* the one-pass loop leaves the sums in g and s3, and nothing to the chunks */
-    o = (OP == SPH__OP_GRAD_DIFF || dens) && sph__dg8_try(A, kd, D, GEN, dens, 1, &t, i, fi, g, &s3) ? A->off[i + 1]
-                                                                                                   : A->off[i];
-    for (; o < A->off[i + 1]; o += n) {
-        SPH__NEXT_CHUNK(want);
-        SPH__SIMD_SUM4
+    sph_real g[3] = {0, 0, 0}, M[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0}, B[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1}, s0 = 0;
+    sph__tgt t;
+    sph__chunk P;
+    sph_off o;
+    int n, k, a, fb = 0;
+    sph__tinit(A, i, &t);
+    if ((OP == SPH__OP_GRAD_DIFF || OP == SPH__OP_DENS_GRAD) && sph__dg8(A, &t, i, OP == SPH__OP_DENS_GRAD, 1, fi, g, &s0))
+        return sph__end_grad(A, i, rhoi, g, 0, B, s0);
+    for (o = A->off[i]; o < A->off[i + 1]; o += n) {
+        n = sph__chunk_next(A, &t, i, o, OP == SPH__OP_DENS_GRAD ? SPH__WANT_W | SPH__WANT_F : SPH__WANT_F, &P);
+        /* (O4)-(O8) the coefficient c of each pair term c x_ij */
+        SPH__SIMD
         for (k = 0; k < n; ++k) {
             const sph_idx j = P.j[k];
             const sph_real fj = SPH__AT(A->f, 0, j), F = P.F[k];
-            sph_real dx[3], acc[3] = {0, 0, 0};
-            sph__chunk_dx(&P, D, k, dx);
             if (OP == SPH__OP_GRAD_PRES)
-                sph_pair_grad_pressure(D, SPH__AT(A->m, 0, j), Pi,
-                                       sph_pressure_factor(fj, SPH__AT(A->rho, 0, j)), F, dx, acc);
-            if (OP == SPH__OP_GRAD_STD) sph_pair_grad_standard(D, SPH__AT(A->V, 0, j), fj, F, dx, acc);
-            if (OP == SPH__OP_GRAD_DIFF || corr || dens)
-                sph_pair_grad_difference(D, SPH__AT(A->V, 0, j), fi, fj, F, dx, acc);
-            if (OP == SPH__OP_GRAD_SYM) sph_pair_grad_symmetric(D, SPH__AT(A->V, 0, j), fi, fj, F, dx, acc);
-            if (dens) s3 += sph_pair_density(SPH__AT(A->m, 0, j), P.W[k]);
-            s0 += acc[0];
-            s1 += acc[1];
-            s2 += acc[2];
+                P.c[k] = SPH__AT(A->m, 0, j) * (Pi + sph_pressure_factor(fj, SPH__AT(A->rho, 0, j))) * F;
+            else if (OP == SPH__OP_GRAD_STD)
+                P.c[k] = SPH__AT(A->V, 0, j) * fj * F;
+            else if (OP == SPH__OP_GRAD_SYM)
+                P.c[k] = SPH__AT(A->V, 0, j) * (fj + fi) * F;
+            else
+                P.c[k] = SPH__AT(A->V, 0, j) * (fj - fi) * F;
         }
-        for (k = 0; corr && k < n; ++k) {
-            sph_real dx[3];
-            sph__chunk_dx(&P, D, k, dx);
-            sph_pair_correction(D, SPH__AT(A->V, 0, P.j[k]), P.F[k], dx, M);
+        for (a = 0; a < D; ++a) sph__chunk_axpy(&P, n, a, -1, g + a);
+        if (OP == SPH__OP_DENS_GRAD) {
+            SPH__SIMD_SUM1
+            for (k = 0; k < n; ++k) s0 += sph_pair_density(SPH__AT(A->m, 0, P.j[k]), P.W[k]);
         }
+        if (OP == SPH__OP_GRAD_CORR) sph__chunk_correction(A, D, &P, n, M);
     }
-    g[0] += s0;
-    g[1] += s1;
-    g[2] += s2;
-    if (corr) fb = !sph_correction_invert(D, M, A->rcond_min, B);
-    /* a fallback is the difference scheme bit for bit: where that scheme
-     * takes the one-pass loop, the fallback's sums come from it too */
-    if (fb) (void)sph__dg8_try(A, kd, D, GEN, 0, 1, &t, i, fi, g, NULL);
-    for (a = 0; a < D; ++a) {
-        sph_real y = rhoi * g[a];
-        if (corr) /* (O7) */
-            for (y = 0, b = 0; b < D; ++b) y += B[3 * a + b] * g[b];
-        SPH__AT(A->out, a, i) = y;
+    if (OP == SPH__OP_GRAD_CORR) {
+        fb = !sph_correction_invert(D, M, A->rcond_min, B);
+        /* a fallback is the difference scheme bit for bit, one-pass loop included */
+        if (fb) (void)sph__dg8(A, &t, i, 0, 1, fi, g, NULL);
     }
-    if (dens) SPH__AT(A->out2, 0, i) = s3;
-    return fb;
+    return sph__end_grad(A, i, rhoi, g, fb, B, s0);
 }
 
-/* (O15)-(O18) tensors: velocity gradient S[a][b] = d v_a / d x_b, the
- * corrected divergence trace(S B) and the correction matrix B itself. */
-SPH__INLINE int sph__t_tensor(const sph__args *A, const int OP, const int K, const int D,
-                              const int GEN, const sph_idx i)
+SPH__INLINE int sph__fast_tensor(const sph__args *A, const int OP, sph_idx i)
 {
-    const int corr = OP == SPH__OP_GRADV_CORR || OP == SPH__OP_DIV_CORR || OP == SPH__OP_CORRECTION;
+    const int D = SPH__DIM(A);
     sph_real vi[3] = {0, 0, 0}, S[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0}, M[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
-    sph_real B[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1}, div = 0;
-    int fb = 0, b, e;
-    SPH__TARGET_HEAD(SPH__WANT_F);
-    for (a = 0; OP != SPH__OP_GRADV_STD && OP != SPH__OP_CORRECTION && a < D; ++a)
-        vi[a] = SPH__AT(A->ft, a, i);
+    sph__tgt t;
+    sph__chunk P;
+    sph_off o;
+    int n, k, a, b;
+    sph__tinit(A, i, &t);
+    for (a = 0; OP != SPH__OP_GRADV_STD && OP != SPH__OP_CORRECTION && a < D; ++a) vi[a] = SPH__AT(A->ft, a, i);
     for (o = A->off[i]; o < A->off[i + 1]; o += n) {
-        SPH__NEXT_CHUNK(SPH__WANT_F);
-        for (k = 0; k < n; ++k) {
-            const sph_idx j = P.j[k];
-            const sph_real F = P.F[k], Vj = SPH__AT(A->V, 0, j);
-            sph_real dx[3];
-            sph__chunk_dx(&P, D, k, dx);
-            for (a = 0; OP != SPH__OP_CORRECTION && a < D; ++a) {
-                const sph_real vj = SPH__AT(A->f, a, j);
-                if (OP == SPH__OP_GRADV_STD) sph_pair_grad_standard(D, Vj, vj, F, dx, S + 3 * a);
-                else if (OP == SPH__OP_GRADV_SYM) sph_pair_grad_symmetric(D, Vj, vi[a], vj, F, dx, S + 3 * a);
-                else sph_pair_grad_difference(D, Vj, vi[a], vj, F, dx, S + 3 * a);
+        n = sph__chunk_next(A, &t, i, o, SPH__WANT_F, &P);
+        for (a = 0; OP != SPH__OP_CORRECTION && a < D; ++a) {
+            /* (O17) row a: the gradient pair terms of v_a */
+            SPH__SIMD
+            for (k = 0; k < n; ++k) {
+                const sph_idx j = P.j[k];
+                const sph_real Vj = SPH__AT(A->V, 0, j), vj = SPH__AT(A->f, a, j);
+                P.c[k] = OP == SPH__OP_GRADV_STD   ? Vj * vj * P.F[k]
+                         : OP == SPH__OP_GRADV_SYM ? Vj * (vj + vi[a]) * P.F[k]
+                                                   : Vj * (vj - vi[a]) * P.F[k];
             }
-            if (corr) sph_pair_correction(D, Vj, F, dx, M);
+            for (b = 0; b < D; ++b) sph__chunk_axpy(&P, n, b, -1, S + 3 * a + b);
         }
+        if (OP == SPH__OP_GRADV_CORR || OP == SPH__OP_DIV_CORR || OP == SPH__OP_CORRECTION)
+            sph__chunk_correction(A, D, &P, n, M);
     }
-    if (corr) fb = !sph_correction_invert(D, M, A->rcond_min, B);
-    for (a = 0; a < D; ++a)
-        for (b = 0; b < D; ++b) {
-            sph_real y = S[3 * a + b];
-            if (OP == SPH__OP_CORRECTION) y = B[3 * a + b];
-            else if (corr) /* (O17) T = S B */
-                for (y = 0, e = 0; e < D; ++e) y += S[3 * a + e] * B[3 * e + b];
-            if (OP == SPH__OP_DIV_CORR) div += a == b ? y : 0; /* (O18) */
-            else A->T[(ptrdiff_t)i * A->Ts + a * D + b] = y;
-        }
-    if (OP == SPH__OP_DIV_CORR) SPH__AT(A->out, 0, i) = div;
-    return fb;
+    return sph__end_tensor(A, i, S, M);
 }
 
-/* (O9)-(O11) divergence and curl, standard and difference forms. */
-SPH__INLINE int sph__t_divcurl(const sph__args *A, const int OP, const int K, const int D,
-                               const int GEN, const sph_idx i)
+SPH__INLINE int sph__fast_divcurl(const sph__args *A, const int OP, sph_idx i)
 {
-    const int diff = OP == SPH__OP_DIV_DIFF || OP == SPH__OP_CURL_DIFF;
+    const int D = SPH__DIM(A), diff = OP == SPH__OP_DIV_DIFF || OP == SPH__OP_CURL_DIFF;
     const int curl = OP == SPH__OP_CURL_STD || OP == SPH__OP_CURL_DIFF;
-    sph_real vi[3] = {0, 0, 0}, s0 = 0, s1 = 0, s2 = 0;
-    SPH__TARGET_HEAD(SPH__WANT_F);
+    sph_real vi[3] = {0, 0, 0}, s[3] = {0, 0, 0};
+    sph__tgt t;
+    sph__chunk P;
+    sph_off o;
+    int n, k, a;
+    sph__tinit(A, i, &t);
     for (a = 0; diff && a < D; ++a) vi[a] = SPH__AT(A->ft, a, i);
     for (o = A->off[i]; o < A->off[i + 1]; o += n) {
-        SPH__NEXT_CHUNK(SPH__WANT_F);
-        SPH__SIMD_SUM3
-        for (k = 0; k < n; ++k) {
-            const sph_idx j = P.j[k];
-            sph_real u[3] = {0, 0, 0}, dx[3], acc[3] = {0, 0, 0};
-            int c;
-            sph__chunk_dx(&P, D, k, dx);
-            for (c = 0; c < D; ++c) u[c] = SPH__AT(A->f, c, j) - vi[c];
-            if (curl) sph_pair_curl(D, SPH__AT(A->V, 0, j), u, P.F[k], dx, acc);
-            else acc[0] = sph_pair_div_standard(D, SPH__AT(A->V, 0, j), u, P.F[k], dx);
-            s0 += acc[0];
-            s1 += acc[1];
-            s2 += acc[2];
+        n = sph__chunk_next(A, &t, i, o, SPH__WANT_F, &P);
+        for (a = 0; a < D; ++a)
+            for (k = 0; k < n; ++k) P.u[a][k] = SPH__AT(A->f, a, P.j[k]) - vi[a];
+        for (k = 0; k < n; ++k) P.c[k] = SPH__AT(A->V, 0, P.j[k]) * P.F[k];
+        if (!curl) {
+            /* (O9), (O10) V_j F (u . x_ij), the dot product summed axis by axis */
+            sph_real s0 = s[0];
+            for (k = 0; k < n; ++k) P.q[k] = 0;
+            for (a = 0; a < D; ++a)
+                for (k = 0; k < n; ++k) P.q[k] += P.u[a][k] * P.dx[a][k];
+            SPH__SIMD_SUM1
+            for (k = 0; k < n; ++k) s0 += P.c[k] * P.q[k];
+            s[0] = s0;
+        } else {
+            /* (O11) V_j F (x_ij x u): component e takes axes (a, b) */
+            int e;
+            for (e = 0; e < (D == 3 ? 3 : 1); ++e) {
+                const int x0 = D == 3 ? (e + 1) % 3 : 0, x1 = D == 3 ? (e + 2) % 3 : 1;
+                sph_real s0 = s[e];
+                SPH__SIMD_SUM1
+                for (k = 0; k < n; ++k) s0 += P.c[k] * (P.dx[x0][k] * P.u[x1][k] - P.dx[x1][k] * P.u[x0][k]);
+                s[e] = s0;
+            }
         }
     }
-    SPH__AT(A->out, 0, i) = s0;
-    if (curl && D == 3) {
-        SPH__AT(A->out, 1, i) = s1;
-        SPH__AT(A->out, 2, i) = s2;
-    }
-    return 0;
+    return sph__end_divcurl(A, i, s);
 }
 
-/* (O12)-(O14) Laplacian and variable-coefficient diffusion. */
-SPH__INLINE int sph__t_lap(const sph__args *A, const int OP, const int K, const int D,
-                           const int GEN, const sph_idx i)
+SPH__INLINE int sph__fast_lap(const sph__args *A, const int OP, sph_idx i)
 {
-    const sph_real fi = SPH__AT(A->ft, 0, i);
-    const sph_real ki = OP == SPH__OP_DIFFUSION ? SPH__AT(A->kt, 0, i) : 0;
+    const sph_real fi = SPH__AT(A->ft, 0, i), ki = OP == SPH__OP_DIFFUSION ? SPH__AT(A->kt, 0, i) : 0;
     sph_real s0 = 0;
-    SPH__TARGET_HEAD(SPH__WANT_F);
-    (void)a;
+    sph__tgt t;
+    sph__chunk P;
+    sph_off o;
+    int n, k;
+    sph__tinit(A, i, &t);
     for (o = A->off[i]; o < A->off[i + 1]; o += n) {
-        SPH__NEXT_CHUNK(SPH__WANT_F);
+        n = sph__chunk_next(A, &t, i, o, SPH__WANT_F, &P);
         SPH__SIMD_SUM1
         for (k = 0; k < n; ++k) {
             const sph_idx j = P.j[k];
@@ -1824,86 +2128,44 @@ SPH__INLINE int sph__t_lap(const sph__args *A, const int OP, const int K, const 
     return 0;
 }
 
-/* Kernel specialisation: SPH_OP_SPECIALISE (section 1) 1 gives one loop
- * instance per kernel, dimension and GEN, so table rows and Horner degrees
- * fold; 0 one instance per dimension and GEN with the kernel read at run time
- * (7 times less code to compile; the kernel data is still hoisted out of the
- * loop); SPH_KERNEL one instance for the pinned kernel. */
-
-#ifdef _OPENMP
-#define SPH__OMP_FOR _Pragma("omp parallel for schedule(static) reduction(+ : n_)")
-#else
-#define SPH__OMP_FOR
-#endif
-
-/* Every target of one instance; n_ counts fallbacks. */
-#define SPH__LOOP(A, FAM, OP, K, D, GEN)                                           \
-    do {                                                                           \
-        sph_idx i_;                                                                \
-        SPH__OMP_FOR                                                               \
-        for (i_ = 0; i_ < (A)->nt; ++i_) n_ += FAM(A, OP, K, D, GEN, i_);          \
-    } while (0)
-
-#define SPH__LOOP_G(A, FAM, OP, K, D)                                              \
-    do {                                                                           \
-        if ((A)->hv || (A)->pb) SPH__LOOP(A, FAM, OP, K, D, 1);                    \
-        else SPH__LOOP(A, FAM, OP, K, D, 0);                                       \
-    } while (0)
-
-#if defined(SPH_KERNEL)
-#define SPH__LOOP_K(A, FAM, OP, D) SPH__LOOP_G(A, FAM, OP, (int)(SPH_KERNEL), D)
-#elif SPH_OP_SPECIALISE
-#define SPH__LOOP_K(A, FAM, OP, D)                                                 \
-    switch ((A)->kernel) {                                                         \
-    case SPH_KERNEL_CUBIC: SPH__LOOP_G(A, FAM, OP, SPH_KERNEL_CUBIC, D); break;    \
-    case SPH_KERNEL_LUCY: SPH__LOOP_G(A, FAM, OP, SPH_KERNEL_LUCY, D); break;      \
-    case SPH_KERNEL_NEW_QUARTIC: SPH__LOOP_G(A, FAM, OP, SPH_KERNEL_NEW_QUARTIC, D); break; \
-    case SPH_KERNEL_QUINTIC: SPH__LOOP_G(A, FAM, OP, SPH_KERNEL_QUINTIC, D); break; \
-    case SPH_KERNEL_WENDLAND_C2: SPH__LOOP_G(A, FAM, OP, SPH_KERNEL_WENDLAND_C2, D); break; \
-    case SPH_KERNEL_WENDLAND_C4: SPH__LOOP_G(A, FAM, OP, SPH_KERNEL_WENDLAND_C4, D); break; \
-    default: SPH__LOOP_G(A, FAM, OP, SPH_KERNEL_WENDLAND_C6, D); break;            \
-    }
-#else
-#define SPH__LOOP_K(A, FAM, OP, D) SPH__LOOP_G(A, FAM, OP, -1, D)
-#endif
-
-/* name(A): runs operator OP of family FAM; one function per dimension keeps
- * each compiled function small. Returns the number of fallbacks. */
-#if defined(SPH_DIM)
-#define SPH__RUNNER(name, FAM, OP)                                                 \
-    SPH_API sph_idx name(const sph__args *A) { sph_idx n_ = 0; SPH__LOOP_K(A, FAM, OP, SPH_DIM); return n_; }
-#else
-#define SPH__RUNNER(name, FAM, OP)                                                 \
-    SPH_API sph_idx name##_d1(const sph__args *A) { sph_idx n_ = 0; SPH__LOOP_K(A, FAM, OP, 1); return n_; } \
-    SPH_API sph_idx name##_d2(const sph__args *A) { sph_idx n_ = 0; SPH__LOOP_K(A, FAM, OP, 2); return n_; } \
-    SPH_API sph_idx name##_d3(const sph__args *A) { sph_idx n_ = 0; SPH__LOOP_K(A, FAM, OP, 3); return n_; } \
-    SPH_API sph_idx name(const sph__args *A)                                       \
+/* One function per operator: every target through its family's fast loop. */
+#define SPH__X(name, family)                                                       \
+    SPH_API sph_idx sph__fast_##name(const sph__args *A)                           \
     {                                                                              \
-        return A->dim == 1 ? name##_d1(A) : A->dim == 2 ? name##_d2(A) : name##_d3(A); \
+        sph_idx i, n = 0;                                                          \
+        SPH__OMP_FOR                                                               \
+        for (i = 0; i < A->nt; ++i) n += sph__fast_##family(A, SPH__OP_##name, i); \
+        return n;                                                                  \
     }
-#endif
+SPH__OPS(SPH__X)
+#undef SPH__X
 
-SPH__RUNNER(sph__run_density, sph__t_sum, SPH__OP_DENSITY)
-SPH__RUNNER(sph__run_interp, sph__t_sum, SPH__OP_INTERP)
-SPH__RUNNER(sph__run_shepard, sph__t_sum, SPH__OP_SHEPARD)
-SPH__RUNNER(sph__run_grad_std, sph__t_grad, SPH__OP_GRAD_STD)
-SPH__RUNNER(sph__run_grad_diff, sph__t_grad, SPH__OP_GRAD_DIFF)
-SPH__RUNNER(sph__run_grad_sym, sph__t_grad, SPH__OP_GRAD_SYM)
-SPH__RUNNER(sph__run_grad_corr, sph__t_grad, SPH__OP_GRAD_CORR)
-SPH__RUNNER(sph__run_grad_pres, sph__t_grad, SPH__OP_GRAD_PRES)
-SPH__RUNNER(sph__run_gradv_std, sph__t_tensor, SPH__OP_GRADV_STD)
-SPH__RUNNER(sph__run_gradv_diff, sph__t_tensor, SPH__OP_GRADV_DIFF)
-SPH__RUNNER(sph__run_gradv_sym, sph__t_tensor, SPH__OP_GRADV_SYM)
-SPH__RUNNER(sph__run_gradv_corr, sph__t_tensor, SPH__OP_GRADV_CORR)
-SPH__RUNNER(sph__run_div_corr, sph__t_tensor, SPH__OP_DIV_CORR)
-SPH__RUNNER(sph__run_correction, sph__t_tensor, SPH__OP_CORRECTION)
-SPH__RUNNER(sph__run_div_std, sph__t_divcurl, SPH__OP_DIV_STD)
-SPH__RUNNER(sph__run_div_diff, sph__t_divcurl, SPH__OP_DIV_DIFF)
-SPH__RUNNER(sph__run_curl_std, sph__t_divcurl, SPH__OP_CURL_STD)
-SPH__RUNNER(sph__run_curl_diff, sph__t_divcurl, SPH__OP_CURL_DIFF)
-SPH__RUNNER(sph__run_laplacian, sph__t_lap, SPH__OP_LAPLACIAN)
-SPH__RUNNER(sph__run_diffusion, sph__t_lap, SPH__OP_DIFFUSION)
-SPH__RUNNER(sph__run_dens_grad, sph__t_grad, SPH__OP_DENS_GRAD)
+SPH_API sph_idx sph__run_fast(const sph__args *A)
+{
+    switch (A->op) {
+#define SPH__X(name, family) case SPH__OP_##name: return sph__fast_##name(A);
+        SPH__OPS(SPH__X)
+#undef SPH__X
+    default: return 0;
+    }
+}
+
+#undef SPH__SIMD
+#undef SPH__SIMD_SUM1
+#undef SPH__SIMD_SUM2
+#undef SPH__SIMD_KERNEL
+#endif /* !SPH_OP_REFERENCE */
+
+/* Every target of the prepared operator A->op: the fast loops, or the
+ * reference loops (ctx.loops, or SPH_OP_REFERENCE defined). */
+SPH_API sph_idx sph__run(const sph__args *A)
+{
+#if defined(SPH_OP_REFERENCE)
+    return sph__run_reference(A);
+#else
+    return A->reference ? sph__run_reference(A) : sph__run_fast(A);
+#endif
+}
 
 /* ---- validation (everything is checked before any output is written) ---- */
 
@@ -1997,23 +2259,23 @@ SPH_API int sph__setup(const sph_ctx *c, int need, int ncomp, sph_view f, sph_vi
     if (c->list->offset[c->list->n_targets] > 0 && c->list->index == NULL) return SPH_ENULL;
     if (c->x_target.p[0] == NULL && c->list->n_targets > c->list->n_sources) return SPH_ESIZE;
     if (!(c->rcond_min >= 0 && c->rcond_min < 1)) return SPH_EINVAL;
+    if (c->loops != SPH_LOOPS_FAST && c->loops != SPH_LOOPS_REFERENCE) return SPH_EINVAL;
     for (a = 0; c->box != NULL && a < c->dim; ++a)
         if (c->box->periodic[a] && !(c->box->length[a] > 0 && c->box->length[a] <= SPH__REAL_MAX))
             return SPH_EINVAL;
     A->kernel = c->kernel;
+    A->op = -1;
+    A->reference = c->loops == SPH_LOOPS_REFERENCE;
     A->dim = c->dim;
     A->hv = c->h_source.p[0] != NULL;
-    A->pb = 0;
     for (a = 0; a < 3; ++a) {
         const int per = c->box != NULL && a < c->dim && c->box->periodic[a];
         A->L[a] = per ? c->box->length[a] : 0;
         A->invL[a] = per ? 1 / c->box->length[a] : 0;
-        A->pb |= per;
     }
     A->nt = c->list->n_targets;
     A->h = c->h;
     A->rcond_min = c->rcond_min;
-    A->box = c->box;
     A->off = c->list->offset;
     A->idx = c->list->index;
     A->V = A->m = A->rho = A->rhot = A->f = A->ft = A->k = A->kt = A->hs = A->ht = none;
@@ -2035,13 +2297,14 @@ SPH_API int sph__setup(const sph_ctx *c, int need, int ncomp, sph_view f, sph_vi
     return st;
 }
 
-/* Runs a prepared operator when the setup succeeded; stores the fallback count. */
-SPH_API int sph__finish(int st, const sph__args *A, sph_idx (*run)(const sph__args *),
-                        sph_idx *count)
+/* Runs operator op on the prepared A when the setup succeeded; stores the
+ * count of fallbacks (or empty Shepard targets). */
+SPH_API int sph__finish(int st, sph__args *A, int op, sph_idx *count)
 {
     sph_idx n;
     if (st != SPH_OK) return st;
-    n = run(A);
+    A->op = op;
+    n = sph__run(A);
     if (count != NULL) *count = n;
     return SPH_OK;
 }
@@ -2056,7 +2319,7 @@ SPH_API int sph_density(const sph_ctx *c, sph_out rho)
                         sph_view_none(), &A);
     if (st == SPH_OK) st = sph__out_ok(rho, 1);
     A.out = rho;
-    return sph__finish(st, &A, sph__run_density, NULL);
+    return sph__finish(st, &A, SPH__OP_DENSITY, NULL);
 }
 
 /* (O3) <f>_i = sum_j V_j f_j W_ij(h_i) (needs ctx.V). */
@@ -2066,7 +2329,7 @@ SPH_API int sph_interpolate(const sph_ctx *c, sph_view f, sph_out out)
     int st = sph__setup(c, SPH__N_V, 1, f, sph_view_none(), sph_view_none(), sph_view_none(), &A);
     if (st == SPH_OK) st = sph__out_ok(out, 1);
     A.out = out;
-    return sph__finish(st, &A, sph__run_interp, NULL);
+    return sph__finish(st, &A, SPH__OP_INTERP, NULL);
 }
 
 /* (O3) Shepard: sum_j V_j f_j W_ij / sum_j V_j W_ij; 0 for a target whose
@@ -2077,7 +2340,7 @@ SPH_API int sph_interpolate_shepard(const sph_ctx *c, sph_view f, sph_out out, s
     int st = sph__setup(c, SPH__N_V, 1, f, sph_view_none(), sph_view_none(), sph_view_none(), &A);
     if (st == SPH_OK) st = sph__out_ok(out, 1);
     A.out = out;
-    return sph__finish(st, &A, sph__run_shepard, n_empty);
+    return sph__finish(st, &A, SPH__OP_SHEPARD, n_empty);
 }
 
 /* (O4)-(O8) gradient of the scalar f (f_target: target values, needed by all
@@ -2088,19 +2351,19 @@ SPH_API int sph_gradient(const sph_ctx *c, sph_scheme scheme, sph_view f, sph_vi
                          sph_out grad, sph_idx *n_fallback)
 {
     sph__args A;
-    sph_idx (*run)(const sph__args *) =
-        scheme == SPH_SCHEME_STANDARD ? sph__run_grad_std
-        : scheme == SPH_SCHEME_DIFFERENCE ? sph__run_grad_diff
-        : scheme == SPH_SCHEME_SYMMETRIC ? sph__run_grad_sym
-        : scheme == SPH_SCHEME_CORRECTED ? sph__run_grad_corr
-        : scheme == SPH_SCHEME_PRESSURE ? sph__run_grad_pres : NULL;
+    const int op =
+        scheme == SPH_SCHEME_STANDARD ? SPH__OP_GRAD_STD
+        : scheme == SPH_SCHEME_DIFFERENCE ? SPH__OP_GRAD_DIFF
+        : scheme == SPH_SCHEME_SYMMETRIC ? SPH__OP_GRAD_SYM
+        : scheme == SPH_SCHEME_CORRECTED ? SPH__OP_GRAD_CORR
+        : scheme == SPH_SCHEME_PRESSURE ? SPH__OP_GRAD_PRES : -1;
     const int need = scheme == SPH_SCHEME_PRESSURE ? SPH__N_M | SPH__N_RHO | SPH__N_FI
                      : scheme == SPH_SCHEME_STANDARD ? SPH__N_V : SPH__N_V | SPH__N_FI;
-    int st = run == NULL ? SPH_EINVAL : sph__setup(c, need, 1, f, f_target, sph_view_none(), sph_view_none(), &A);
+    int st = op < 0 ? SPH_EINVAL : sph__setup(c, need, 1, f, f_target, sph_view_none(), sph_view_none(), &A);
     if (st == SPH_OK) st = sph__out_ok(grad, c->dim);
     A.out = grad;
     if (n_fallback != NULL && st == SPH_OK) *n_fallback = 0;
-    return sph__finish(st, &A, run, scheme == SPH_SCHEME_CORRECTED ? n_fallback : NULL);
+    return sph__finish(st, &A, op, scheme == SPH_SCHEME_CORRECTED ? n_fallback : NULL);
 }
 
 /* (O2) and (O5) in one pass over the list: rho_i = sum_j m_j W_ij(h_i) and
@@ -2118,7 +2381,7 @@ SPH_API int sph_density_gradient(const sph_ctx *c, sph_view f, sph_view f_target
     if (st == SPH_OK) st = sph__out_ok(grad, c->dim);
     A.out = grad;
     A.out2 = rho;
-    return sph__finish(st, &A, sph__run_dens_grad, NULL);
+    return sph__finish(st, &A, SPH__OP_DENS_GRAD, NULL);
 }
 
 /* (O17) velocity-gradient tensor of the vector v (dim components):
@@ -2128,20 +2391,20 @@ SPH_API int sph_gradient_vector(const sph_ctx *c, sph_scheme scheme, sph_view v,
                                 sph_real *T, ptrdiff_t T_stride, sph_idx *n_fallback)
 {
     sph__args A;
-    sph_idx (*run)(const sph__args *) =
-        scheme == SPH_SCHEME_STANDARD ? sph__run_gradv_std
-        : scheme == SPH_SCHEME_DIFFERENCE ? sph__run_gradv_diff
-        : scheme == SPH_SCHEME_SYMMETRIC ? sph__run_gradv_sym
-        : scheme == SPH_SCHEME_CORRECTED ? sph__run_gradv_corr : NULL;
+    const int op =
+        scheme == SPH_SCHEME_STANDARD ? SPH__OP_GRADV_STD
+        : scheme == SPH_SCHEME_DIFFERENCE ? SPH__OP_GRADV_DIFF
+        : scheme == SPH_SCHEME_SYMMETRIC ? SPH__OP_GRADV_SYM
+        : scheme == SPH_SCHEME_CORRECTED ? SPH__OP_GRADV_CORR : -1;
     const int need = scheme == SPH_SCHEME_STANDARD ? SPH__N_V : SPH__N_V | SPH__N_FI;
-    int st = run == NULL ? SPH_EINVAL
+    int st = op < 0 ? SPH_EINVAL
              : sph__setup(c, need, c != NULL ? c->dim : 1, v, v_target, sph_view_none(), sph_view_none(), &A);
     if (st == SPH_OK && T == NULL) st = SPH_ENULL;
     if (st == SPH_OK && T_stride < (ptrdiff_t)c->dim * c->dim) st = SPH_EINVAL;
     A.T = T;
     A.Ts = T_stride;
     if (n_fallback != NULL && st == SPH_OK) *n_fallback = 0;
-    return sph__finish(st, &A, run, scheme == SPH_SCHEME_CORRECTED ? n_fallback : NULL);
+    return sph__finish(st, &A, op, scheme == SPH_SCHEME_CORRECTED ? n_fallback : NULL);
 }
 
 /* (O9), (O10), (O18) divergence of v: standard, difference or corrected
@@ -2150,17 +2413,17 @@ SPH_API int sph_divergence(const sph_ctx *c, sph_scheme scheme, sph_view v, sph_
                            sph_out div, sph_idx *n_fallback)
 {
     sph__args A;
-    sph_idx (*run)(const sph__args *) =
-        scheme == SPH_SCHEME_STANDARD ? sph__run_div_std
-        : scheme == SPH_SCHEME_DIFFERENCE ? sph__run_div_diff
-        : scheme == SPH_SCHEME_CORRECTED ? sph__run_div_corr : NULL;
+    const int op =
+        scheme == SPH_SCHEME_STANDARD ? SPH__OP_DIV_STD
+        : scheme == SPH_SCHEME_DIFFERENCE ? SPH__OP_DIV_DIFF
+        : scheme == SPH_SCHEME_CORRECTED ? SPH__OP_DIV_CORR : -1;
     const int need = scheme == SPH_SCHEME_STANDARD ? SPH__N_V : SPH__N_V | SPH__N_FI;
-    int st = run == NULL ? SPH_EINVAL
+    int st = op < 0 ? SPH_EINVAL
              : sph__setup(c, need, c != NULL ? c->dim : 1, v, v_target, sph_view_none(), sph_view_none(), &A);
     if (st == SPH_OK) st = sph__out_ok(div, 1);
     A.out = div;
     if (n_fallback != NULL && st == SPH_OK) *n_fallback = 0;
-    return sph__finish(st, &A, run, scheme == SPH_SCHEME_CORRECTED ? n_fallback : NULL);
+    return sph__finish(st, &A, op, scheme == SPH_SCHEME_CORRECTED ? n_fallback : NULL);
 }
 
 /* (O11) curl of v, standard or difference: dim 2 writes the scalar
@@ -2168,16 +2431,16 @@ SPH_API int sph_divergence(const sph_ctx *c, sph_scheme scheme, sph_view v, sph_
 SPH_API int sph_curl(const sph_ctx *c, sph_scheme scheme, sph_view v, sph_view v_target, sph_out curl)
 {
     sph__args A;
-    sph_idx (*run)(const sph__args *) =
-        scheme == SPH_SCHEME_STANDARD ? sph__run_curl_std
-        : scheme == SPH_SCHEME_DIFFERENCE ? sph__run_curl_diff : NULL;
+    const int op =
+        scheme == SPH_SCHEME_STANDARD ? SPH__OP_CURL_STD
+        : scheme == SPH_SCHEME_DIFFERENCE ? SPH__OP_CURL_DIFF : -1;
     const int need = scheme == SPH_SCHEME_STANDARD ? SPH__N_V : SPH__N_V | SPH__N_FI;
-    int st = run == NULL ? SPH_EINVAL
+    int st = op < 0 ? SPH_EINVAL
              : sph__setup(c, need, c != NULL ? c->dim : 1, v, v_target, sph_view_none(), sph_view_none(), &A);
     if (st == SPH_OK && c->dim == 1) st = SPH_EDIM;
     if (st == SPH_OK) st = sph__out_ok(curl, c->dim == 2 ? 1 : 3);
     A.out = curl;
-    return sph__finish(st, &A, run, NULL);
+    return sph__finish(st, &A, op, NULL);
 }
 
 /* (O12) lap f_i = 2 sum_j V_j (f_i - f_j) F_ij. */
@@ -2187,7 +2450,7 @@ SPH_API int sph_laplacian(const sph_ctx *c, sph_view f, sph_view f_target, sph_o
     int st = sph__setup(c, SPH__N_V | SPH__N_FI, 1, f, f_target, sph_view_none(), sph_view_none(), &A);
     if (st == SPH_OK) st = sph__out_ok(lap, 1);
     A.out = lap;
-    return sph__finish(st, &A, sph__run_laplacian, NULL);
+    return sph__finish(st, &A, SPH__OP_LAPLACIAN, NULL);
 }
 
 /* (O14) div(k grad f)_i = sum_j V_j k_ij (f_i - f_j) F_ij, k_ij from (O13);
@@ -2199,7 +2462,7 @@ SPH_API int sph_diffusion(const sph_ctx *c, sph_view k, sph_view k_target, sph_v
     int st = sph__setup(c, SPH__N_V | SPH__N_FI | SPH__N_K, 1, f, f_target, k, k_target, &A);
     if (st == SPH_OK) st = sph__out_ok(out, 1);
     A.out = out;
-    return sph__finish(st, &A, sph__run_diffusion, NULL);
+    return sph__finish(st, &A, SPH__OP_DIFFUSION, NULL);
 }
 
 /* (O15), (O16) the correction matrix B_i = M_i^-1 of every target:
@@ -2214,7 +2477,7 @@ SPH_API int sph_correction_matrix(const sph_ctx *c, sph_real *B, ptrdiff_t B_str
     if (st == SPH_OK && B_stride < (ptrdiff_t)c->dim * c->dim) st = SPH_EINVAL;
     A.T = B;
     A.Ts = B_stride;
-    return sph__finish(st, &A, sph__run_correction, n_fallback);
+    return sph__finish(st, &A, SPH__OP_CORRECTION, n_fallback);
 }
 
 /* The validator behind SPH_ENONFINITE (docs/operators.md, "Extreme cases"):
@@ -2338,6 +2601,16 @@ typedef struct {
  * sources; the arrays of the grid are padded by one block. A target's runs
  * are collected SPH__NS_RUNS at a time before any is checked, so that the
  * cell arithmetic of one row does not wait on the checks of the last. */
+#if SPH__NS_COMPRESS
+/* 8 consecutive sph_real as doubles (exact for float), for the AVX-512
+ * neighbour check; the sizeof test folds. */
+SPH__INLINE __m512d sph__load8(const sph_real *p)
+{
+    return sizeof(sph_real) == sizeof(double) ? _mm512_loadu_pd((const void *)p)
+                                              : _mm512_cvtps_pd(_mm256_loadu_ps((const float *)(const void *)p));
+}
+#endif
+
 #if SPH__NS_COMPRESS
 #define SPH__NS_BLOCK 16
 #else

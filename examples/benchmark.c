@@ -17,7 +17,7 @@
  *
  * The same source compiled with -DBENCH_PART=name yields one wrapper around
  * sph_density_gradient built with other configuration macros (SPH_DIM and
- * SPH_KERNEL pinned, or SPH_OP_SPECIALISE 0); the Makefile links those into
+ * SPH_KERNEL pinned, or SPH_OP_REFERENCE); the Makefile links those into
  * the program, so pinned and run-time selected loops are timed in one run. */
 #if defined(BENCH_PART)
 #include "sph_kernel.h"
@@ -42,7 +42,7 @@ int BENCH_PART(const sph_ctx *c, sph_view f, sph_out rho, sph_out grad)
 typedef int (*dens_grad_fn)(const sph_ctx *, sph_view, sph_out, sph_out);
 #if defined(BENCH_LINK_PARTS)
 int bench_pinned(const sph_ctx *c, sph_view f, sph_out rho, sph_out grad);
-int bench_spec0(const sph_ctx *c, sph_view f, sph_out rho, sph_out grad);
+int bench_reference(const sph_ctx *c, sph_view f, sph_out rho, sph_out grad);
 #endif
 
 static double now(void)
@@ -300,7 +300,7 @@ static void hand_loop(scene *s)
 /* ---- timing ---- */
 enum {
     T_FLOOR, T_FLOOR_FIELDS, T_TEXT, T_BUILD, T_BUILD2, T_DENS, T_GRAD, T_DENS_THEN_GRAD, T_FUSED, T_CORR, T_DIV, T_LAP,
-    T_FUSED_HV, T_FUSED_NOBOX, T_HAND_NOBOX, T_PINNED, T_SPEC0, T_KERNEL0, T_COUNT = T_KERNEL0 + SPH_KERNEL_COUNT
+    T_FUSED_HV, T_FUSED_NOBOX, T_HAND_NOBOX, T_PINNED, T_REFERENCE, T_KERNEL0, T_COUNT = T_KERNEL0 + SPH_KERNEL_COUNT
 };
 
 static const char *const t_name[T_COUNT] = {
@@ -309,7 +309,7 @@ static const char *const t_name[T_COUNT] = {
     "density", "gradient (difference)", "density, then gradient (2 calls)", "density + gradient (fused, 1 pass)",
     "corrected gradient incl. B_i", "divergence (difference)", "Laplacian",
     "fused, per-particle h (all equal)", "fused, no box (scene unwrapped)", "hand-written loop, no box, uniform h",
-    "fused, SPH_DIM 3 + SPH_KERNEL pinned", "fused, SPH_OP_SPECIALISE 0", "k", "k", "k", "k", "k", "k", "k"};
+    "fused, SPH_DIM 3 + SPH_KERNEL pinned", "fused, reference loops (SPH_OP_REFERENCE)", "k", "k", "k", "k", "k", "k", "k"};
 
 static sph_ctx ctx_of(scene *s, sph_kernel k)
 {
@@ -363,7 +363,7 @@ static void run_op(scene *s, int op, sph_real *hbuf)
     case T_HAND_NOBOX: hand_loop(s); break;
 #if defined(BENCH_LINK_PARTS)
     case T_PINNED: chk(bench_pinned(&c, f, rho, g)); break;
-    case T_SPEC0: chk(bench_spec0(&c, f, rho, g)); break;
+    case T_REFERENCE: chk(bench_reference(&c, f, rho, g)); break;
 #endif
     default:
         if (op >= T_KERNEL0) {
@@ -486,7 +486,7 @@ static void put_tables(FILE *f, int md, const timings *T, double pairs, int n, i
     put_ratio(f, md, "library without box / hand-written, no box", R1(T_FUSED_NOBOX, T_HAND_NOBOX), "%.3f", "<= 1.03");
     put_ratio(f, md, "per-particle h (all equal) / uniform h", R1(T_FUSED_HV, T_FUSED), "%.3f", "");
     put_ratio(f, md, "periodic box / no box", R1(T_FUSED, T_FUSED_NOBOX), "%.3f", "");
-    if (med_time(T, 0, T_SPEC0) > 0) put_ratio(f, md, "SPH_OP_SPECIALISE 0 / 1", R1(T_SPEC0, T_FUSED), "%.3f", "");
+    if (med_time(T, 0, T_REFERENCE) > 0) put_ratio(f, md, "reference loops / fast loops", R1(T_REFERENCE, T_FUSED), "%.3f", "");
 #undef R1
 }
 
@@ -544,7 +544,7 @@ int main(int argc, char **argv)
             for (op = 0; op < T_COUNT; ++op) {
                 double t0;
 #if !defined(BENCH_LINK_PARTS)
-                if (op == T_PINNED || op == T_SPEC0) continue;
+                if (op == T_PINNED || op == T_REFERENCE) continue;
 #endif
                 t0 = now();
                 run_op(&s, op, hbuf);

@@ -1,7 +1,7 @@
 /* examples/gradient_unit.c - one translation unit that calls sph_gradient
  * with the kernel and the dimension chosen at run time: `make tiny-size`
- * compiles it with SPH_OP_SPECIALISE 1 and 0 and prints compile time and
- * object size (the cost of the compile-time specialisation). */
+ * compiles it with the fast loops and with SPH_OP_REFERENCE and prints
+ * compile time and object size (what the fast loops cost to build). */
 #include "sph_kernel.h"
 
 /* grad f at every target of the caller's list (difference scheme). */

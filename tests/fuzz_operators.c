@@ -3,10 +3,6 @@
  * address,undefined); a violated invariant aborts with its description, and
  * libFuzzer saves the input (replay it with build/fuzz/fuzz_operators FILE or
  * build/test_fuzz_seeded --replay FILE). */
-/* The kernel is read at run time (SPH_OP_SPECIALISE 0): with coverage
- * instrumentation the seven kernel-specialised loop sets take many minutes
- * to compile; tests/test_op_dispatch.c proves both give the same bits. */
-#define SPH_OP_SPECIALISE 0
 #include "fuzz_body.h"
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);

@@ -9,7 +9,6 @@
  * two-particle sums, and the piecewise-linear steady profile of a two-layer
  * slab.
  */
-#define SPH_OP_SPECIALISE 0
 #include "op_scene.h"
 #include "xo_ops.h"
 

@@ -7,7 +7,6 @@
 
 /* The kernel read at run time keeps this build quick (tests/test_op_dispatch.c
  * proves the kernel-specialised loops give the same bits). */
-#define SPH_OP_SPECIALISE 0
 #include "harness.h"
 #include "fuzz_body.h"
 

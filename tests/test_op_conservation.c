@@ -9,7 +9,6 @@
  * the magnitudes |m_i a_i| (each target adds ~50 terms; the errors of the
  * sums of different targets do not cancel).
  */
-#define SPH_OP_SPECIALISE 0
 #include "op_scene.h"
 
 /* A random cloud in a (optionally periodic) unit box with random masses,

@@ -13,7 +13,6 @@
  * to the exact value. The test takes e(n) = max |op - c * exact| / max |exact|
  * with c = mu or 1 and asserts the observed order log2(e(n) / e(2n)) in [1.8, 2.3].
  */
-#define SPH_OP_SPECIALISE 0
 #include "op_scene.h"
 
 static const double ORDER_LO = 1.8, ORDER_HI = 2.3;

@@ -1,5 +1,5 @@
-/* Operators in the default build (SPH_OP_SPECIALISE 1: one loop instance per
- * kernel, dimension and uniform-h/no-box vs general case) agree with a
+/* Operators in the default build (the fast loops: the kernel evaluated by
+ * its shape's function, dimension and box read at run time) agree with a
  * reference written directly from the pair helper sph_pair_kernel and the
  * formulas (O2) and (O12), for every kernel in 1, 2 and 3 D, with uniform h,
  * per-particle h (h_i for the density, (h_i + h_j)/2 for the Laplacian) and a

@@ -2,7 +2,6 @@
  * degenerate neighbourhoods fall back to B = I (the difference scheme),
  * are counted, and never produce NaN.
  */
-#define SPH_OP_SPECIALISE 0
 #include "op_scene.h"
 
 #define SENTINEL ((sph_real)12345)

@@ -8,7 +8,6 @@
  * is round-off: 1e-10 relative in double, 2e-4 in float (a few hundred
  * neighbour terms of size ~1/h summed with cancellation, times cond(M) <= 10).
  */
-#define SPH_OP_SPECIALISE 0 /* one loop instance per dimension: quick to compile */
 #include "op_scene.h"
 
 static const double TOL_EXACT_D = 1e-10, TOL_EXACT_F = 2e-4;

@@ -9,7 +9,6 @@
  * uniform result; a periodic box equals explicit ghost copies up to the
  * rounding of the shifted coordinates.
  */
-#define SPH_OP_SPECIALISE 0
 #include "op_scene.h"
 
 typedef struct {

@@ -3,7 +3,6 @@
  * Meaningful in the -fopenmp build of tests/run.sh; without OpenMP the two
  * runs are serial and the test checks plain run-to-run determinism.
  */
-#define SPH_OP_SPECIALISE 0
 #include "op_scene.h"
 #ifdef _OPENMP
 #include <omp.h>

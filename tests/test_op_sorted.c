@@ -9,7 +9,6 @@
  * test computes sum_j |t_j| of every target from the pair terms and asserts
  * that bound, for the density (O2) and the difference gradient (O5).
  */
-#define SPH_OP_SPECIALISE 0
 #include "harness.h"
 #include "particles.h"
 
