@@ -16,7 +16,7 @@ BUILD   := build
 # not depend on the thread count)
 OPENMP  := $(shell printf 'int main(void){return 0;}\n' | $(CC) -fopenmp -x c - -o /dev/null > /dev/null 2>&1 && echo -fopenmp)
 
-.PHONY: all test demo plots install uninstall clean fuzz stability report report-full plots-report report-plots-if-gnuplot bench tiny-size
+.PHONY: all test demo plots install uninstall clean fuzz stability report report-full plots-report report-plots-if-gnuplot bench tiny-size compile-cost
 
 all: $(BUILD)/kernel_table $(BUILD)/kernel_plots $(BUILD)/quickstart
 
@@ -202,6 +202,11 @@ bench: $(BUILD)/bench/benchmark_double $(BUILD)/bench/benchmark_float tiny-size
 	./$(BUILD)/bench/benchmark_double 64 7 docs/benchmark.md
 	@echo
 	./$(BUILD)/bench/benchmark_float 64 7 docs/benchmark.md
+
+# compile-cost: CPU time, peak memory and code size of typical units
+# (bench/compile_cost.sh; README "Build cost").
+compile-cost:
+	@sh bench/compile_cost.sh
 
 tiny-size:
 	@mkdir -p $(BUILD)/bench
