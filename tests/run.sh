@@ -8,7 +8,7 @@ set -u
 cd "$(dirname "$0")/.." || exit 2
 OUT=build/test
 mkdir -p "$OUT"
-WARN="-std=c99 -Wall -Wextra -pedantic -Werror"
+WARN="-std=c99 -Wall -Wextra -pedantic -Werror -I."
 OPT="-O1 -g"
 TOTAL_PASS=0
 TOTAL_FAIL=0
@@ -167,7 +167,7 @@ echo "== examples (--check)"
 mkdir -p "$OUT/examples"
 omp=""
 if has_openmp gcc; then omp="-fopenmp"; fi
-for src in examples/*.c; do
+for src in examples/*.c studies/*.c; do
     [ -e "$src" ] || continue
     grep -q -- '--check' "$src" || continue
     name=$(basename "$src" .c)

@@ -11,7 +11,7 @@
  */
 #define SPH_OP_SPECIALISE 0
 #include "harness.h"
-#include "particles.h"
+#include "support/particles.h"
 
 #include <stdlib.h>
 

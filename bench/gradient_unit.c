@@ -1,4 +1,4 @@
-/* examples/gradient_unit.c - one translation unit that calls sph_gradient
+/* bench/gradient_unit.c - one translation unit that calls sph_gradient
  * with the kernel and the dimension chosen at run time: `make tiny-size`
  * compiles it with SPH_OP_SPECIALISE 1 and 0 and prints compile time and
  * object size (the cost of the compile-time specialisation). */
