@@ -1,6 +1,9 @@
 # sph_kernel.h - build the tests, examples, docs and the installable header.
 #   make test       all tests: gcc/clang x double/float, sanitizers, OpenMP,
-#                   C++/nvcc/CMake compile checks; ends with "N passed, N failed"
+#                   -march=native, C11/C++/nvcc/CMake compile checks, the examples'
+#                   --check runs; ends with "N passed, N failed" (tests/run.sh)
+#   make check      the quick tier: gcc sanitised build of every test, the gcc
+#                   -march=native operator build, the C11/C++ header checks
 #   make demo       builds and runs the main example
 #   make plots      redraws the PNG plots in docs/results/ (needs gnuplot)
 #   make report     error against run time of every operator: docs/results/report.md, docs/results/report/
@@ -23,12 +26,26 @@ RESULTS := docs/results
 # not depend on the thread count)
 OPENMP  := $(shell printf 'int main(void){return 0;}\n' | $(CC) -fopenmp -x c - -o /dev/null > /dev/null 2>&1 && echo -fopenmp)
 
-.PHONY: all test demo plots install uninstall clean fuzz stability report report-full plots-report report-plots-if-gnuplot bench tiny-size
+.PHONY: all test check print-check-examples demo plots install uninstall clean fuzz stability report report-full plots-report report-plots-if-gnuplot bench tiny-size
 
 all: $(BUILD)/kernel_table $(BUILD)/kernel_plots $(BUILD)/quickstart
 
 test:
-	@bash tests/run.sh
+	@bash tests/run.sh test
+
+check:
+	@bash tests/run.sh check
+
+# Programs with a --check mode: a short coarse run of a real simulation or
+# study that exits non-zero when it misses its own validation bounds. make test
+# builds each (gcc -O2, OpenMP where gcc has it) and runs it with its
+# arguments, CHECK_ARGS_<name> (default --check); one case each.
+CHECK_EXAMPLES := examples/cloud_quickstart examples/dam_break examples/taylor_green \
+                  examples/heat_conduction studies/error_vs_runtime studies/stability
+CHECK_ARGS     := --check
+
+print-check-examples:
+	@$(foreach p,$(CHECK_EXAMPLES),echo "$(p).c $(or $(CHECK_ARGS_$(notdir $(p))),$(CHECK_ARGS))";)
 
 $(BUILD)/%: examples/%.c sph_kernel.h
 	@mkdir -p $(BUILD)
