@@ -1,44 +1,76 @@
 # sph_kernel.h - build the tests, examples, docs and the installable header.
 #   make test       all tests: gcc/clang x double/float, sanitizers, OpenMP,
-#                   C++/nvcc/CMake compile checks; ends with "N passed, N failed"
+#                   -march=native, C11/C++/nvcc/CMake compile checks, the examples'
+#                   --check runs; ends with "N passed, N failed" (tests/run.sh)
+#   make check      the quick tier: gcc sanitised build of every test, the gcc
+#                   -march=native operator build, the C11/C++ header checks
 #   make demo       builds and runs the main example
-#   make plots      redraws the PNG plots in docs/ (needs gnuplot)
-#   make report     error against run time of every operator: docs/report.md, docs/report/
+#   make plots      redraws the PNG plots in docs/results/ (needs gnuplot)
+#   make report     error against run time of every operator: docs/results/report.md, docs/results/report/
 #   make install PREFIX=/usr/local   header + pkg-config file
-#   make bench      operator and neighbour-search timings (examples/benchmark.c)
+#   make bench      operator and neighbour-search timings (bench/benchmark.c)
+#
+# Tree: examples/ what a user copies (quickstarts, solvers); bench/ timings and
+# size probes; studies/ the programs and gnuplot scripts that write the results
+# in docs/results/; support/ particle clouds shared by tests, bench and studies;
+# docs/ the reference pages. Every program includes "sph_kernel.h" with -I.
 CC      ?= cc
 CFLAGS  ?= -O2 -std=c99 -Wall -Wextra -pedantic -Werror
 LDLIBS  ?= -lm
 PREFIX  ?= /usr/local
 VERSION := $(shell sed -n 's/^\#define SPH_KERNEL_VERSION_STRING "\(.*\)"/\1/p' sph_kernel.h)
 BUILD   := build
+# generated results (report, benchmark, study tables, plots); docs/ keeps the reference pages
+RESULTS := docs/results
 # -fopenmp where the compiler has it (examples run multi-threaded; results do
 # not depend on the thread count)
 OPENMP  := $(shell printf 'int main(void){return 0;}\n' | $(CC) -fopenmp -x c - -o /dev/null > /dev/null 2>&1 && echo -fopenmp)
 
-.PHONY: all test demo plots install uninstall clean fuzz stability report report-full plots-report report-plots-if-gnuplot bench tiny-size compile-cost
+.PHONY: all test check print-check-examples demo plots install uninstall clean fuzz stability report report-full plots-report report-plots-if-gnuplot bench tiny-size compile-cost
 
 all: $(BUILD)/kernel_table $(BUILD)/kernel_plots $(BUILD)/quickstart
 
 test:
-	@bash tests/run.sh
+	@bash tests/run.sh test
+
+check:
+	@bash tests/run.sh check
+
+# Programs with a --check mode: a short coarse run of a real simulation or
+# study that exits non-zero when it misses its own validation bounds. make test
+# builds each (gcc -O2, OpenMP where gcc has it) and runs it with its
+# arguments, CHECK_ARGS_<name> (default --check); one case each.
+CHECK_EXAMPLES := examples/cloud_quickstart examples/dam_break examples/taylor_green \
+                  examples/heat_conduction studies/error_vs_runtime studies/stability
+CHECK_ARGS     := --check
+
+print-check-examples:
+	@$(foreach p,$(CHECK_EXAMPLES),echo "$(p).c $(or $(CHECK_ARGS_$(notdir $(p))),$(CHECK_ARGS))";)
 
 $(BUILD)/%: examples/%.c sph_kernel.h
+	@mkdir -p $(BUILD)
+	$(CC) $(CFLAGS) -I. $< -o $@ $(LDLIBS)
+
+$(BUILD)/%: studies/%.c sph_kernel.h support/particles.h
+	@mkdir -p $(BUILD)
+	$(CC) $(CFLAGS) -I. $< -o $@ $(LDLIBS)
+
+$(BUILD)/%: bench/%.c sph_kernel.h support/particles.h
 	@mkdir -p $(BUILD)
 	$(CC) $(CFLAGS) -I. $< -o $@ $(LDLIBS)
 
 demo: $(BUILD)/kernel_table
 	./$(BUILD)/kernel_table
 
-# Data from examples/kernel_plots.c into build/plots, PNGs into docs/plots.
+# Data from studies/kernel_plots.c into build/plots, PNGs into docs/results/plots.
 plots: $(BUILD)/kernel_plots plots-dambreak plots-report plots-flows
 	@command -v gnuplot > /dev/null 2>&1 || { \
 	    echo "make plots: gnuplot is not installed (Debian/Ubuntu: apt-get install gnuplot-nox);"; \
-	    echo "            the PNGs in docs/plots were left as they are."; exit 1; }
+	    echo "            the PNGs in $(RESULTS)/plots were left as they are."; exit 1; }
 	@mkdir -p $(BUILD)/plots
 	./$(BUILD)/kernel_plots $(BUILD)/plots
-	gnuplot -e "datadir='$(BUILD)/plots'; outdir='docs/plots'" docs/plots/kernels.gp
-	@ls docs/plots/*.png
+	gnuplot -e "datadir='$(BUILD)/plots'; outdir='$(RESULTS)/plots'" studies/kernels.gp
+	@ls $(RESULTS)/plots/*.png
 
 # Dam break example (examples/dam_break.c): run-dam-break, plots-dambreak.
 # Built with OpenMP when the compiler has it; the measurements are read from
@@ -64,56 +96,56 @@ run-dam-break: $(BUILD)/dam_break
 # Runs 20, 30 (default), 40 and 60 (a x 2a only) particles across the column,
 # 30 without the wall-friction model, and variants of the model at 30 (a x 2a
 # only: no-slip walls, c0, alpha, h): comparison tables
-# (docs/dam_break_results.md), resolution table (docs/dam_break_resolution.md),
-# front and height plots (docs/plots/dam_break_*.png).
+# ($(RESULTS)/dam_break_results.md), resolution table ($(RESULTS)/dam_break_resolution.md),
+# front and height plots ($(RESULTS)/plots/dam_break_*.png).
 plots-dambreak: $(BUILD)/dam_break
 	@command -v gnuplot > /dev/null 2>&1 || { echo "make plots-dambreak: gnuplot is not installed"; exit 1; }
-	rm -f docs/dam_break_resolution.md
-	./$(BUILD)/dam_break $(DAM_BREAK_ARGS) --threads $(DAM_BREAK_THREADS) --res 20 --vtk-every 0 --out $(BUILD)/dam_break_out/res20 --summary docs/dam_break_resolution.md
-	./$(BUILD)/dam_break $(DAM_BREAK_ARGS) --threads $(DAM_BREAK_THREADS) --res 30 --vtk-every 0 --out $(BUILD)/dam_break_out/res30 --summary docs/dam_break_resolution.md --report docs/dam_break_results.md
-	./$(BUILD)/dam_break $(DAM_BREAK_ARGS) --threads $(DAM_BREAK_THREADS) --res 40 --vtk-every 0 --out $(BUILD)/dam_break_out/res40 --summary docs/dam_break_resolution.md
-	./$(BUILD)/dam_break $(DAM_BREAK_ARGS) --threads $(DAM_BREAK_THREADS) --res 60 --column 2 --vtk-every 0 --out $(BUILD)/dam_break_out/res60 --summary docs/dam_break_resolution.md
-	./$(BUILD)/dam_break $(DAM_BREAK_ARGS) --threads $(DAM_BREAK_THREADS) --res 30 --stokes 0 --vtk-every 0 --out $(BUILD)/dam_break_out/res30_nofriction --summary docs/dam_break_resolution.md
+	rm -f $(RESULTS)/dam_break_resolution.md
+	./$(BUILD)/dam_break $(DAM_BREAK_ARGS) --threads $(DAM_BREAK_THREADS) --res 20 --vtk-every 0 --out $(BUILD)/dam_break_out/res20 --summary $(RESULTS)/dam_break_resolution.md
+	./$(BUILD)/dam_break $(DAM_BREAK_ARGS) --threads $(DAM_BREAK_THREADS) --res 30 --vtk-every 0 --out $(BUILD)/dam_break_out/res30 --summary $(RESULTS)/dam_break_resolution.md --report $(RESULTS)/dam_break_results.md
+	./$(BUILD)/dam_break $(DAM_BREAK_ARGS) --threads $(DAM_BREAK_THREADS) --res 40 --vtk-every 0 --out $(BUILD)/dam_break_out/res40 --summary $(RESULTS)/dam_break_resolution.md
+	./$(BUILD)/dam_break $(DAM_BREAK_ARGS) --threads $(DAM_BREAK_THREADS) --res 60 --column 2 --vtk-every 0 --out $(BUILD)/dam_break_out/res60 --summary $(RESULTS)/dam_break_resolution.md
+	./$(BUILD)/dam_break $(DAM_BREAK_ARGS) --threads $(DAM_BREAK_THREADS) --res 30 --stokes 0 --vtk-every 0 --out $(BUILD)/dam_break_out/res30_nofriction --summary $(RESULTS)/dam_break_resolution.md
 	for v in "--stokes 0 --noslip 1" "--c0 20" "--alpha 0.05" "--hfac 1.6"; do \
-	    ./$(BUILD)/dam_break $(DAM_BREAK_ARGS) --threads $(DAM_BREAK_THREADS) --res 30 --column 2 $$v --vtk-every 0 --out $(BUILD)/dam_break_out/variants --summary docs/dam_break_resolution.md || exit 1; \
+	    ./$(BUILD)/dam_break $(DAM_BREAK_ARGS) --threads $(DAM_BREAK_THREADS) --res 30 --column 2 $$v --vtk-every 0 --out $(BUILD)/dam_break_out/variants --summary $(RESULTS)/dam_break_resolution.md || exit 1; \
 	done
-	gnuplot -e "datadir='$(or $(DAM_BREAK_DATA),$(firstword $(wildcard ../shared/data/dam_break shared/data/dam_break ../../shared/data/dam_break)))'; simdir='$(BUILD)/dam_break_out'; outdir='docs/plots'; res1=30; res2=60" docs/plots/dam_break.gp
+	gnuplot -e "datadir='$(or $(DAM_BREAK_DATA),$(firstword $(wildcard ../shared/data/dam_break shared/data/dam_break ../../shared/data/dam_break)))'; simdir='$(BUILD)/dam_break_out'; outdir='$(RESULTS)/plots'; res1=30; res2=60" studies/dam_break.gp
 
-# Accuracy/cost report (report, report-full, plots-report): examples/error_vs_runtime.c
-# writes docs/report.md and the CSVs of docs/report/ (one OpenMP thread, so
-# times are per core); gnuplot draws the PNGs from the CSVs where it exists.
-$(BUILD)/error_vs_runtime: examples/error_vs_runtime.c sph_kernel.h
+# Accuracy/cost report (report, report-full, plots-report): studies/error_vs_runtime.c
+# writes $(RESULTS)/report.md and the CSVs of $(RESULTS)/report/ (one OpenMP thread,
+# so times are per core); gnuplot draws the PNGs from the CSVs where it exists.
+$(BUILD)/error_vs_runtime: studies/error_vs_runtime.c sph_kernel.h
 	@mkdir -p $(BUILD)
 	$(CC) $(CFLAGS) $(OPENMP) -I. $< -o $@ $(LDLIBS)
 
 report: $(BUILD)/error_vs_runtime
-	@mkdir -p docs/report
-	OMP_NUM_THREADS=1 ./$(BUILD)/error_vs_runtime --out docs
+	@mkdir -p $(RESULTS)/report
+	OMP_NUM_THREADS=1 ./$(BUILD)/error_vs_runtime --out $(RESULTS)
 	@$(MAKE) --no-print-directory report-plots-if-gnuplot
 
 report-full: $(BUILD)/error_vs_runtime
-	@mkdir -p docs/report
-	OMP_NUM_THREADS=1 ./$(BUILD)/error_vs_runtime --full --out docs
+	@mkdir -p $(RESULTS)/report
+	OMP_NUM_THREADS=1 ./$(BUILD)/error_vs_runtime --full --out $(RESULTS)
 	@$(MAKE) --no-print-directory report-plots-if-gnuplot
 
 report-plots-if-gnuplot:
 	@if command -v gnuplot > /dev/null 2>&1; then $(MAKE) --no-print-directory plots-report; else \
 	    echo "make report: gnuplot is not installed (Debian/Ubuntu: apt-get install gnuplot-nox);"; \
-	    echo "             docs/report.md and the CSVs are new, the PNGs in docs/report were NOT redrawn."; fi
+	    echo "             $(RESULTS)/report.md and the CSVs are new, the PNGs in $(RESULTS)/report were NOT redrawn."; fi
 
 plots-report:
 	@command -v gnuplot > /dev/null 2>&1 || { \
 	    echo "make plots-report: gnuplot is not installed (Debian/Ubuntu: apt-get install gnuplot-nox);"; \
-	    echo "                   the PNGs in docs/report were left as they are."; exit 1; }
-	gnuplot -e "dir='docs/report'" docs/report/report.gp
-	@ls docs/report/*.png
+	    echo "                   the PNGs in $(RESULTS)/report were left as they are."; exit 1; }
+	gnuplot -e "dir='$(RESULTS)/report'" studies/report.gp
+	@ls $(RESULTS)/report/*.png
 
-# stability: builds examples/stability.c and rewrites docs/stability.md with
+# stability: builds studies/stability.c and rewrites $(RESULTS)/stability.md with
 # its measurements (a few minutes, one core: its scenes are small, threads would
 # not pay; `./build/stability --quick out.md` is a fast pass, `--check` the
 # short assertion run that `make test` does).
 stability: $(BUILD)/stability
-	./$(BUILD)/stability docs/stability.md
+	./$(BUILD)/stability $(RESULTS)/stability.md
 
 install:
 	install -d $(DESTDIR)$(PREFIX)/include $(DESTDIR)$(PREFIX)/lib/pkgconfig
@@ -141,12 +173,12 @@ run-taylor-green: $(BUILD)/flows/taylor_green
 run-heat-conduction: $(BUILD)/flows/heat_conduction
 	./$(BUILD)/flows/heat_conduction --out $(BUILD)/heat_conduction
 
-# The --study runs write docs/*_results.md and the CSVs the plots read (a few minutes).
+# The --study runs write $(RESULTS)/*_results.md and the CSVs the plots read (a few minutes).
 plots-flows: $(BUILD)/flows/taylor_green $(BUILD)/flows/heat_conduction
 	@command -v gnuplot > /dev/null 2>&1 || { echo "make plots-flows: gnuplot is not installed"; exit 1; }
-	./$(BUILD)/flows/taylor_green --study docs --out $(BUILD)/flows/data
-	./$(BUILD)/flows/heat_conduction --study docs --out $(BUILD)/flows/data
-	gnuplot -e "datadir='$(BUILD)/flows/data'; outdir='docs/plots'" docs/plots/flows.gp
+	./$(BUILD)/flows/taylor_green --study $(RESULTS) --out $(BUILD)/flows/data
+	./$(BUILD)/flows/heat_conduction --study $(RESULTS) --out $(BUILD)/flows/data
+	gnuplot -e "datadir='$(BUILD)/flows/data'; outdir='$(RESULTS)/plots'" studies/flows.gp
 
 # ---- fuzz: operator and neighbour-search invariants (tests/fuzz_body.h) ----
 # make fuzz [FUZZ_SECONDS=60]: libFuzzer (clang -fsanitize=fuzzer,address,
@@ -165,21 +197,21 @@ fuzz:
 	        -artifact_prefix=$(BUILD)/fuzz/ $(BUILD)/fuzz/corpus; \
 	else \
 	    echo "make fuzz: libFuzzer not available; seeded random driver (ASan/UBSan), $(FUZZ_SECONDS) s"; \
-	    $(CC) -std=c99 -O1 -g -fsanitize=address,undefined -fno-sanitize-recover=all \
+	    $(CC) -std=c99 -O1 -g -fsanitize=address,undefined -fno-sanitize-recover=all -I. \
 	        tests/test_fuzz_seeded.c -o $(BUILD)/fuzz/test_fuzz_seeded -lm && \
 	    ./$(BUILD)/fuzz/test_fuzz_seeded $(FUZZ_SECONDS); \
 	fi
 
-# ---- bench, tiny-size: timings (examples/benchmark.c) and the size of a
-# program pinned to 2-D cubic density (examples/tiny_density.c) ----
+# ---- bench, tiny-size: timings (bench/benchmark.c) and the size of a
+# program pinned to 2-D cubic density (bench/tiny_density.c) ----
 BENCH_FLAGS := -O3 -march=native -fopenmp -std=c99 -Wall -Wextra -pedantic -Werror -I.
 BENCH_PIN   := -DSPH_DIM=3 -DSPH_KERNEL=SPH_KERNEL_CUBIC
 
-$(BUILD)/bench/%_double.o: examples/benchmark.c sph_kernel.h
+$(BUILD)/bench/%_double.o: bench/benchmark.c sph_kernel.h
 	@mkdir -p $(BUILD)/bench
 	$(CC) $(BENCH_FLAGS) $(BENCH_$*) -c $< -o $@
 
-$(BUILD)/bench/%_float.o: examples/benchmark.c sph_kernel.h
+$(BUILD)/bench/%_float.o: bench/benchmark.c sph_kernel.h
 	@mkdir -p $(BUILD)/bench
 	$(CC) $(BENCH_FLAGS) -DSPH_REAL=float $(BENCH_$*) -c $< -o $@
 
@@ -191,17 +223,17 @@ BENCH_reference := -DBENCH_PART=bench_reference -DSPH_OP_REFERENCE
 $(BUILD)/bench/benchmark_%: $(BUILD)/bench/main_%.o $(BUILD)/bench/pinned_%.o $(BUILD)/bench/reference_%.o
 	$(CC) -fopenmp $^ -o $@ -lm
 
-# make bench prints the tables and writes them to docs/benchmark.md (with the
+# make bench prints the tables and writes them to $(RESULTS)/benchmark.md (with the
 # machine's CPU model and load average: these are shared-machine timings).
 bench: $(BUILD)/bench/benchmark_double $(BUILD)/bench/benchmark_float tiny-size
-	@{ echo "# Benchmark (written by make bench, examples/benchmark.c)"; echo; \
+	@{ echo "# Benchmark (written by make bench, bench/benchmark.c)"; echo; \
 	   echo "$(CC) -O3 -march=native -fopenmp; CPU: $$(grep -m1 'model name' /proc/cpuinfo 2> /dev/null | sed 's/.*: //'),"; \
 	   echo "$$(nproc 2> /dev/null) cores; load average at the start: $$(cut -d' ' -f1-3 /proc/loadavg 2> /dev/null)."; \
 	   echo "Ratios within one run are the numbers to read: absolute times move with other jobs on the machine."; \
-	 } > docs/benchmark.md
-	./$(BUILD)/bench/benchmark_double 64 7 docs/benchmark.md
+	 } > $(RESULTS)/benchmark.md
+	./$(BUILD)/bench/benchmark_double 64 7 $(RESULTS)/benchmark.md
 	@echo
-	./$(BUILD)/bench/benchmark_float 64 7 docs/benchmark.md
+	./$(BUILD)/bench/benchmark_float 64 7 $(RESULTS)/benchmark.md
 
 # compile-cost: CPU time, peak memory and code size of typical units
 # (bench/compile_cost.sh; README "Build cost").
@@ -210,14 +242,14 @@ compile-cost:
 
 tiny-size:
 	@mkdir -p $(BUILD)/bench
-	$(CC) -O2 -std=c99 -Wall -Wextra -pedantic -Werror -I. -c examples/tiny_density.c -o $(BUILD)/bench/tiny_density.o
-	@echo "examples/tiny_density.c (SPH_DIM 2, SPH_KERNEL cubic, sph_density), $(CC) -O2:"
+	$(CC) -O2 -std=c99 -Wall -Wextra -pedantic -Werror -I. -c bench/tiny_density.c -o $(BUILD)/bench/tiny_density.o
+	@echo "bench/tiny_density.c (SPH_DIM 2, SPH_KERNEL cubic, sph_density), $(CC) -O2:"
 	@size $(BUILD)/bench/tiny_density.o
-	@echo "examples/gradient_unit.c (sph_gradient, kernel and dimension at run time), $(CC) -O2:"
+	@echo "bench/gradient_unit.c (sph_gradient, kernel and dimension at run time), $(CC) -O2:"
 	@for s in "" -DSPH_OP_REFERENCE; do \
 	    t0=$$(date +%s.%N); \
 	    $(CC) -O2 -std=c99 -Wall -Wextra -pedantic -Werror -I. $$s \
-	        -c examples/gradient_unit.c -o $(BUILD)/bench/gradient_unit.o || exit 1; \
+	        -c bench/gradient_unit.c -o $(BUILD)/bench/gradient_unit.o || exit 1; \
 	    t1=$$(date +%s.%N); \
 	    printf '  %-20s compile %.2f s, text %s bytes\n' "$${s:-fast loops}" \
 	        $$(awk "BEGIN {print $$t1 - $$t0}") $$(size $(BUILD)/bench/gradient_unit.o | awk 'NR == 2 {print $$1}'); \

@@ -4,7 +4,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include "../sph_kernel.h"
+#include "sph_kernel.h"
 
 static int fail(int st)
 {

@@ -17,7 +17,7 @@
 #include <sys/stat.h>
 #include <time.h>
 
-#include "../sph_kernel.h"
+#include "sph_kernel.h"
 
 /* ---- command-line options: --name value, --flag ---- */
 

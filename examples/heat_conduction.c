@@ -21,7 +21,8 @@
  *
  *   ./heat_conduction                 default: 30 particles across, Wendland C2, mirror walls
  *   ./heat_conduction --check         coarse run with validation bounds (make test)
- *   ./heat_conduction --study docs    resolution / kernel / wall table into docs/
+ *   ./heat_conduction --study docs/results
+ *                                     resolution / kernel / wall table into docs/results/
  */
 #include "example_io.h"
 
@@ -263,7 +264,7 @@ int main(int argc, char **argv)
     opt[8].name = "frames", opt[8].help = "VTK frames per case (0: none)", opt[8].integer = &P.frames;
     opt[9].name = "threads", opt[9].help = "OpenMP threads (0: the runtime's default)", opt[9].integer = &threads;
     opt[10].name = "check", opt[10].help = "coarse run; exit 1 if it misses its validation bounds", opt[10].flag = &check;
-    opt[11].name = "study", opt[11].help = "write the error table into this directory (docs)", opt[11].text = &study;
+    opt[11].name = "study", opt[11].help = "write the error table into this directory (docs/results)", opt[11].text = &study;
     st = ex_parse(argc, argv, "2-D heat conduction through two layers (k 1:100) and one, against analytic solutions",
                   opt, 12);
     if (st != 0) return st > 0 ? 0 : 2;

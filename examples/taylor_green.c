@@ -33,7 +33,8 @@
  *   ./taylor_green                    default run: 40 x 40, Wendland C2, pressure form, fixed particles
  *   ./taylor_green --lagrangian       moving particles (transport velocity)
  *   ./taylor_green --check            short coarse runs (fixed, moving) with validation bounds (make test)
- *   ./taylor_green --study docs       resolution / kernel / scheme table into docs/
+ *   ./taylor_green --study docs/results
+ *                                     resolution / kernel / scheme table into docs/results/
  */
 #include "example_io.h"
 
@@ -508,7 +509,7 @@ int main(int argc, char **argv)
         ex_option all[19];
         memcpy(all, opt, sizeof opt);
         memset(&all[13], 0, 6 * sizeof all[13]);
-        all[13].name = "study", all[13].help = "write the error table into this directory (docs)", all[13].text = &study;
+        all[13].name = "study", all[13].help = "write the error table into this directory (docs/results)", all[13].text = &study;
         all[14].name = "lagrangian", all[14].help = "particles move with the flow, transport-velocity formulation "
                                                     "(default: fixed particles)";
         all[14].flag = &P.lagrangian;

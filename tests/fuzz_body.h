@@ -4,7 +4,7 @@
  *   - valid input: every operator returns SPH_OK (curl in 1-D: SPH_EDIM) and
  *     writes only finite values; SoA, interleaved and array-of-structs views
  *     of the same data give bitwise the same results; the cell-list search
- *     gives exactly the brute-force lists (tests/particles.h), gather and
+ *     gives exactly the brute-force lists (support/particles.h), gather and
  *     symmetric;
  *   - one bad input (NaN/Inf in a field, index out of range, negative index,
  *     decreasing offsets, offset[0] != 0, h not usable, unknown kernel,
@@ -22,7 +22,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "particles.h"
+#include "support/particles.h"
 #include "xo_ops.h"
 
 static char fz_msg[512];

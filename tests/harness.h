@@ -23,7 +23,7 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "../sph_kernel.h"
+#include "sph_kernel.h"
 
 #define TH_IS_FLOAT (sizeof(sph_real) == sizeof(float))
 #define TH_EPS (TH_IS_FLOAT ? (double)FLT_EPSILON : (double)DBL_EPSILON)

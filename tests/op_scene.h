@@ -1,6 +1,6 @@
 /* tests/op_scene.h - particle scenes for the operator tests (test_op_*.c).
  *
- * A scene: interleaved positions x[3*i+a] (tests/particles.h), uniform
+ * A scene: interleaved positions x[3*i+a] (support/particles.h), uniform
  * volumes, a reference neighbour list from tp_brute_list and a context for
  * the operators. Fields are evaluated analytically here; every reference
  * value of the operator tests is an analytic derivative of these fields.
@@ -12,7 +12,7 @@
 #include <stdlib.h>
 
 #include "harness.h"
-#include "particles.h"
+#include "support/particles.h"
 
 #define TS_PI 3.14159265358979323846
 

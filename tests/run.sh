@@ -1,210 +1,479 @@
 #!/bin/bash
-# tests/run.sh - `make test`: builds every tests/test_*.c in every configuration
-# (gcc and clang x double and float, sanitizers where the compiler has them,
-# plus OpenMP builds), runs them, runs the compile checks (C++, nvcc, CMake)
-# and prints one closing line "N passed, N failed" with the sum of all cases.
-# A configuration whose compiler is missing is skipped with a printed reason.
+# tests/run.sh - `make test` (tier "test", the default) and `make check` (tier
+# "check", the developer's quick run). Builds every tests/test_*.c in every
+# configuration of the table below, runs them, runs the examples' --check
+# modes (listed in the Makefile), the compile checks (C11, C++, nvcc, CMake,
+# float warnings) and tests/check_tables.sh where it exists, and ends with one
+# line "N passed, N failed" summing the cases of every program.
+#
+# Every (configuration, program) pair is one job: build, then run. The jobs
+# go through one queue, longest first (the times of the previous run in
+# build/test/times.tsv, or an estimate on a fresh tree), JOBS at a time
+# (default: the number of cores). Before the closing line the script prints
+# where the time went: per configuration, and the slowest builds and runs.
+#
+# Restrict a run (checking this script, or one change):
+#   CONFIGS="gcc-double clang-float"   only these configurations ("none": no test builds)
+#   TESTS="test_op_fused dam_break"    only these programs (tests in each configuration, examples)
+#   EXTRAS=0                           no examples, compile checks or scripts
+#   LIST=1                             print the jobs in queue order, run nothing
+# A configuration whose compiler or feature is missing is skipped with a
+# printed reason.
 set -u
 cd "$(dirname "$0")/.." || exit 2
+TIER=${1:-test}
+case $TIER in
+test | check) ;;
+*) echo "usage: tests/run.sh [test|check]" >&2; exit 2 ;;
+esac
 OUT=build/test
-mkdir -p "$OUT"
-WARN="-std=c99 -Wall -Wextra -pedantic -Werror"
-OPT="-O1 -g"
-TOTAL_PASS=0
-TOTAL_FAIL=0
-LOG="$OUT/run.log"
-: > "$LOG"
+RES=$OUT/results
+rm -rf "$RES"
+mkdir -p "$OUT" "$RES"
+JOBS=${JOBS:-$(nproc 2> /dev/null || echo 2)}
+WARN="-std=c99 -Wall -Wextra -pedantic -Werror -I."
+# threads that wait sleep instead of spinning: the jobs share the cores
+export OMP_WAIT_POLICY=${OMP_WAIT_POLICY:-passive}
 
-count() { # count "label" exit-status output-file
-    line=$(grep -E '^[0-9]+ passed, [0-9]+ failed$' "$3" | tail -n 1)
-    if [ -z "$line" ]; then
-        echo "  $1: no summary line (exit $2) - counted as 1 failed"
-        sed 's/^/    | /' "$3" | tail -n 20
-        TOTAL_FAIL=$((TOTAL_FAIL + 1))
+# ---- configurations -------------------------------------------------------
+# One line each. flags: words starting with + are the named sets of
+# expand_flags below, the others go to the compiler as written (after
+# -std=c99 -Wall -Wextra -pedantic -Werror). environment: NAME=value words for
+# the runs. make test / make check: the programs, as globs of tests/*.c
+# ("-": none); !name leaves a program out, name:flag adds a flag for it.
+CONFIG_TABLE='
+# name           | cc    | real   | flags                           | environment       | make test                 | make check
+gcc-double       | gcc   | double | -O1 -g +san                     |                   | test_*                    | test_*
+gcc-native       | gcc   | double | -O2 +native                     |                   | test_op_*                 | test_op_fused
+gcc-float        | gcc   | float  | -O1 -g +san                     |                   | test_*                    | -
+gcc-float-native | gcc   | float  | -O2 +native                     |                   | test_op_* test_neighbours | -
+gcc-omp          | gcc   | double | -O1 -g +omp -DSPH_NO_INTRINSICS | OMP_NUM_THREADS=2 | test_*                    | -
+clang-double     | clang | double | -O1 -g +san +native             |                   | test_*                    | -
+clang-float      | clang | float  | -O1 -g +san                     |                   | test_*                    | -
+clang-omp        | clang | double | -O2 +omp                        | OMP_NUM_THREADS=2 | test_op_*                 | -
+'
+# What each is for:
+#   gcc-double        the reference build, AddressSanitizer + UBSan, -g for their traces
+#   gcc-native        -march=native -O2 as make bench builds: the AVX-512 one-pass
+#                     pair loops (on a CPU that has AVX-512) under the compiler that times them
+#   gcc-float         float under the sanitizers
+#   gcc-float-native  float's AVX-512 loops (float read, double arithmetic) and the
+#                     neighbour check widening float positions
+#   gcc-omp           OpenMP with 2 threads, and the portable path (SPH_NO_INTRINSICS)
+#   clang-double      the second compiler, sanitised, for the host CPU: the AVX-512
+#                     paths under the sanitizers
+#   clang-float       float under clang's sanitizers
+#   clang-omp         clang -fopenmp -O2: where clang reports omp simd loops it could
+#                     not vectorise (-Wpass-failed, an error under -Werror)
+# Compile checks (one case each; C11 and the float-warning builds run for each
+# compiler): the header alone, as C11 and C++11, under nvcc and as a CMake
+# package. The float warnings -Wdouble-promotion -Wfloat-conversion are set
+# here, on a unit with nothing but the header: the C front end checks every
+# function body of the header whether or not it is called, and the tests
+# compute their references in double from float values on purpose.
+HEADER_VARIANTS=("" -march=native -DSPH_NO_INTRINSICS "-DSPH_OP_SPECIALISE=0 -DSPH_DIM=3 -DSPH_KERNEL=SPH_KERNEL_CUBIC")
+FLOAT_WARN="-Wdouble-promotion -Wfloat-conversion"
+
+trim() { # trim "text": without leading and trailing blanks
+    local s=$1
+    s=${s#"${s%%[![:space:]]*}"}
+    printf '%s' "${s%"${s##*[![:space:]]}"}"
+}
+
+declare -A PROBED
+probe() { # probe key command...: 0 when the command succeeds (cached per key)
+    local key=$1
+    shift
+    if [ -z "${PROBED[$key]:-}" ]; then
+        if "$@" > /dev/null 2>&1; then PROBED[$key]=yes; else PROBED[$key]=no; fi
+    fi
+    [ "${PROBED[$key]}" = yes ]
+}
+
+builds_and_runs() { # builds_and_runs cc flags...: a trivial program builds and runs
+    local cc=$1 tag
+    shift
+    tag=$(printf '%s' "$cc $*" | tr -c 'A-Za-z0-9' _)
+    printf '#include <stdio.h>\nint main(void){return 0;}\n' > "$OUT/probe_$tag.c"
+    "$cc" "$@" "$OUT/probe_$tag.c" -o "$OUT/probe_$tag" && "$OUT/probe_$tag"
+}
+
+openmp_runs() { # openmp_runs cc
+    printf '#include <omp.h>\nint main(void){return omp_get_max_threads() > 0 ? 0 : 1;}\n' > "$OUT/probe_omp_$1.c"
+    "$1" -fopenmp "$OUT/probe_omp_$1.c" -o "$OUT/probe_omp_$1" && "$OUT/probe_omp_$1"
+}
+
+# expand_flags cc words...: EXPANDED = the compiler flags of the flags column;
+# returns 1 with REASON set when the configuration cannot be built here, and
+# adds to NOTES what is built without
+expand_flags() {
+    local cc=$1 w
+    shift
+    EXPANDED="" REASON="" NOTES=""
+    for w in "$@"; do
+        case $w in
+        +san)
+            if probe "$cc san" builds_and_runs "$cc" -fsanitize=address,undefined; then
+                EXPANDED="$EXPANDED -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer"
+            else
+                NOTES="$NOTES; $cc has no address/undefined sanitizers here, built without them"
+            fi
+            ;;
+        +native)
+            probe "$cc native" builds_and_runs "$cc" -march=native || { REASON="$cc -march=native does not build here"; return 1; }
+            EXPANDED="$EXPANDED -march=native"
+            ;;
+        +omp)
+            probe "$cc omp" openmp_runs "$cc" || { REASON="$cc -fopenmp does not build here"; return 1; }
+            EXPANDED="$EXPANDED -fopenmp"
+            ;;
+        +*) REASON="unknown flag set $w"; return 1 ;;
+        *) EXPANDED="$EXPANDED $w" ;;
+        esac
+    done
+    EXPANDED=$(trim "$EXPANDED")
+}
+
+# ---- the jobs ----------------------------------------------------------------
+# Each job writes RES/<id>.res: group|label|passed|failed|build "wall cpu"|run "wall cpu"
+# (seconds; cpu = user + system of the job and its children), and RES/<id>.txt:
+# the lines to print under its group.
+
+now() { printf '%s' "${EPOCHREALTIME/,/.}"; }
+secs() { awk -v a="$1" -v b="$2" 'BEGIN {printf "%.1f", b - a}'; }
+
+# timed out command...: runs the command, its output into the file out and
+# "wall cpu" seconds into out.time; returns the command's status
+timed() {
+    local out=$1 status TIMEFORMAT='%R %U %S'
+    shift
+    { time "$@" > "$out" 2>&1; } 2> "$out.time"
+    status=$?
+    awk '{printf "%.1f %.1f\n", $1, $2 + $3}' "$out.time" > "$out.t" && mv "$out.t" "$out.time"
+    return $status
+}
+
+# summary out: "passed failed" from the program's closing line, or nothing
+summary() {
+    local line
+    line=$(grep -E '^[0-9]+ passed, [0-9]+ failed$' "$1" | tail -n 1)
+    [ -n "$line" ] && echo "${line%% passed*} $(echo "${line#*passed, }" | cut -d' ' -f1)"
+}
+
+# build_run id group label how bin "compile command" "env words" args...: build
+# a program, run it with the environment and arguments. how: "cases" (the
+# program's closing line N passed, N failed) or "one" (one case, its exit status)
+build_run() {
+    local id=$1 group=$2 label=$3 how=$4 bin=$5 cmd=$6 envs=$7 status p f
+    shift 7
+    echo "$cmd" > "$bin.cmd"
+    # shellcheck disable=SC2086 # the command is words
+    if ! timed "$bin.build" $cmd; then
+        {
+            echo "  $label: BUILD FAILED"
+            sed 's/^/    | /' "$bin.build" | head -n 30
+            echo "    built by: $cmd"
+        } > "$RES/$id.txt"
+        echo "$group|$label|0|1|$(cat "$bin.build.time")|0 0" > "$RES/$id.res"
         return
     fi
-    p=${line%% passed*}
-    f=${line#*passed, }
-    f=${f%% failed*}
-    if [ "$2" -ne 0 ] && [ "$f" -eq 0 ]; then f=1; fi
-    TOTAL_PASS=$((TOTAL_PASS + p))
-    TOTAL_FAIL=$((TOTAL_FAIL + f))
-    grep -E '^(FAIL|    )' "$3" | head -n 40
-    echo "  $1: $p passed, $f failed"
+    # shellcheck disable=SC2086 # envs are NAME=value words
+    timed "$bin.out" env $envs timeout 900 "$bin" "$@"
+    status=$?
+    {
+        if [ "$how" = one ]; then
+            p=$((status == 0)) f=$((status != 0))
+            if [ "$f" -eq 0 ]; then echo "  $label: ok"; else echo "  $label: FAILED (exit $status)"; fi
+            [ "$f" -eq 0 ] || sed 's/^/    | /' "$bin.out" | tail -n 30
+        elif read -r p f < <(summary "$bin.out"); then
+            if [ "$status" -ne 0 ] && [ "$f" -eq 0 ]; then f=1; fi
+            grep -E '^(FAIL|    )' "$bin.out" | head -n 40
+            echo "  $label: $p passed, $f failed"
+        else
+            p=0 f=1
+            echo "  $label: no summary line (exit $status) - counted as 1 failed"
+            sed 's/^/    | /' "$bin.out" | tail -n 20
+        fi
+        # a failure says how to rebuild it
+        [ "$f" -eq 0 ] || echo "    built by: $cmd${envs:+; run with $envs}"
+        echo "$group|$label|$p|$f|$(cat "$bin.build.time")|$(cat "$bin.out.time")" > "$RES/$id.res"
+    } > "$RES/$id.txt"
 }
 
-check() { # check "label" command...: a compile check counted as one case
-    label=$1
-    shift
-    if "$@" > "$OUT/check.out" 2>&1; then
-        TOTAL_PASS=$((TOTAL_PASS + 1))
-        echo "  $label: ok"
+# test_job id config cc real "flags" "env" source: one test program
+test_job() {
+    local id=$1 cfg=$2 cc=$3 real=$4 flags=$5 envs=$6 src=$7 bin
+    mkdir -p "$OUT/$cfg"
+    bin=$OUT/$cfg/$(basename "$src" .c)
+    build_run "$id" "$cfg" "$cfg $(basename "$src" .c)" cases "$bin" \
+        "$cc $WARN $flags -DSPH_REAL=$real $src -o $bin -lm" "$envs"
+}
+
+# example_job id source args...: an example or study in its --check mode, built
+# as the Makefile builds it (gcc -O2, OpenMP where gcc has it); one case
+example_job() {
+    local id=$1 src=$2 bin omp=""
+    shift 2
+    mkdir -p "$OUT/examples"
+    bin=$OUT/examples/$(basename "$src" .c)
+    if probe "gcc omp" openmp_runs gcc; then omp=-fopenmp; fi
+    build_run "$id" examples "$src $*" one "$bin" \
+        "gcc -O2 -std=c99 -Wall -Wextra -pedantic -Werror $omp -I. $src -o $bin -lm" "" "$@"
+}
+
+# check_job id label command...: a compile check or a script, one case
+check_job() {
+    local id=$1 label=$2
+    shift 2
+    if timed "$RES/$id.log" "$@"; then
+        echo "  $label: ok" > "$RES/$id.txt"
+        echo "checks|$label|1|0|$(cat "$RES/$id.log.time")|0 0" > "$RES/$id.res"
     else
-        TOTAL_FAIL=$((TOTAL_FAIL + 1))
-        echo "  $label: FAILED"
-        sed 's/^/    | /' "$OUT/check.out" | head -n 30
+        {
+            echo "  $label: FAILED"
+            sed 's/^/    | /' "$RES/$id.log" | head -n 30
+        } > "$RES/$id.txt"
+        echo "checks|$label|0|1|$(cat "$RES/$id.log.time")|0 0" > "$RES/$id.res"
     fi
 }
 
-has_flag() { # has_flag cc flag: the compiler accepts flag and the program runs
-    printf 'int main(void){return 0;}\n' > "$OUT/flag.c"
-    "$1" "$2" "$OUT/flag.c" -o "$OUT/flag" > /dev/null 2>&1 && "$OUT/flag" > /dev/null 2>&1
+# header_check cc: the header alone (tests/compile_check.c) as C11, double
+# and float, in every variant of HEADER_VARIANTS, with the float warnings;
+# built and run
+header_check() {
+    local cc=$1 real i bin
+    for real in double float; do
+        for i in "${!HEADER_VARIANTS[@]}"; do
+            case ${HEADER_VARIANTS[$i]} in
+            -march=native) probe "$cc native" builds_and_runs "$cc" -march=native || continue ;;
+            esac
+            bin=$OUT/c11_check_${cc}_${real}_$i
+            echo "== $cc -std=c11 -DSPH_REAL=$real ${HEADER_VARIANTS[$i]}"
+            # shellcheck disable=SC2086 # the variant's flags are words
+            $cc -std=c11 -Wall -Wextra -pedantic -Werror $FLOAT_WARN ${HEADER_VARIANTS[$i]} -DSPH_REAL="$real" -I. \
+                tests/compile_check.c -o "$bin" -lm && "$bin" || return 1
+        done
+    done
 }
 
-has_openmp() {
-    printf '#include <omp.h>\nint main(void){return omp_get_max_threads() > 0 ? 0 : 1;}\n' > "$OUT/omp.c"
-    "$1" -fopenmp "$OUT/omp.c" -o "$OUT/omp" > /dev/null 2>&1 && "$OUT/omp" > /dev/null 2>&1
+# shellcheck disable=SC2086 # FLOAT_WARN is words
+cxx_check() { # cxx_check real: tests/compile_check.cpp with g++ -std=c++11
+    g++ -std=c++11 -Wall -Wextra -pedantic -Werror $FLOAT_WARN -DSPH_REAL="$1" -I. tests/compile_check.cpp \
+        -o "$OUT/cpp_check_$1" && "$OUT/cpp_check_$1"
 }
 
-run_config() { # run_config cc precision extra-flags label [sources]
-    cc=$1 prec=$2 extra=$3 label=$4 sources=${5:-tests/test_*.c}
-    dir="$OUT/$label"
-    mkdir -p "$dir"
-    for src in $sources; do
-        [ -e "$src" ] || continue
-        name=$(basename "$src" .c)
-        if ! $cc $WARN $OPT $extra -DSPH_REAL=$prec "$src" -o "$dir/$name" -lm > "$dir/$name.build" 2>&1; then
-            echo "  $label $name: BUILD FAILED"
-            sed 's/^/    | /' "$dir/$name.build" | head -n 30
+# ---- the queue -----------------------------------------------------------------
+# QUEUE lines: estimate, id, group, kind, args..., separated by SEP (not a
+# blank: read keeps the empty fields)
+QUEUE=$OUT/queue
+: > "$QUEUE"
+GROUPS_ORDER=""
+SEP=$'\x1f'
+declare -A PREV
+if [ -f "$OUT/times.tsv" ]; then
+    while IFS=$'\t' read -r id _ b _ r; do PREV[$id]=$(awk -v b="$b" -v r="$r" 'BEGIN {printf "%d", (b + r) * 10}'); done < "$OUT/times.tsv"
+fi
+
+# estimate id guess: tenths of a CPU second the job took last time, else the guess
+estimate() { echo "${PREV[$1]:-$2}"; }
+
+# guess for a test program on a fresh tree: programs that run the array
+# operators compile for minutes, the neighbour tests run long under the
+# sanitizers, the kernel tests take seconds
+test_guess() { # test_guess source flags
+    local g=30
+    if grep -qE '#include "(op_scene|xo_ops|fuzz_body)\.h"|sph_(density|interpolate|shepard|gradient|density_gradient|velocity_gradient|divergence|curl|laplacian|diffusion|correction_matrix)\(' "$1"; then g=1000
+    elif grep -q 'sph_nsearch' "$1"; then g=400; fi
+    case " $2 " in *" -fsanitize="*) g=$((g * 2)) ;; esac
+    echo "$g"
+}
+
+enqueue() { # enqueue estimate id group kind args...
+    local est=$1 id=$2 group=$3 kind=$4 args=""
+    shift 4
+    local a
+    for a in "$@"; do args="$args$SEP$a"; done
+    printf '%s\n' "$est$SEP$id$SEP$group$SEP$kind$args" >> "$QUEUE"
+    case " $GROUPS_ORDER " in *" $group "*) ;; *) GROUPS_ORDER="$GROUPS_ORDER $group" ;; esac
+}
+
+declare -A TITLE
+wanted() { # wanted name list: name is in the space-separated list (empty list: all)
+    [ -z "$2" ] && return 0
+    case " $2 " in *" $1 "*) return 0 ;; esac
+    return 1
+}
+
+while IFS='|' read -r name cc real flags envs test_progs check_progs; do
+    name=$(trim "$name")
+    case $name in '' | '#'*) continue ;; esac
+    cc=$(trim "$cc") real=$(trim "$real") flags=$(trim "$flags") envs=$(trim "$envs")
+    if [ "$TIER" = test ]; then progs=$(trim "$test_progs"); else progs=$(trim "$check_progs"); fi
+    [ "$progs" = - ] && continue
+    [ "${CONFIGS:-}" = none ] && continue
+    wanted "$name" "${CONFIGS:-}" || continue
+    if ! command -v "$cc" > /dev/null 2>&1; then
+        echo "SKIPPED: $name ($cc is not installed)"
+        continue
+    fi
+    # shellcheck disable=SC2086 # flags are words
+    if ! expand_flags "$cc" $flags; then
+        echo "SKIPPED: $name ($REASON)"
+        continue
+    fi
+    [ -n "$NOTES" ] && echo "note: $name$NOTES"
+    TITLE[$name]="== $name: $cc $real $EXPANDED${envs:+ ($envs)}"
+    # the programs: globs, then !name (left out) and name:flag (added flag)
+    declare -A extra=()
+    skip=" "
+    for w in $progs; do
+        case $w in
+        !*) skip="$skip${w#!} " ;;
+        *:*) extra[${w%%:*}]="${extra[${w%%:*}]:-} ${w#*:}" ;;
+        esac
+    done
+    for w in $progs; do
+        case $w in !* | *:*) continue ;; esac
+        for src in tests/$w.c; do
+            [ -e "$src" ] || continue
+            t=$(basename "$src" .c)
+            case $skip in *" $t "*) continue ;; esac
+            skip="$skip$t " # once, however many globs match it
+            wanted "$t" "${TESTS:-}" || continue
+            f=$EXPANDED${extra[$t]:-}
+            enqueue "$(estimate "$name/$t" "$(test_guess "$src" "$f")")" "$name/$t" "$name" test \
+                "$name" "$cc" "$real" "$f" "$envs" "$src"
+        done
+    done
+    unset extra
+done <<< "$CONFIG_TABLE"
+
+if [ "${EXTRAS:-1}" != 0 ]; then
+    TITLE[examples]="== examples and studies (--check: a short coarse run that fails when it misses its validation bounds)"
+    TITLE[checks]="== compile checks and scripts"
+    if [ "$TIER" = test ]; then
+        # the Makefile lists the programs with a --check mode and their arguments
+        while read -r src args; do
+            [ -n "$src" ] || continue
+            n=$(basename "$src" .c)
+            wanted "$n" "${TESTS:-}" || continue
+            # shellcheck disable=SC2086 # args are words
+            enqueue "$(estimate "examples/$n" 600)" "examples/$n" examples example "$src" $args
+        done < <(make -s --no-print-directory print-check-examples)
+    fi
+    for cc in gcc clang; do
+        if command -v $cc > /dev/null 2>&1; then
+            enqueue "$(estimate "checks/c11-$cc" 100)" "checks/c11-$cc" checks check \
+                "C11 ($cc -std=c11; double and float; generic, -march=native, SPH_NO_INTRINSICS, pinned; $FLOAT_WARN)" \
+                header_check $cc
+        else
+            echo "SKIPPED: C11 check with $cc ($cc is not installed)"
+        fi
+    done
+    if command -v g++ > /dev/null 2>&1; then
+        for real in double float; do
+            enqueue "$(estimate "checks/cxx-$real" 100)" "checks/cxx-$real" checks check \
+                "C++11 $real (g++ -std=c++11 -Wall -Wextra -pedantic -Werror $FLOAT_WARN)" cxx_check $real
+        done
+    else
+        echo "SKIPPED: C++ compile check (g++ is not installed)"
+    fi
+    if [ "$TIER" = test ]; then
+        if command -v nvcc > /dev/null 2>&1; then
+            enqueue "$(estimate checks/nvcc 300)" checks/nvcc checks check "CUDA (nvcc, host and device code)" \
+                nvcc -std=c++11 -Werror all-warnings -I. -c tests/compile_check.cu -o "$OUT/cu_check.o"
+        else
+            echo "SKIPPED: nvcc compile check (nvcc is not on the PATH)"
+        fi
+        if command -v cmake > /dev/null 2>&1; then
+            enqueue "$(estimate checks/cmake 200)" checks/cmake checks check \
+                "CMake target sph_kernel::sph_kernel (add_subdirectory and installed find_package)" sh tests/cmake_check.sh
+        else
+            echo "SKIPPED: CMake check (cmake is not installed)"
+        fi
+    fi
+    # other checks that are scripts: one case each (they print their own SKIPPED)
+    for s in tests/check_*.sh; do
+        [ -e "$s" ] || continue
+        n=$(basename "$s" .sh)
+        enqueue "$(estimate "checks/$n" 100)" "checks/$n" checks check "$s" bash "$s"
+    done
+fi
+
+run_job() { # run_job id kind args...
+    local id=$1 kind=$2
+    shift 2
+    case $kind in
+    test) test_job "$id" "$@" ;;
+    example) example_job "$id" "$@" ;;
+    check) check_job "$id" "$@" ;;
+    esac
+}
+
+if [ "${LIST:-0}" != 0 ]; then
+    sort -t "$SEP" -k1,1nr "$QUEUE" | tr "$SEP" '|'
+    exit 0
+fi
+
+START=$(now)
+LOAD0=$(cut -d' ' -f1-3 /proc/loadavg 2> /dev/null)
+echo "running $(wc -l < "$QUEUE") jobs, $JOBS at a time, longest first (tier $TIER; load average $LOAD0)"
+running=0
+while IFS=$SEP read -r -a job; do
+    if [ "$running" -ge "$JOBS" ]; then
+        wait -n
+        running=$((running - 1))
+    fi
+    id=${job[1]}
+    run_job "${id//\//_}" "${job[@]:3}" < /dev/null &
+    running=$((running + 1))
+done < <(sort -t "$SEP" -k1,1nr "$QUEUE")
+wait
+END=$(now)
+
+# ---- results, in table order -----------------------------------------------------
+TOTAL_PASS=0
+TOTAL_FAIL=0
+: > "$OUT/times.new"
+for group in $GROUPS_ORDER; do
+    echo "${TITLE[$group]}"
+    while IFS=$SEP read -r _ id g _; do
+        [ "$g" = "$group" ] || continue
+        f=$RES/${id//\//_}
+        if [ ! -f "$f.res" ]; then
+            echo "  $id: did not finish - counted as 1 failed"
             TOTAL_FAIL=$((TOTAL_FAIL + 1))
             continue
         fi
-        "$dir/$name" > "$dir/$name.out" 2>&1
-        count "$label $name" $? "$dir/$name.out"
-    done
-}
-
-# The configurations are independent: run them JOBS at a time (default: the
-# number of cores), each into its own log, and print the logs in order.
-JOBS=${JOBS:-$(nproc 2> /dev/null || echo 2)}
-CONFIGS=""
-for cc in gcc clang; do
-    if ! command -v $cc > /dev/null 2>&1; then
-        echo "SKIPPED: $cc configurations ($cc is not installed)"
-        continue
-    fi
-    san=""
-    if has_flag $cc -fsanitize=address,undefined; then
-        san="-fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer"
-    else
-        echo "note: $cc has no address/undefined sanitizers here; $cc builds run without them"
-    fi
-    for prec in double float; do
-        CONFIGS="$CONFIGS $cc-$prec"
-        # clang double builds for the host CPU (-march=native where it
-        # works): the AVX square-root path and AVX vector loops get tested
-        arch=""
-        if [ $cc-$prec = clang-double ] && has_flag $cc -march=native; then arch="-march=native"; fi
-        eval "CFG_$(echo $cc-$prec | tr - _)=\"\$cc|\$prec|\$san \$arch|== \$cc \$prec\${san:+ +asan,ubsan}\${arch:+ \$arch}|\""
-    done
-done
-if has_openmp gcc; then
-    # also the portable path: SPH_NO_INTRINSICS (no SSE/AVX helper)
-    CONFIGS="$CONFIGS gcc-double-omp"
-    CFG_gcc_double_omp="gcc|double|-fopenmp -DSPH_NO_INTRINSICS|== gcc double -fopenmp -DSPH_NO_INTRINSICS (2 threads, portable path)|OMP_NUM_THREADS=2"
-else
-    echo "SKIPPED: OpenMP configuration (gcc -fopenmp does not build here)"
-fi
-if has_flag gcc -march=native; then
-    # gcc for the host CPU at -O2, as make bench builds: the AVX-512 one-pass
-    # pair loops (where the CPU has AVX-512) under the compiler that times them
-    CONFIGS="$CONFIGS gcc-double-native"
-    CFG_gcc_double_native="gcc|double|-march=native -O2 -g0|== gcc double -march=native -O2 (operator tests)||tests/test_op_*.c"
-    # the same for float: there the AVX-512 loops read float and compute in
-    # double, and the neighbour check widens float positions
-    CONFIGS="$CONFIGS gcc-float-native"
-    CFG_gcc_float_native="gcc|float|-march=native -O2 -g0|== gcc float -march=native -O2 (operator and neighbour tests)||tests/test_op_*.c tests/test_neighbours.c"
-fi
-if command -v clang > /dev/null 2>&1 && has_openmp clang; then
-    # clang -fopenmp at -O2 without -g: the build where clang reports omp simd
-    # loops it could not vectorise (-Wpass-failed, an error under -Werror)
-    CONFIGS="$CONFIGS clang-double-omp"
-    CFG_clang_double_omp="clang|double|-fopenmp -O2 -g0|== clang double -fopenmp -O2 (operator tests, 2 threads)|OMP_NUM_THREADS=2|tests/test_op_*.c"
-else
-    echo "SKIPPED: clang OpenMP configuration (clang -fopenmp does not build here)"
-fi
-
-run_one() { # run_one label: one configuration, output and counts into its own files
-    spec=$(eval echo "\"\$CFG_$(echo $1 | tr - _)\"")
-    IFS='|' read -r c p f title envs srcs <<EOS
-$spec
-EOS
-    TOTAL_PASS=0
-    TOTAL_FAIL=0
-    {
-        echo "$title"
-        if [ -n "$envs" ]; then export $envs; fi
-        run_config "$c" "$p" "$f" "$1" "$srcs"
-        echo "$TOTAL_PASS $TOTAL_FAIL" > "$OUT/$1.counts"
-    } > "$OUT/$1.log" 2>&1
-}
-
-running=0
-for cfg in $CONFIGS; do
-    run_one "$cfg" &
-    running=$((running + 1))
-    if [ "$running" -ge "$JOBS" ]; then
-        wait -n 2> /dev/null || wait
-        running=$((running - 1))
-    fi
-done
-wait
-for cfg in $CONFIGS; do
-    cat "$OUT/$cfg.log"
-    if [ -f "$OUT/$cfg.counts" ]; then
-        read -r p f < "$OUT/$cfg.counts"
+        cat "$f.txt"
+        IFS='|' read -r _ _ p fl b r < "$f.res"
         TOTAL_PASS=$((TOTAL_PASS + p))
-        TOTAL_FAIL=$((TOTAL_FAIL + f))
-    else
-        echo "  $cfg: did not finish - counted as 1 failed"
-        TOTAL_FAIL=$((TOTAL_FAIL + 1))
-    fi
+        TOTAL_FAIL=$((TOTAL_FAIL + fl))
+        printf '%s\t%s\t%s\t%s\t%s\n' "$id" "${b% *}" "${b#* }" "${r% *}" "${r#* }" >> "$OUT/times.new"
+    done < "$QUEUE"
 done
+mv "$OUT/times.new" "$OUT/times.tsv"
 
-# Examples with a --check mode: a short coarse run of a real simulation that
-# exits non-zero when it misses its own validation bounds (one case each).
-echo "== examples (--check)"
-mkdir -p "$OUT/examples"
-omp=""
-if has_openmp gcc; then omp="-fopenmp"; fi
-for src in examples/*.c; do
-    [ -e "$src" ] || continue
-    grep -q -- '--check' "$src" || continue
-    name=$(basename "$src" .c)
-    if ! gcc -O2 -std=c99 -Wall -Wextra -pedantic -Werror $omp -I. "$src" -o "$OUT/examples/$name" -lm \
-        > "$OUT/examples/$name.build" 2>&1; then
-        echo "  example $name: BUILD FAILED"
-        sed 's/^/    | /' "$OUT/examples/$name.build" | head -n 30
-        TOTAL_FAIL=$((TOTAL_FAIL + 1))
-        continue
-    fi
-    check "example $name --check" timeout 300 "$OUT/examples/$name" --check
-done
-
-echo "== compile checks"
-if command -v g++ > /dev/null 2>&1; then
-    check "C++11 (g++ -std=c++11 -Wall -Wextra -pedantic -Werror)" \
-        g++ -std=c++11 -Wall -Wextra -pedantic -Werror -I. tests/compile_check.cpp -o "$OUT/cpp_check"
-    check "C++ float build" \
-        g++ -std=c++11 -Wall -Wextra -pedantic -Werror -DSPH_REAL=float -I. tests/compile_check.cpp -o "$OUT/cpp_check_f"
-else
-    echo "SKIPPED: C++ compile check (g++ is not installed)"
-fi
-for cc in gcc clang; do
-    command -v $cc > /dev/null 2>&1 || continue
-    check "C11 ($cc -std=c11, double and float)" sh -c "$cc -std=c11 -Wall -Wextra -pedantic -Werror -I. tests/compile_check.c -o $OUT/c11_check -lm && $OUT/c11_check && $cc -std=c11 -Wall -Wextra -pedantic -Werror -DSPH_REAL=float -I. tests/compile_check.c -o $OUT/c11_check_f -lm && $OUT/c11_check_f"
-done
-if command -v nvcc > /dev/null 2>&1; then
-    check "CUDA (nvcc, host and device code)" \
-        nvcc -std=c++11 -Werror all-warnings -I. -c tests/compile_check.cu -o "$OUT/cu_check.o"
-else
-    echo "SKIPPED: nvcc compile check (nvcc is not on the PATH)"
-fi
-if command -v cmake > /dev/null 2>&1; then
-    check "CMake target sph_kernel::sph_kernel (add_subdirectory and installed find_package)" sh tests/cmake_check.sh
-else
-    echo "SKIPPED: CMake check (cmake is not installed)"
-fi
+# ---- where the time went ------------------------------------------------------------
+# times.tsv: id, build wall, build cpu, run wall, run cpu (seconds). CPU seconds
+# (user + system) hardly move with other load on the machine; wall seconds do.
+echo "== time: $(secs "$START" "$END") s wall, $JOBS jobs at a time; load average $LOAD0 at the start, $(cut -d' ' -f1-3 /proc/loadavg 2> /dev/null) at the end"
+awk -F'\t' '
+    { split($1, k, "/"); g = k[1]; n[g]++; bw[g] += $2; bc[g] += $3; rw[g] += $4; rc[g] += $5
+      if (!(g in seen)) { seen[g] = 1; order[++m] = g } }
+    END {
+        printf "  %-18s %4s %11s %9s %12s %10s\n", "configuration", "jobs", "build cpu s", "run cpu s", "build wall s", "run wall s"
+        for (i = 1; i <= m; ++i) {
+            g = order[i]
+            printf "  %-18s %4d %11.1f %9.1f %12.1f %10.1f\n", g, n[g], bc[g], rc[g], bw[g], rw[g]
+            N += n[g]; BC += bc[g]; RC += rc[g]; BW += bw[g]; RW += rw[g]
+        }
+        printf "  %-18s %4d %11.1f %9.1f %12.1f %10.1f\n", "all", N, BC, RC, BW, RW
+    }' "$OUT/times.tsv"
+echo "  slowest builds (cpu s, wall s):"
+sort -t "$(printf '\t')" -k3,3nr "$OUT/times.tsv" | head -n 10 | awk -F'\t' '{printf "  %8.1f %8.1f  %s\n", $3, $2, $1}'
+echo "  slowest runs (cpu s, wall s):"
+sort -t "$(printf '\t')" -k5,5nr "$OUT/times.tsv" | head -n 5 | awk -F'\t' '{printf "  %8.1f %8.1f  %s\n", $5, $4, $1}'
 
 echo "$TOTAL_PASS passed, $TOTAL_FAIL failed"
 [ "$TOTAL_FAIL" -eq 0 ]

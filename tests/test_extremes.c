@@ -1,7 +1,7 @@
 /* Extreme and degenerate cases: each case states the outcome the library
  * promises (docs/operators.md, "Extreme cases") - a finite, correct value, or
  * a documented status code or fallback - and asserts it. Never NaN, never a
- * crash (sanitizers on in every build of tests/run.sh).
+ * crash (run under the sanitizers in the sanitised builds of tests/run.sh).
  *
  * Reference values are analytic: w(0) and w''(0) of each kernel from the
  * polynomials of docs/kernels.md (derived by hand in the comments below),

@@ -1,6 +1,6 @@
 /* tests/test_neighbours.c - cell-list neighbour search (section 7,
  * docs/neighbours.md) against the O(N^2) reference tp_brute_list of
- * tests/particles.h, which applies criterion (N1)-(N3) to every pair.
+ * support/particles.h, which applies criterion (N1)-(N3) to every pair.
  * A list is right when its offsets and index arrays equal the reference
  * element for element (same pairs, same ascending order). Every problem is
  * searched both ways: sph_nsearch_count + sph_nsearch_fill, and the one-pass
@@ -9,7 +9,7 @@
 #include <stdlib.h>
 
 #include "harness.h"
-#include "particles.h"
+#include "support/particles.h"
 
 #ifdef _OPENMP
 #include <omp.h>

@@ -10,7 +10,7 @@
  * that bound, for the density (O2) and the difference gradient (O5).
  */
 #include "harness.h"
-#include "particles.h"
+#include "support/particles.h"
 
 #include <stdlib.h>
 

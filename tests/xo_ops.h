@@ -11,7 +11,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "../sph_kernel.h"
+#include "sph_kernel.h"
 
 /* The operators, in the order of xo_run. */
 enum {

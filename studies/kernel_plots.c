@@ -1,4 +1,4 @@
-/* kernel_plots.c - data for the kernel plots of docs/kernels.md (`make plots`).
+/* studies/kernel_plots.c - data for the kernel plots of docs/kernels.md (`make plots`).
  *
  * Usage: kernel_plots [directory]   (default build/plots; it must exist)
  *

@@ -1,4 +1,4 @@
-/* examples/benchmark.c - speed of the neighbour search and the operators,
+/* bench/benchmark.c - speed of the neighbour search and the operators,
  * against two loops written here: a floor (gather the neighbours' positions,
  * minimum image, sum r^2: the memory system's limit for this access pattern)
  * and a textbook loop (if/else on q, pow(), division by r). Run by hand:
@@ -429,7 +429,7 @@ static void put_ratio(FILE *f, int md, const char *label, double v, const char *
 
 /* The timing table and the ratios against the targets: as text for the
  * terminal (md 0) or as a markdown section (md 1; make bench appends both
- * precisions to docs/benchmark.md). Times are medians over the repetitions,
+ * precisions to docs/results/benchmark.md). Times are medians over the repetitions,
  * every ratio the median of the per-repetition ratios (med_ratio). */
 static void put_tables(FILE *f, int md, const timings *T, double pairs, int n, int side, double cand, double h_dx)
 {

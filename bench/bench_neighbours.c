@@ -1,8 +1,8 @@
-/* tests/bench_neighbours.c - timing of the cell-list neighbour search, run by
+/* bench/bench_neighbours.c - timing of the cell-list neighbour search, run by
  * hand (not part of make test: timings never are):
  *
- *   gcc -O2 -std=c99 tests/bench_neighbours.c -o build/bench_neighbours -lm
- *   gcc -O2 -std=c99 -fopenmp tests/bench_neighbours.c -o build/bench_neighbours_omp -lm
+ *   gcc -O2 -std=c99 -I. bench/bench_neighbours.c -o build/bench_neighbours -lm
+ *   gcc -O2 -std=c99 -fopenmp -I. bench/bench_neighbours.c -o build/bench_neighbours_omp -lm
  *   ./build/bench_neighbours [side]        (default side 64: 64^3 particles)
  *
  * 3-D perturbed lattice in a periodic unit box, ~60 neighbours per particle,
@@ -17,7 +17,7 @@
 #include <string.h>
 #include <time.h>
 
-#include "particles.h"
+#include "support/particles.h"
 
 static double now(void)
 {

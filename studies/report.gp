@@ -1,11 +1,11 @@
-# report.gp - the plots of docs/report.md from the CSV files that
-# examples/error_vs_runtime.c writes next to this script.
-# Run by `make report` / `make plots-report`:  gnuplot -e "dir='docs/report'" docs/report/report.gp
+# studies/report.gp - the plots of docs/results/report.md from the CSV files that
+# studies/error_vs_runtime.c writes into dir; the PNGs go beside them.
+# Run by `make report` / `make plots-report`:  gnuplot -e "dir='docs/results/report'" studies/report.gp
 #   pareto_<operator>.png  L2 error against time per particle, every kernel x h x scheme of
 #                          the Pareto scan, perturbed 10 % lattice, sine field; the front as a staircase
 #   sweep_<A|B>_<d>d.png   L2 error of the difference and corrected gradient and the Laplacian
 #                          along sweep A (against h) and sweep B (against dx/h), kernels at equal sigma h
-if (!exists("dir")) dir = 'docs/report'
+if (!exists("dir")) dir = 'docs/results/report'
 
 set datafile separator ","
 names = "cubic Lucy new\\_quartic quintic Wendland\\_C2 Wendland\\_C4 Wendland\\_C6"

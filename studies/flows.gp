@@ -1,4 +1,4 @@
-# docs/plots/flows.gp - validation plots of examples/taylor_green.c and
+# studies/flows.gp - validation plots of examples/taylor_green.c and
 # examples/heat_conduction.c (make plots-flows). datadir: the CSVs of their
 # --study runs; outdir: where the PNGs go.
 set terminal pngcairo size 800,560 font ",11"

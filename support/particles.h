@@ -1,19 +1,20 @@
-/* tests/particles.h - particle clouds and reference neighbour lists for tests.
+/* support/particles.h - particle clouds and reference neighbour lists, shared by
+ * the tests, the benchmarks (bench/) and the studies (studies/operator_errors.c).
  *
  * Positions are interleaved with three slots per particle, x[3*i + a]
  * (unused components are 0), so sph_view_interleaved(x, 3) reads them.
  * Everything here is deliberately simple (O(N^2) reference search), written
- * only for checking the library against it. Arrays come from malloc; free
- * them with free() / tp_free_list().
+ * for checking the library against it and for building test scenes. Arrays
+ * come from malloc; free them with free() / tp_free_list().
  */
-#ifndef SPH_TEST_PARTICLES_H
-#define SPH_TEST_PARTICLES_H
+#ifndef SPH_SUPPORT_PARTICLES_H
+#define SPH_SUPPORT_PARTICLES_H
 
 #include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
 
-#include "../sph_kernel.h"
+#include "sph_kernel.h"
 
 /* ---- a seeded random generator (splitmix64), the same on every machine ---- */
 typedef struct {

@@ -1,5 +1,5 @@
-/* examples/stability.c - stiffness and stability of the kernels and operators
- * of sph_kernel.h, measured; writes docs/stability.md (every number in it
+/* studies/stability.c - stiffness and stability of the kernels and operators
+ * of sph_kernel.h, measured; writes docs/results/stability.md (every number in it
  * comes from this program).
  *
  *   1. Diffusion: spectral radius rho of the discrete Laplacian (O12) by power
@@ -17,7 +17,7 @@
  *   3. The new quartic kernel's negative, non-monotone tail and its effect on
  *      lattice density sums.
  *
- * Usage:  stability [--quick] [output.md]   (default output docs/stability.md)
+ * Usage:  stability [--quick] [output.md]   (default output docs/results/stability.md)
  *         stability --check                 (short run asserting the findings;
  *                                            exit status 0 = all hold)
  * make stability builds and runs the full version.
@@ -1122,7 +1122,7 @@ static int run_report(const char *outname)
         return 2;
     }
     fprintf(md, "# Stability and stiffness, measured\n\n"
-                "Written by `examples/stability.c` (`make stability`%s); every number below comes from\n"
+                "Written by `studies/stability.c` (`make stability`%s); every number below comes from\n"
                 "that run. Sections: diffusion time-step limits (1), symmetry of the Laplacian (2), implicit\n"
                 "diffusion (3), Fourier transforms and pairing (4, 5), the new quartic's negative tail (6).\n"
                 "Equation numbers (O..) refer to docs/operators.md.\n\n",
@@ -1234,7 +1234,7 @@ static int run_check(void)
 
 int main(int argc, char **argv)
 {
-    const char *outname = "docs/stability.md";
+    const char *outname = "docs/results/stability.md";
     int i;
     gauss_legendre(GL_N, gl_x, gl_w);
     for (i = 1; i < argc; ++i) {

@@ -1,4 +1,4 @@
-/* examples/tiny_density.c - a program that only needs the 2-D cubic-spline
+/* bench/tiny_density.c - a program that only needs the 2-D cubic-spline
  * density: with the dimension and the kernel pinned, only that loop is
  * compiled (`make tiny-size` prints the object's size). */
 #define SPH_DIM 2

@@ -1,4 +1,4 @@
-/* examples/operator_errors.c - the error of every gradient scheme of
+/* studies/operator_errors.c - the error of every gradient scheme of
  * sph_kernel.h on three particle configurations (docs/operators.md, table
  * "Measured errors"). 2-D, cubic spline, h = 1.3 dx, 32 x 32 particles of
  * volume dx^2 (pressure form with rho = 1, m = V).
@@ -18,7 +18,7 @@
 #include <stdlib.h>
 
 #include "sph_kernel.h"
-#include "tests/particles.h"
+#include "support/particles.h"
 
 #define N 32
 #define PI 3.14159265358979323846

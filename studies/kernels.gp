@@ -1,9 +1,9 @@
 # kernels.gp - W, dW/dr and d2W/dr2 of every kernel in 2-D and 3-D, at equal h
 # and at equal standard deviation (docs/kernels.md, "Plots").
-# Run by `make plots`:  gnuplot -e "datadir='build/plots'; outdir='docs/plots'" docs/plots/kernels.gp
-# Data: examples/kernel_plots.c (columns: r, then W dW/dr d2W/dr2 per kernel).
+# Run by `make plots`:  gnuplot -e "datadir='build/plots'; outdir='docs/results/plots'" studies/kernels.gp
+# Data: studies/kernel_plots.c (columns: r, then W dW/dr d2W/dr2 per kernel).
 if (!exists("datadir")) datadir = 'build/plots'
-if (!exists("outdir")) outdir = 'docs/plots'
+if (!exists("outdir")) outdir = 'docs/results/plots'
 
 names = "cubic Lucy new\\_quartic quintic Wendland\\_C2 Wendland\\_C4 Wendland\\_C6"
 nk = 7

@@ -1,4 +1,4 @@
-/* examples/gradient_unit.c - one translation unit that calls sph_gradient
+/* bench/gradient_unit.c - one translation unit that calls sph_gradient
  * with the kernel and the dimension chosen at run time: `make tiny-size`
  * compiles it with the fast loops and with SPH_OP_REFERENCE and prints
  * compile time and object size (what the fast loops cost to build). */
