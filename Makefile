@@ -2,8 +2,8 @@
 #   make test       all tests: gcc/clang x double/float, sanitizers, OpenMP,
 #                   -march=native, C11/C++/nvcc/CMake compile checks, the examples'
 #                   --check runs; ends with "N passed, N failed" (tests/run.sh)
-#   make check      the quick tier: gcc sanitised build of every test, the gcc
-#                   -march=native operator build, the C11/C++ header checks
+#   make check      the quick tier: the sanitised clang -march=native build of the
+#                   tests, the gcc -march=native -O2 fused-pass test, the header checks
 #   make demo       builds and runs the main example
 #   make plots      redraws the PNG plots in docs/results/ (needs gnuplot)
 #   make report     error against run time of every operator: docs/results/report.md, docs/results/report/

@@ -133,36 +133,36 @@ static inline sph_real tp_r2(int dim, const sph_real *xt, const sph_real *xs, co
     return r2;
 }
 
-/* O(nt * ns) reference list. ht / hs: per-particle h, or NULL for uniform h.
+/* O(nt * ns) reference list, one pass over the pairs (the index array grows
+ * by doubling). ht / hs: per-particle h, or NULL for uniform h.
  * Returns 0 on success, -1 when malloc fails. */
 static inline int tp_brute_list(int dim, const sph_real *xt, int nt, const sph_real *xs, int ns,
                          sph_real h, const sph_real *ht, const sph_real *hs, sph_real kappa,
                          int mode, const sph_box *box, tp_list *out)
 {
-    int i, j, pass;
+    int i, j;
     sph_off n = 0;
+    size_t cap = 1024;
     out->offset = (sph_off *)malloc(sizeof(sph_off) * (size_t)(nt + 1));
-    out->index = NULL;
-    if (out->offset == NULL) return -1;
-    for (pass = 0; pass < 2; ++pass) {
-        n = 0;
-        for (i = 0; i < nt; ++i) {
-            out->offset[i] = n;
-            for (j = 0; j < ns; ++j) {
-                sph_real hi = ht ? ht[i] : h, hj = hs ? hs[j] : h;
-                sph_real R = kappa * (mode == TP_SYMMETRIC && hj > hi ? hj : hi);
-                if (tp_r2(dim, xt + 3 * i, xs + 3 * j, box) < R * R) {
-                    if (pass == 1) out->index[n] = (sph_idx)j;
-                    ++n;
+    out->index = (sph_idx *)malloc(sizeof(sph_idx) * cap);
+    if (out->offset == NULL || out->index == NULL) return -1;
+    for (i = 0; i < nt; ++i) {
+        out->offset[i] = n;
+        for (j = 0; j < ns; ++j) {
+            sph_real hi = ht ? ht[i] : h, hj = hs ? hs[j] : h;
+            sph_real R = kappa * (mode == TP_SYMMETRIC && hj > hi ? hj : hi);
+            if (tp_r2(dim, xt + 3 * i, xs + 3 * j, box) < R * R) {
+                if ((size_t)n == cap) {
+                    sph_idx *grown = (sph_idx *)realloc(out->index, sizeof(sph_idx) * 2 * cap);
+                    if (grown == NULL) return -1;
+                    out->index = grown;
+                    cap *= 2;
                 }
+                out->index[n++] = (sph_idx)j;
             }
         }
-        out->offset[nt] = n;
-        if (pass == 0) {
-            out->index = (sph_idx *)malloc(sizeof(sph_idx) * (size_t)(n > 0 ? n : 1));
-            if (out->index == NULL) return -1;
-        }
     }
+    out->offset[nt] = n;
     out->list.n_targets = (sph_idx)nt;
     out->list.n_sources = (sph_idx)ns;
     out->list.offset = out->offset;
