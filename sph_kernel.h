@@ -166,31 +166,35 @@ SPH_API sph_real sph__floor(sph_real x)
 /* 2. Status codes                                                           */
 /* ======================================================================== */
 
+/* One list generates the status enum and the sentences of sph_strerror:
+ * X(name, value, sentence). Every function that can fail returns SPH_OK or
+ * one of the negative codes; the values never change between versions. */
+#define SPH_STATUS_LIST(X) \
+    X(SPH_OK, 0, "success") \
+    X(SPH_EKERNEL, -1, "unknown kernel") \
+    X(SPH_EDIM, -2, "dimension outside 1..3 or not defined for this kernel") \
+    X(SPH_EH, -3, "smoothing length not positive and finite, or so small that W or F would overflow") \
+    X(SPH_ENULL, -4, "NULL pointer where data is required") \
+    X(SPH_EINDEX, -5, "neighbour index out of range") \
+    X(SPH_ESIZE, -6, "negative or too large count, or an array or workspace too small") \
+    X(SPH_ENONFINITE, -7, "NaN or Inf in an input array") \
+    X(SPH_EINVAL, -8, "invalid argument") \
+    X(SPH_EGRID, -9, "neighbour grid too large: a source far from the others, or a cell size too small")
+
 enum {
-    SPH_OK = 0,          /* success */
-    SPH_EKERNEL = -1,    /* unknown kernel */
-    SPH_EDIM = -2,       /* dimension outside 1..3, or not defined for the kernel */
-    SPH_EH = -3,         /* smoothing length not positive and finite */
-    SPH_ENULL = -4,      /* NULL where data is required */
-    SPH_EINDEX = -5,     /* neighbour index out of range */
-    SPH_ESIZE = -6,      /* negative count or workspace too small */
-    SPH_ENONFINITE = -7, /* NaN or Inf in an input array */
-    SPH_EINVAL = -8      /* any other invalid argument */
+#define SPH__STATUS_ENUM(name, value, sentence) name = value,
+    SPH_STATUS_LIST(SPH__STATUS_ENUM)
+#undef SPH__STATUS_ENUM
 };
 
 /* A sentence for a status code; never NULL. */
 SPH_API const char *sph_strerror(int status)
 {
     switch (status) {
-    case SPH_OK: return "success";
-    case SPH_EKERNEL: return "unknown kernel";
-    case SPH_EDIM: return "dimension outside 1..3 or not defined for this kernel";
-    case SPH_EH: return "smoothing length is not positive and finite";
-    case SPH_ENULL: return "NULL pointer where data is required";
-    case SPH_EINDEX: return "neighbour index out of range";
-    case SPH_ESIZE: return "negative count or workspace too small";
-    case SPH_ENONFINITE: return "NaN or Inf in an input array";
-    case SPH_EINVAL: return "invalid argument";
+#define SPH__STATUS_CASE(name, value, sentence) \
+    case name: return sentence;
+        SPH_STATUS_LIST(SPH__STATUS_CASE)
+#undef SPH__STATUS_CASE
     default: return "unknown status code";
     }
 }
@@ -2301,16 +2305,28 @@ SPH_API int sph_check_field(sph_view f, int ncomp, sph_idx n, sph_idx *first_bad
  * particles is faster and their lists map back to the unsorted ones.
  *
  * Every function returns SPH_OK or a negative status: SPH_EDIM (dim outside
- * 1..3), SPH_ESIZE (negative count, workspace or index too small, more than
- * SPH_NSEARCH_MAX_CELLS cells), SPH_ENULL, SPH_EH (h not positive and finite),
- * SPH_ENONFINITE (NaN or Inf position), SPH_EINVAL (cell or kappa not positive
- * and finite, bad mode or box, grid not built, offsets inconsistent with the
- * targets), SPH_EINDEX (not a permutation). */
+ * 1..3), SPH_ESIZE (negative count, more than SPH_NSEARCH_MAX_SOURCES
+ * sources, workspace or index too small), SPH_EGRID (more than
+ * SPH_NSEARCH_MAX_CELLS cells: a source far from the others, or a cell size
+ * too small for the cloud), SPH_ENULL, SPH_EH (h not positive and finite),
+ * SPH_ENONFINITE (NaN or Inf position), SPH_EINVAL (cell or kappa not
+ * positive and finite, bad mode or box, grid not built, offsets inconsistent
+ * with the targets), SPH_EINDEX (not a permutation).
+ *
+ * Limits, in one place (docs/neighbours.md, "Limits"): particle counts and
+ * source indices are sph_idx (int32), so at most 2^31 - 1 targets and
+ * SPH_NSEARCH_MAX_SOURCES = 2^31 - 17 sources; a grid has at most
+ * SPH_NSEARCH_MAX_CELLS = 2^29 - 1 cells; list positions are sph_off (int64),
+ * so the total list length is bounded by memory alone. */
 
 enum { SPH_NSEARCH_GATHER = 0, SPH_NSEARCH_SYMMETRIC = 1 };
 
-/* Largest number of cells of a grid (keeps every cell index arithmetic in int). */
-#define SPH_NSEARCH_MAX_CELLS 536870911
+/* Hard limits (docs/neighbours.md, "Limits"): cells of a grid, per axis
+ * and in all, so that every cell index stays in int (more: SPH_EGRID), and
+ * sources of a grid, so that the padded arrays stay indexable by sph_idx
+ * (more: SPH_ESIZE). */
+#define SPH_NSEARCH_MAX_CELLS 536870911    /* 2^29 - 1 */
+#define SPH_NSEARCH_MAX_SOURCES 2147483631 /* 2^31 - 17 */
 
 /* A cell grid over the sources. Filled by sph_nsearch_build; the arrays live
  * in the caller's workspace. */
@@ -2948,7 +2964,7 @@ SPH_API int sph__nsearch_geometry(sph_nsearch *g, int dim, sph_view xs, sph_idx 
     sph_idx i;
     g->dim = 0;
     if (dim < 1 || dim > 3) return SPH_EDIM;
-    if (ns < 0 || ns > INT32_MAX - SPH__NS_BLOCK) return SPH_ESIZE;
+    if (ns < 0 || ns > SPH_NSEARCH_MAX_SOURCES) return SPH_ESIZE;
     if (!(cell > 0 && cell <= SPH__REAL_MAX)) return SPH_EINVAL;
     if ((st = sph__ns_scan_x(dim, xs, ns, amax)) != SPH_OK) return st;
     if (ns > 0 && hs.p[0] != NULL && (st = sph__ns_check_h(hs, ns)) != SPH_OK) return st;
@@ -2978,7 +2994,7 @@ SPH_API int sph__nsearch_geometry(sph_nsearch *g, int dim, sph_view xs, sph_idx 
             L = hi - lo;
         }
         if (a < dim) na = floor((double)L / (double)cell);
-        if (!(na <= (double)SPH_NSEARCH_MAX_CELLS)) return SPH_ESIZE;
+        if (!(na <= (double)SPH_NSEARCH_MAX_CELLS)) return SPH_EGRID;
         na = na < 1 ? 1 : na;
         total *= na;
         g->n[a] = (int)na;
@@ -2993,7 +3009,7 @@ SPH_API int sph__nsearch_geometry(sph_nsearch *g, int dim, sph_view xs, sph_idx 
             extent = fabs((double)lo) + (double)L + (double)g->w[a];
         if (a < dim && (double)amax[a] > extent) extent = (double)amax[a]; /* sources outside a periodic box */
     }
-    if (total > (double)SPH_NSEARCH_MAX_CELLS) return SPH_ESIZE;
+    if (total > (double)SPH_NSEARCH_MAX_CELLS) return SPH_EGRID;
     g->quarter2 = SPH__REAL_MAX;
     for (a = 0; a < dim; ++a)
         if (g->box.periodic[a] && g->quarter[a] * g->quarter[a] < g->quarter2) g->quarter2 = g->quarter[a] * g->quarter[a];
@@ -3037,7 +3053,7 @@ SPH_API int sph_nsearch_workspace_size(int dim, sph_view xs, sph_idx n_sources, 
     *bytes = 0;
     if ((st = sph__nsearch_geometry(&g, dim, xs, n_sources, hs, cell, box)) != SPH_OK) return st;
     need = sph__nsearch_layout(&g, hs.p[0] != NULL, NULL);
-    if (!(need <= (double)SIZE_MAX)) return SPH_ESIZE;
+    if (!(need <= (double)SIZE_MAX)) return SPH_EGRID;
     *bytes = (size_t)need;
     return SPH_OK;
 }

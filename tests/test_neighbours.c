@@ -564,10 +564,16 @@ static void test_errors(void)
     TH_CHECK(sph_nsearch_workspace_size(3, v, N, sph_view_none(), 0, NULL, &bytes) == SPH_EINVAL, "cell 0");
     TH_CHECK(sph_nsearch_workspace_size(3, v, N, sph_view_none(), -1, NULL, &bytes) == SPH_EINVAL, "cell < 0");
     TH_CHECK(sph_nsearch_workspace_size(3, v, N, sph_view_none(), nanv, NULL, &bytes) == SPH_EINVAL, "cell NaN");
-    TH_CHECK(sph_nsearch_workspace_size(3, v, N, sph_view_none(), (sph_real)1e-9, NULL, &bytes) == SPH_ESIZE,
-             "1e27 cells");
-    TH_CHECK(sph_nsearch_workspace_size(1, v, N, sph_view_none(), (sph_real)1e-9, NULL, &bytes) == SPH_ESIZE,
+    TH_CHECK(sph_nsearch_workspace_size(3, v, N, sph_view_none(), (sph_real)1e-9, NULL, &bytes) == SPH_EGRID,
+             "1e27 cells: the grid, not a workspace, is too large");
+    TH_CHECK(sph_nsearch_workspace_size(1, v, N, sph_view_none(), (sph_real)1e-9, NULL, &bytes) == SPH_EGRID,
              "1e9 cells in 1-D, more than an int can index safely");
+    x[3 * 9] = (sph_real)1e6; /* an escaped particle: 1e7 cells of 0.1 along x alone, times 10 x 10 */
+    TH_CHECK(sph_nsearch_workspace_size(3, v, N, sph_view_none(), (sph_real)0.1, NULL, &bytes) == SPH_EGRID,
+             "one source at 1e6: SPH_EGRID, not the workspace's SPH_ESIZE");
+    x[3 * 9] = (sph_real)0.5;
+    TH_CHECK(sph_nsearch_workspace_size(3, v, SPH_NSEARCH_MAX_SOURCES + 1, sph_view_none(), 1, NULL, &bytes) ==
+                 SPH_ESIZE, "more than SPH_NSEARCH_MAX_SOURCES sources (rejected before any is read)");
     TH_CHECK(sph_nsearch_workspace_size(2, v, N, sph_view_none(), (sph_real)1e-4, &box, &bytes) == SPH_OK,
              "1e8 cells are allowed");
     x[3 * 5 + 1] = nanv;
