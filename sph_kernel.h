@@ -179,7 +179,8 @@ SPH_API sph_real sph__floor(sph_real x)
     X(SPH_ESIZE, -6, "negative or too large count, or an array or workspace too small") \
     X(SPH_ENONFINITE, -7, "NaN or Inf in an input array") \
     X(SPH_EINVAL, -8, "invalid argument") \
-    X(SPH_EGRID, -9, "neighbour grid too large: a source far from the others, or a cell size too small")
+    X(SPH_EGRID, -9, "neighbour grid too large: a source far from the others, or a cell size too small") \
+    X(SPH_EPERIOD, -10, "periodic box shorter than twice the search radius kappa h")
 
 enum {
 #define SPH__STATUS_ENUM(name, value, sentence) name = value,
@@ -2311,7 +2312,9 @@ SPH_API int sph_check_field(sph_view f, int ncomp, sph_idx n, sph_idx *first_bad
  * too small for the cloud), SPH_ENULL, SPH_EH (h not positive and finite),
  * SPH_ENONFINITE (NaN or Inf position), SPH_EINVAL (cell or kappa not
  * positive and finite, bad mode or box, grid not built, offsets inconsistent
- * with the targets), SPH_EINDEX (not a permutation).
+ * with the targets), SPH_EPERIOD (a search radius above half a period: the
+ * minimum image of eq. (N3) would see one image of a source where two or
+ * more lie within reach), SPH_EINDEX (not a permutation).
  *
  * Limits, in one place (docs/neighbours.md, "Limits"): particle counts and
  * source indices are sph_idx (int32), so at most 2^31 - 1 targets and
@@ -2423,12 +2426,17 @@ SPH_API int sph__ns_scan_x(int dim, sph_view x, sph_idx n, sph_real *amax)
 
 SPH_API int sph__ns_check_x(int dim, sph_view x, sph_idx n) { return sph__ns_scan_x(dim, x, n, NULL); }
 
-/* Checks n per-particle smoothing lengths (absent view: none): SPH_EH if any is bad. */
-SPH_API int sph__ns_check_h(sph_view h, sph_idx n)
+/* Checks n per-particle smoothing lengths (absent view: none): SPH_EH if any
+ * is bad; the largest into *hmax (0 for none). */
+SPH_API int sph__ns_check_h(sph_view h, sph_idx n, sph_real *hmax)
 {
     sph_idx i;
-    for (i = 0; h.p[0] != NULL && i < n; ++i)
-        if (sph_check_h(h.p[0][(ptrdiff_t)i * h.stride]) != SPH_OK) return SPH_EH;
+    *hmax = 0;
+    for (i = 0; h.p[0] != NULL && i < n; ++i) {
+        const sph_real hi = h.p[0][(ptrdiff_t)i * h.stride];
+        if (sph_check_h(hi) != SPH_OK) return SPH_EH;
+        *hmax = hi > *hmax ? hi : *hmax;
+    }
     return SPH_OK;
 }
 
@@ -2967,14 +2975,9 @@ SPH_API int sph__nsearch_geometry(sph_nsearch *g, int dim, sph_view xs, sph_idx 
     if (ns < 0 || ns > SPH_NSEARCH_MAX_SOURCES) return SPH_ESIZE;
     if (!(cell > 0 && cell <= SPH__REAL_MAX)) return SPH_EINVAL;
     if ((st = sph__ns_scan_x(dim, xs, ns, amax)) != SPH_OK) return st;
-    if (ns > 0 && hs.p[0] != NULL && (st = sph__ns_check_h(hs, ns)) != SPH_OK) return st;
+    if ((st = sph__ns_check_h(hs, ns, &g->h_max)) != SPH_OK) return st;
     g->n_sources = ns;
     g->n_padded = ns + SPH__NS_BLOCK;
-    g->h_max = 0;
-    for (i = 0; hs.p[0] != NULL && i < ns; ++i) {
-        const sph_real hi = hs.p[0][(ptrdiff_t)i * hs.stride];
-        g->h_max = hi > g->h_max ? hi : g->h_max;
-    }
     for (a = 0; a < 3; ++a) {
         sph_real lo = 0, L = 0;
         double na = 1;
@@ -3103,12 +3106,16 @@ SPH_API int sph_nsearch_build(sph_nsearch *g, int dim, sph_view xs, sph_idx n_so
     return SPH_OK;
 }
 
-/* Checks the arguments shared by count, fill and stats. */
+/* Checks the arguments shared by count, fill, lists and stats. The largest
+ * search radius R = kappa h_i (gather) or kappa max(h_i, h_j) (symmetric)
+ * must fit the minimum image: R <= L/2 on every periodic axis, so that no
+ * source has two images within reach (else SPH_EPERIOD). */
 SPH_API int sph__nsearch_check(const sph_nsearch *g, sph_view xt, sph_idx nt, sph_view ht,
                                sph_real h, sph_real kappa, int mode)
 {
     int uses_h = ht.p[0] == NULL || (mode == SPH_NSEARCH_SYMMETRIC && g != NULL && g->h == NULL);
-    int st;
+    int st, a;
+    sph_real hmax;
     if (g == NULL) return SPH_ENULL;
     if (g->dim < 1 || g->dim > 3) return SPH_EINVAL;
     if (nt < 0) return SPH_ESIZE;
@@ -3116,7 +3123,15 @@ SPH_API int sph__nsearch_check(const sph_nsearch *g, sph_view xt, sph_idx nt, sp
     if (!(kappa > 0 && kappa <= SPH__REAL_MAX)) return SPH_EINVAL;
     if (uses_h && sph_check_h(h) != SPH_OK) return SPH_EH;
     if ((st = sph__ns_check_x(g->dim, xt, nt)) != SPH_OK) return st;
-    return sph__ns_check_h(ht, nt);
+    if ((st = sph__ns_check_h(ht, nt, &hmax)) != SPH_OK) return st;
+    if (ht.p[0] == NULL) hmax = h;
+    if (mode == SPH_NSEARCH_SYMMETRIC) {
+        const sph_real hs = g->h != NULL ? g->h_max : h;
+        hmax = hs > hmax ? hs : hmax;
+    }
+    for (a = 0; a < g->dim; ++a)
+        if (g->box.periodic[a] && !(kappa * hmax <= g->box.length[a] / 2)) return SPH_EPERIOD;
+    return SPH_OK;
 }
 
 /* The search parameters of target i (position, h_i, criterion). */

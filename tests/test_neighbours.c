@@ -211,7 +211,8 @@ static void test_lattice_edges(void)
 }
 
 /* Periodic boxes: every subset of periodic axes, with 1, 2, 3 or many cells
- * per axis (R up to above L/2), positions also outside the box. */
+ * per axis (R up to L/2, the largest the minimum image allows), positions
+ * also outside the box. */
 static void test_periodic(void)
 {
     static const double cells_per_L[4] = {1, 2, 3, 7.5};
@@ -227,8 +228,8 @@ static void test_periodic(void)
                 nb_problem p;
                 tp_uniform_cloud(dim, n, L, &rng, x);
                 for (i = 0; i < n; i += 7) x[3 * i] += (sph_real)(i % 2 ? L : -2 * L); /* other images */
-                /* h so that R = 0.3 L (3-D: ~80 neighbours) and, for the last, R = 0.6 L > L/2 */
-                p = nb_make(dim, x, n, (sph_real)(c == 3 ? 0.6 : 0.3) * (sph_real)L / 2, 2,
+                /* h so that R = 0.3 L (3-D: ~80 neighbours) and, for the last, R = L/2 */
+                p = nb_make(dim, x, n, (sph_real)(c == 3 ? 0.5 : 0.3) * (sph_real)L / 2, 2,
                             (sph_real)(L / cells_per_L[c]));
                 p.box = &box;
                 th_begin("periodic %dD axes mask %d, %.3g cells per period: list equals brute force",
@@ -271,11 +272,16 @@ static void test_faces(void)
                     for (a = 0; a < 3; ++a) x[3 * n + a] = a == 0 ? v : a < dim ? (sph_real)(0.3 + 0.7 * tp_uniform(&rng)) : 0;
                     ++n;
                 }
-            for (i = 0; i < n; ++i) { /* R_i just above the distance to a random other particle */
-                int j = (int)(tp_uniform(&rng) * n);
-                sph_real r2 = tp_r2(dim, x + 3 * i, x + 3 * j, per ? &box : NULL), R = (sph_real)sqrt((double)r2);
-                while (r2 > 0 && R * R <= r2) R = nb_next(R, 1e9);
-                h[i] = r2 > 0 ? R : 1;
+            for (i = 0; i < n; ++i) { /* R_i just above the distance to a random other particle, at most L/2 */
+                int j, tries = 0;
+                sph_real r2, R;
+                do {
+                    j = (int)(tp_uniform(&rng) * n);
+                    r2 = tp_r2(dim, x + 3 * i, x + 3 * j, per ? &box : NULL);
+                    R = (sph_real)sqrt((double)r2);
+                    while (r2 > 0 && R * R <= r2) R = nb_next(R, 1e9);
+                } while (per && R > L / 2 && ++tries < 100);
+                h[i] = r2 > 0 && !(per && R > L / 2) ? R : per ? L / 2 : 1;
             }
             p = nb_make(dim, x, n, 0, 1, w * (sph_real)0.999);
             p.ht = h;
@@ -657,6 +663,53 @@ static void test_errors(void)
     g0 = g;
     g0.dim = 0;
     TH_CHECK(sph_nsearch_fill(&g0, v, N, sph_view_none(), (sph_real)0.1, 2, 0, off, idx, N * N) == SPH_EINVAL, "unbuilt grid");
+    th_end();
+
+    /* The minimum image (N3) sees one image of each source; R <= L/2 keeps every
+     * other image out of reach (|x_ij + w L| >= L - |x_ij| >= L/2). */
+    th_begin("search radius above half a period: SPH_EPERIOD from count, fill, lists and stats, nothing written");
+    {
+        const sph_real half = (sph_real)0.25; /* kappa 2: R = L/2 of the unit box */
+        sph_off pairs = -7, cand = -7;
+        sph_nsearch g2;
+        char work2[65536];
+        st = sph_nsearch_count(&g, v, N, sph_view_none(), half, 2, 0, off);
+        TH_CHECK(st == SPH_OK, "R = L/2 exactly is accepted: %d", st);
+        for (i = 0; i <= N; ++i) off[i] = -7;
+        for (i = 0; i <= N * N; ++i) idx[i] = -7;
+        TH_CHECK(sph_nsearch_count(&g, v, N, sph_view_none(), nb_next(half, 1), 2, 0, off) == SPH_EPERIOD,
+                 "R one ulp above L/2");
+        TH_CHECK(sph_nsearch_fill(&g, v, N, sph_view_none(), nb_next(half, 1), 2, 0, off, idx, N * N) == SPH_EPERIOD,
+                 "fill");
+        TH_CHECK(sph_nsearch_lists(&g, v, N, sph_view_none(), nb_next(half, 1), 2, 0, off, idx, N * N, &pairs) ==
+                     SPH_EPERIOD, "lists");
+        TH_CHECK(sph_nsearch_stats(&g, v, N, sph_view_none(), nb_next(half, 1), 2, 0, &pairs, &cand) == SPH_EPERIOD,
+                 "stats");
+        for (i = 0; i <= N && off[i] == -7; ++i) continue;
+        TH_CHECK(i > N && pairs == -7 && cand == -7, "a refused search wrote offset[%d] or its counts", i);
+        for (i = 0; i <= N * N && idx[i] == -7; ++i) continue;
+        TH_CHECK(i > N * N, "a refused search wrote index[%d]", i);
+        h[5] = (sph_real)0.3; /* one target of R = 0.6 */
+        TH_CHECK(sph_nsearch_count(&g, v, N, sph_view_soa(h, NULL, NULL), 1, 2, 0, off) == SPH_EPERIOD,
+                 "one per-target h too large");
+        h[5] = (sph_real)0.2;
+        /* the grid's sources have h 0.2 (R = 0.4), one of them 0.3: only symmetric mode reaches with it */
+        h[6] = (sph_real)0.3;
+        st = sph_nsearch_build(&g2, 3, v, N, sph_view_soa(h, NULL, NULL), (sph_real)0.1, &box, work2, sizeof work2);
+        h[6] = (sph_real)0.2;
+        TH_CHECK(st == SPH_OK, "build %d", st);
+        TH_CHECK(sph_nsearch_count(&g2, v, N, sph_view_none(), (sph_real)0.1, 2, SPH_NSEARCH_GATHER, off) == SPH_OK,
+                 "gather: the sources' h do not matter");
+        TH_CHECK(sph_nsearch_count(&g2, v, N, sph_view_none(), (sph_real)0.1, 2, SPH_NSEARCH_SYMMETRIC, off) ==
+                     SPH_EPERIOD, "symmetric: one source's h too large");
+        /* a period of 0.05 with R = 0.26 (the sources wrap into it) */
+        box.length[0] = box.length[1] = box.length[2] = (sph_real)0.05;
+        st = sph_nsearch_build(&g2, 3, v, N, sph_view_none(), (sph_real)0.01, &box, work2, sizeof work2);
+        box.length[0] = box.length[1] = box.length[2] = 1;
+        TH_CHECK(st == SPH_OK, "build %d", st);
+        st = sph_nsearch_count(&g2, v, N, sph_view_none(), (sph_real)0.13, 2, 0, off);
+        TH_CHECK(st == SPH_EPERIOD, "period 0.05, R = 0.26: %d", st);
+    }
     th_end();
 
     th_begin("one-pass lists: status of each bad argument");
