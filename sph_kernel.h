@@ -2337,6 +2337,7 @@ typedef struct {
     int dim;              /* 1..3 once built, 0 otherwise */
     int n[3];             /* cells per axis (1 for unused axes) */
     int n_cells;          /* n[0] n[1] n[2] */
+    int n_occupied;       /* cells holding at least one source */
     sph_idx n_sources;
     sph_real lo[3];       /* grid origin */
     sph_real w[3];        /* cell width per axis */
@@ -3086,7 +3087,11 @@ SPH_API int sph_nsearch_build(sph_nsearch *g, int dim, sph_view xs, sph_idx n_so
         for (a = 0; a < dim; ++a) x[a] = sph__ns_at(xs, a, i);
         ++g->cell_start[sph__nsearch_source_cell(g, x) + 1];
     }
-    for (c = 0; c < g->n_cells; ++c) g->cell_start[c + 1] += g->cell_start[c];
+    g->n_occupied = 0;
+    for (c = 0; c < g->n_cells; ++c) {
+        g->n_occupied += g->cell_start[c + 1] > 0;
+        g->cell_start[c + 1] += g->cell_start[c];
+    }
     for (i = 0; i < n_sources; ++i) { /* scatter; cell_start[c] runs ahead to the next cell */
         sph_idx k;
         for (a = 0; a < dim; ++a) x[a] = sph__ns_at(xs, a, i);
@@ -3299,9 +3304,13 @@ SPH_API int sph_nsearch_lists(const sph_nsearch *g, sph_view xt, sph_idx n_targe
 }
 
 /* Statistics of one search without storing it (docs/neighbours.md,
- * "Measured"): pairs found by (N1)/(N2) and candidate distance checks made. */
+ * "Measured"): pairs found by (N1)/(N2), candidate distance checks made and,
+ * when fill != NULL, the grid's fill ratio: occupied cells / cells (1 for
+ * one source per cell; a small value means a mostly empty grid, e.g. around
+ * an escaped particle: docs/neighbours.md, "Limits"). */
 SPH_API int sph_nsearch_stats(const sph_nsearch *g, sph_view xt, sph_idx n_targets, sph_view ht,
-                              sph_real h, sph_real kappa, int mode, sph_off *pairs, sph_off *candidates)
+                              sph_real h, sph_real kappa, int mode, sph_off *pairs, sph_off *candidates,
+                              sph_real *fill)
 {
     sph_off stats[3];
     int st = sph__nsearch_check(g, xt, n_targets, ht, h, kappa, mode);
@@ -3310,6 +3319,7 @@ SPH_API int sph_nsearch_stats(const sph_nsearch *g, sph_view xt, sph_idx n_targe
     sph__nsearch_run(g, xt, n_targets, ht, h, kappa, mode, NULL, NULL, NULL, stats);
     *pairs = stats[0];
     *candidates = stats[1];
+    if (fill != NULL) *fill = (sph_real)((double)g->n_occupied / (double)g->n_cells);
     return SPH_OK;
 }
 

@@ -671,6 +671,7 @@ static void test_errors(void)
     {
         const sph_real half = (sph_real)0.25; /* kappa 2: R = L/2 of the unit box */
         sph_off pairs = -7, cand = -7;
+        sph_real fill = -7;
         sph_nsearch g2;
         char work2[65536];
         st = sph_nsearch_count(&g, v, N, sph_view_none(), half, 2, 0, off);
@@ -683,10 +684,11 @@ static void test_errors(void)
                  "fill");
         TH_CHECK(sph_nsearch_lists(&g, v, N, sph_view_none(), nb_next(half, 1), 2, 0, off, idx, N * N, &pairs) ==
                      SPH_EPERIOD, "lists");
-        TH_CHECK(sph_nsearch_stats(&g, v, N, sph_view_none(), nb_next(half, 1), 2, 0, &pairs, &cand) == SPH_EPERIOD,
+        TH_CHECK(sph_nsearch_stats(&g, v, N, sph_view_none(), nb_next(half, 1), 2, 0, &pairs, &cand, &fill) ==
+                     SPH_EPERIOD,
                  "stats");
         for (i = 0; i <= N && off[i] == -7; ++i) continue;
-        TH_CHECK(i > N && pairs == -7 && cand == -7, "a refused search wrote offset[%d] or its counts", i);
+        TH_CHECK(i > N && pairs == -7 && cand == -7 && fill == -7, "a refused search wrote offset[%d] or its counts", i);
         for (i = 0; i <= N * N && idx[i] == -7; ++i) continue;
         TH_CHECK(i > N * N, "a refused search wrote index[%d]", i);
         h[5] = (sph_real)0.3; /* one target of R = 0.6 */
@@ -792,7 +794,7 @@ static void test_candidate_ratio(void)
         sph_nsearch_workspace_size(3, v, n, sph_view_none(), cell, &box, &bytes);
         work = malloc(bytes);
         st = sph_nsearch_build(&g, 3, v, n, sph_view_none(), cell, &box, work, bytes);
-        st |= sph_nsearch_stats(&g, v, n, sph_view_none(), h, kappa, SPH_NSEARCH_GATHER, &pairs, &cand);
+        st |= sph_nsearch_stats(&g, v, n, sph_view_none(), h, kappa, SPH_NSEARCH_GATHER, &pairs, &cand, NULL);
         th_begin("perturbed lattice 3D, cell = %.3g R: candidates per neighbour", nb_cells[c]);
         TH_CHECK(st == SPH_OK, "status %d", st);
         TH_NEAR((double)pairs / n, 60, 0.05); /* the h above was chosen for 60 */
@@ -807,6 +809,45 @@ static void test_candidate_ratio(void)
         th_end();
         free(work);
     }
+    free(x);
+}
+
+/* The fill ratio of sph_nsearch_stats (occupied cells / cells): a lattice of
+ * spacing 0.1 binned into cells of at least 0.1 (eq. (N4): n_a = floor(L /
+ * cell) cells of L / n_a) has a source in every cell, fill exactly 1; one
+ * more source at (3, 3, 3) stretches the grid to at least 28^3 cells, of
+ * which at most 1001 can hold a source: fill <= 1001 / 28^3 < 0.046. No
+ * sources: fill 0. */
+static void test_fill_ratio(void)
+{
+    enum { S = 10, N = S * S * S };
+    sph_real *x = nb_alloc(N + 1), fill = -1, fill_far = -1, fill_none = -1;
+    sph_view v = sph_view_interleaved(x, 3);
+    const sph_real cell = (sph_real)0.1;
+    sph_off pairs, cand;
+    sph_nsearch g;
+    size_t bytes = 0;
+    void *work;
+    int st;
+    tp_lattice(3, S, 0.1, x);
+    x[3 * N] = x[3 * N + 1] = x[3 * N + 2] = 3;
+    st = sph_nsearch_workspace_size(3, v, N + 1, sph_view_none(), cell, NULL, &bytes); /* the larger grid */
+    work = malloc(bytes);
+    st |= sph_nsearch_build(&g, 3, v, N, sph_view_none(), cell, NULL, work, bytes);
+    st |= sph_nsearch_stats(&g, v, N, sph_view_none(), cell, 2, SPH_NSEARCH_GATHER, &pairs, &cand, &fill);
+    st |= sph_nsearch_build(&g, 3, v, N + 1, sph_view_none(), cell, NULL, work, bytes);
+    st |= sph_nsearch_stats(&g, v, N + 1, sph_view_none(), cell, 2, SPH_NSEARCH_GATHER, &pairs, &cand, &fill_far);
+    st |= sph_nsearch_build(&g, 3, v, 0, sph_view_none(), cell, NULL, work, bytes);
+    st |= sph_nsearch_stats(&g, v, 0, sph_view_none(), cell, 2, SPH_NSEARCH_GATHER, &pairs, &cand, &fill_none);
+    th_begin("fill ratio: 1 for one source per cell, < 0.046 with one escaped source, 0 without sources");
+    TH_CHECK(st == SPH_OK, "status %d", st);
+    TH_CHECK(fill == 1, "lattice: fill %g", (double)fill);
+    TH_CHECK(fill_far > 0 && fill_far < (sph_real)0.046, "one source at (3, 3, 3): fill %g", (double)fill_far);
+    TH_CHECK(fill_none == 0, "no sources: fill %g", (double)fill_none);
+    TH_CHECK(sph_nsearch_stats(&g, v, 0, sph_view_none(), cell, 2, SPH_NSEARCH_GATHER, &pairs, &cand, NULL) == SPH_OK,
+             "fill may be NULL");
+    th_end();
+    free(work);
     free(x);
 }
 
@@ -1012,6 +1053,7 @@ int main(void)
     test_permutation();
     test_errors();
     test_candidate_ratio();
+    test_fill_ratio();
     test_images();
     test_image_rounding();
     test_threads();
