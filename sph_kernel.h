@@ -16,8 +16,10 @@
  *
  * Scalar kernel functions never fail loudly: for an unknown kernel, a
  * dimension the kernel is not defined in, r < 0, r or h not finite, h <= 0
- * (or h so small that 1/h overflows) they return 0 (and write zeros).
- * Use sph_kernel_check(k, dim) to validate once, outside hot loops.
+ * (or h so small that some kernel's W or F in that dimension would overflow:
+ * 64 h^-(d+2) beyond the largest sph_real) they return 0 (and write zeros).
+ * Use sph_kernel_check(k, dim) and sph_check_h(h) to validate once, outside
+ * hot loops.
  *
  * ==== CONFIGURATION (define before including) ==============================
  *
@@ -621,10 +623,28 @@ SPH_API int sph_kernel_check(sph_kernel k, int dim)
     return SPH_OK;
 }
 
-/* SPH_OK when h is a usable smoothing length: positive, finite, 1/h finite. */
+/* A bound on alpha_d times |w|, |w'/q|, |w'|, |w''| and |d w + q w'| over
+ * every kernel, dimension and q (the largest is Lucy's 3-D alpha_3 |w'/q| at
+ * q = 0, 25.07), so that W, F, dW/dr, d2W/dr2 and dW/dh are all bounded by
+ * SPH__SHAPE_MAX h^-(d+2) for h <= 1 and by SPH__SHAPE_MAX for h > 1. */
+#define SPH__SHAPE_MAX 64
+
+/* 1 when h is a usable smoothing length in dim dimensions: positive, finite,
+ * and SPH__SHAPE_MAX h^-(dim+2) finite, so that every kernel quantity of
+ * every kernel is finite in sph_real (the scalar functions and the pair
+ * kernel take h in the caller's dim, the operators in ctx.dim). */
+SPH_API int sph__h_ok(sph_real h, int dim)
+{
+    return h > 0 && h <= SPH__REAL_MAX && sph__hpow(SPH__SHAPE_MAX, 1 / h, dim + 2) <= SPH__REAL_MAX;
+}
+
+/* SPH_OK when h is a usable smoothing length in every dimension: positive,
+ * finite and not so small that W, F or any other kernel quantity of any
+ * kernel in 3-D overflows sph_real (64 h^-5 finite: h above about 5.1e-62
+ * in double, 4.5e-8 in float); else SPH_EH. */
 SPH_API int sph_check_h(sph_real h)
 {
-    return (h > 0 && h <= SPH__REAL_MAX && 1 / h <= SPH__REAL_MAX) ? SPH_OK : SPH_EH;
+    return sph__h_ok(h, 3) ? SPH_OK : SPH_EH;
 }
 
 /* The per-dimension data of (k, dim), or NULL for invalid arguments. */
@@ -639,7 +659,7 @@ SPH_API const sph__kdim *sph__prep(sph_kernel k, int dim, sph_real r, sph_real h
                                    sph_real *hinv, sph_real *q)
 {
     const sph__kdim *kd = sph__kd(k, dim);
-    if (kd == NULL || sph_check_h(h) != SPH_OK || !(r >= 0 && r <= SPH__REAL_MAX)) return NULL;
+    if (kd == NULL || !sph__h_ok(h, dim) || !(r >= 0 && r <= SPH__REAL_MAX)) return NULL;
     *hinv = 1 / h;
     *q = r / h; /* one rounding: r = kappa h gives q = kappa exactly */
     /* beyond the support (r / h may even overflow to Inf): q = kappa selects
@@ -711,7 +731,7 @@ SPH_API sph_real sph__unit_ball(int dim)
 SPH_API sph_real sph_kernel_neighbours(sph_kernel k, int dim, sph_real h, sph_real volume)
 {
     const sph_real kh = sph_kernel_support(k) * h;
-    if (sph_kernel_check(k, dim) != SPH_OK || !(volume > 0) || sph_check_h(h) != SPH_OK) return 0;
+    if (sph_kernel_check(k, dim) != SPH_OK || !(volume > 0) || !sph__h_ok(h, dim)) return 0;
     return sph__unit_ball(dim) * (dim == 1 ? kh : dim == 2 ? kh * kh : kh * kh * kh) / volume;
 }
 
@@ -800,7 +820,7 @@ SPH_API void sph_kernel_grad(sph_kernel k, int dim, const sph_real *dx, sph_real
     sph_real s[3] = {0, 0, 0}, q2 = 0, q, w, g, G;
     const sph__kdim *kd = sph__kd(k, dim);
     int a;
-    if (kd == NULL || dx == NULL || grad == NULL || sph_check_h(h) != SPH_OK) {
+    if (kd == NULL || dx == NULL || grad == NULL || !sph__h_ok(h, dim)) {
         for (a = 0; grad != NULL && a < dim && a < 3; ++a) grad[a] = 0;
         return;
     }
@@ -959,7 +979,7 @@ SPH_API sph_pair sph_pair_kernel(sph_kernel k, int dim, const sph_real *dx, sph_
     const sph__kdim *kd = sph__kd(k, dim);
     int a;
     p.r = p.q = p.W = p.F = 0;
-    if (kd == NULL || dx == NULL || sph_check_h(h) != SPH_OK) return p;
+    if (kd == NULL || dx == NULL || !sph__h_ok(h, dim)) return p;
     for (a = 0; a < dim; ++a) r2 += dx[a] * dx[a];
     hinv = 1 / h;
     p.r = sph__sqrt(r2);
@@ -1929,12 +1949,12 @@ SPH_API int sph__out_ok(sph_out v, int ncomp)
     return v.stride > 0 ? SPH_OK : SPH_EINVAL;
 }
 
-/* SPH_OK when h is usable by the operators in dim dimensions: sph_check_h,
- * and 64 h^-(dim+2) finite, so alpha h^-(dim+2) and every F_ij are
- * (docs/operators.md, "Extreme cases"); else SPH_EH. */
+/* SPH_OK when h is usable by the operators in dim dimensions (sph__h_ok: 64
+ * h^-(dim+2) finite, so alpha h^-(dim+2) and every F_ij are;
+ * docs/operators.md, "Extreme cases"); else SPH_EH. */
 SPH_API int sph__op_h(sph_real h, int dim)
 {
-    return sph_check_h(h) == SPH_OK && sph__hpow(64, 1 / h, dim + 2) <= SPH__REAL_MAX ? SPH_OK : SPH_EH;
+    return sph__h_ok(h, dim) ? SPH_OK : SPH_EH;
 }
 
 /* Largest |coordinate| the operators take: twice it squared, times 3, stays
@@ -2427,15 +2447,16 @@ SPH_API int sph__ns_scan_x(int dim, sph_view x, sph_idx n, sph_real *amax)
 
 SPH_API int sph__ns_check_x(int dim, sph_view x, sph_idx n) { return sph__ns_scan_x(dim, x, n, NULL); }
 
-/* Checks n per-particle smoothing lengths (absent view: none): SPH_EH if any
- * is bad; the largest into *hmax (0 for none). */
-SPH_API int sph__ns_check_h(sph_view h, sph_idx n, sph_real *hmax)
+/* Checks n per-particle smoothing lengths (absent view: none) in dim
+ * dimensions (sph__h_ok, so that the lists serve the operators): SPH_EH if
+ * any is bad; the largest into *hmax (0 for none). */
+SPH_API int sph__ns_check_h(sph_view h, sph_idx n, int dim, sph_real *hmax)
 {
     sph_idx i;
     *hmax = 0;
     for (i = 0; h.p[0] != NULL && i < n; ++i) {
         const sph_real hi = h.p[0][(ptrdiff_t)i * h.stride];
-        if (sph_check_h(hi) != SPH_OK) return SPH_EH;
+        if (!sph__h_ok(hi, dim)) return SPH_EH;
         *hmax = hi > *hmax ? hi : *hmax;
     }
     return SPH_OK;
@@ -2976,7 +2997,7 @@ SPH_API int sph__nsearch_geometry(sph_nsearch *g, int dim, sph_view xs, sph_idx 
     if (ns < 0 || ns > SPH_NSEARCH_MAX_SOURCES) return SPH_ESIZE;
     if (!(cell > 0 && cell <= SPH__REAL_MAX)) return SPH_EINVAL;
     if ((st = sph__ns_scan_x(dim, xs, ns, amax)) != SPH_OK) return st;
-    if ((st = sph__ns_check_h(hs, ns, &g->h_max)) != SPH_OK) return st;
+    if ((st = sph__ns_check_h(hs, ns, dim, &g->h_max)) != SPH_OK) return st;
     g->n_sources = ns;
     g->n_padded = ns + SPH__NS_BLOCK;
     for (a = 0; a < 3; ++a) {
@@ -3126,9 +3147,9 @@ SPH_API int sph__nsearch_check(const sph_nsearch *g, sph_view xt, sph_idx nt, sp
     if (nt < 0) return SPH_ESIZE;
     if (mode != SPH_NSEARCH_GATHER && mode != SPH_NSEARCH_SYMMETRIC) return SPH_EINVAL;
     if (!(kappa > 0 && kappa <= SPH__REAL_MAX)) return SPH_EINVAL;
-    if (uses_h && sph_check_h(h) != SPH_OK) return SPH_EH;
+    if (uses_h && !sph__h_ok(h, g->dim)) return SPH_EH;
     if ((st = sph__ns_check_x(g->dim, xt, nt)) != SPH_OK) return st;
-    if ((st = sph__ns_check_h(ht, nt, &hmax)) != SPH_OK) return st;
+    if ((st = sph__ns_check_h(ht, nt, g->dim, &hmax)) != SPH_OK) return st;
     if (ht.p[0] == NULL) hmax = h;
     if (mode == SPH_NSEARCH_SYMMETRIC) {
         const sph_real hs = g->h != NULL ? g->h_max : h;
