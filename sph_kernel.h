@@ -163,6 +163,9 @@ SPH_API sph_real sph__floor(sph_real x)
     return sizeof(sph_real) == sizeof(float) ? (sph_real)floorf((float)x) : (sph_real)floor((double)x);
 }
 
+/* 1 when x is finite (neither NaN nor +-Inf), without isfinite's double promotion. */
+SPH_API int sph__finite(sph_real x) { return x >= -SPH__REAL_MAX && x <= SPH__REAL_MAX; }
+
 
 /* ======================================================================== */
 /* 2. Status codes                                                           */
@@ -727,24 +730,33 @@ SPH_API sph_real sph__unit_ball(int dim)
 
 /* Expected number of neighbours inside the support (the particle itself
  * included) for particles of volume V = m / rho (docs/kernels.md eq. (K6)):
- * N = omega_d (kappa h)^d / V. 0 if invalid. */
+ * N = omega_d (kappa h)^d / V. 0 if invalid (V not positive and finite) and
+ * where N overflows sph_real. */
 SPH_API sph_real sph_kernel_neighbours(sph_kernel k, int dim, sph_real h, sph_real volume)
 {
     const sph_real kh = sph_kernel_support(k) * h;
-    if (sph_kernel_check(k, dim) != SPH_OK || !(volume > 0) || !sph__h_ok(h, dim)) return 0;
-    return sph__unit_ball(dim) * (dim == 1 ? kh : dim == 2 ? kh * kh : kh * kh * kh) / volume;
+    sph_real n;
+    if (sph_kernel_check(k, dim) != SPH_OK || !(volume > 0 && volume <= SPH__REAL_MAX) || !sph__h_ok(h, dim))
+        return 0;
+    n = sph__unit_ball(dim) * (dim == 1 ? kh : dim == 2 ? kh * kh : kh * kh * kh) / volume;
+    return sph__finite(n) ? n : 0;
 }
 
 /* The h that puts n_neigh neighbours (self included) inside the support of a
- * particle of volume V = m / rho: the inverse of sph_kernel_neighbours. */
+ * particle of volume V = m / rho: the inverse of sph_kernel_neighbours. 0 if
+ * invalid (n_neigh or V not positive and finite) and where n_neigh V
+ * overflows sph_real. */
 SPH_API sph_real sph_kernel_h_for_neighbours(sph_kernel k, int dim, sph_real n_neigh,
                                              sph_real volume)
 {
     sph_real x;
-    if (sph_kernel_check(k, dim) != SPH_OK || !(volume > 0) || !(n_neigh > 0)) return 0;
+    if (sph_kernel_check(k, dim) != SPH_OK || !(volume > 0 && volume <= SPH__REAL_MAX) ||
+        !(n_neigh > 0 && n_neigh <= SPH__REAL_MAX))
+        return 0;
     x = n_neigh * volume / sph__unit_ball(dim);
     x = dim == 1 ? x : dim == 2 ? sph__sqrt(x) : (sph_real)cbrt((double)x);
-    return x / sph_kernel_support(k);
+    x /= sph_kernel_support(k);
+    return sph__finite(x) ? x : 0;
 }
 
 /* The scalar kernel quantities, each alpha_d h^-p times a shape value. */
@@ -879,12 +891,19 @@ typedef struct {
 /* Minimum image of one component of x_i - x_j (docs/operators.md eq. (O0)):
  * along a periodic axis of length L, dx - L * round(dx / L), so |dx| <= L/2
  * whatever multiple of L the two positions are apart. Unchanged when box is
- * NULL or the axis is not periodic. Every part of the library (and the
- * brute-force references of the tests) uses this one function. */
+ * NULL, a is outside 0..2, the axis is not periodic or its length not
+ * positive and finite, and where there is no image to take (dx NaN or
+ * infinite, or dx / L beyond the largest sph_real). Every part of the
+ * library (and the brute-force references of the tests) uses this one
+ * function. */
 SPH_API sph_real sph_box_delta(const sph_box *box, int a, sph_real dx)
 {
-    if (box == NULL || !box->periodic[a]) return dx;
-    return dx - box->length[a] * sph__floor(dx / box->length[a] + (sph_real)0.5);
+    sph_real L, d;
+    if (box == NULL || a < 0 || a > 2 || !box->periodic[a]) return dx;
+    L = box->length[a];
+    if (!(L > 0 && L <= SPH__REAL_MAX)) return dx;
+    d = dx - L * sph__floor(dx / L + (sph_real)0.5);
+    return sph__finite(d) ? d : dx;
 }
 
 /* View of a structure-of-arrays field (pass NULL for unused components). */
@@ -950,7 +969,17 @@ SPH_API sph_out sph_out_aos(sph_real *first, int ncomp, size_t stride_bytes)
  * fuse several operators in their own neighbour loop (docs/operators.md,
  * "Pair terms"). Conventions: dx = x_ij = x_i - x_j (minimum image, (O0)),
  * F = F_ij = (1/r) dW/dr at the pair's h, grad_i W_ij = F dx (O1); V_j = m_j /
- * rho_j. The vector terms add into acc[0..dim-1]; nothing is divided by r. */
+ * rho_j. The vector terms add into acc[0..dim-1]; nothing is divided by r.
+ *
+ * Bad input. These are the caller's inner loop and check nothing they need
+ * not: the sums and products below are plain arithmetic, finite for finite
+ * arguments whose products stay in range, and NaN or Inf in an argument
+ * passes into the result (validate fields once with sph_check_field). Arrays
+ * must hold dim (1..3) values; no component beyond the third is read or
+ * written whatever dim is. The functions that divide or evaluate the kernel
+ * return a documented finite fallback instead: sph_pair_kernel (zeros),
+ * sph_pressure_factor (0), sph_harmonic_k (0) and sph_correction_invert
+ * (identity). */
 
 /* Force-inlined helpers: the operator loops rely on them folding into one
  * loop body per kernel and dimension. */
@@ -971,19 +1000,24 @@ typedef struct {
 
 /* (O1) r, q, W and F of a pair from dx = x_i - x_j (dim components) and the
  * pair's h (the caller picks h_i, or (h_i + h_j) / 2 for symmetric terms).
- * All zero for invalid kernel, dim or h (as the scalar kernel functions). */
+ * All zero, as the scalar kernel functions give, for invalid kernel, dim or
+ * h, and for a dx with a NaN or Inf component or so long that |dx|^2 or
+ * |dx| / h overflows (far beyond the support, where W = F = 0 anyway). */
 SPH_API sph_pair sph_pair_kernel(sph_kernel k, int dim, const sph_real *dx, sph_real h)
 {
     sph_pair p;
-    sph_real r2 = 0, w, g, hinv;
+    sph_real r2 = 0, w, g, hinv, r, q;
     const sph__kdim *kd = sph__kd(k, dim);
     int a;
     p.r = p.q = p.W = p.F = 0;
     if (kd == NULL || dx == NULL || !sph__h_ok(h, dim)) return p;
     for (a = 0; a < dim; ++a) r2 += dx[a] * dx[a];
     hinv = 1 / h;
-    p.r = sph__sqrt(r2);
-    p.q = p.r * hinv;
+    r = sph__sqrt(r2);
+    q = r * hinv;
+    if (!(q <= SPH__REAL_MAX)) return p; /* NaN (a NaN in dx) or Inf (Inf in dx, or overflow) */
+    p.r = r;
+    p.q = q;
     sph__shape_wg(&sph__shapes[kd->shape], p.q, &w, &g);
     p.W = sph__hpow(kd->alpha * w, hinv, dim);
     p.F = sph__hpow(kd->alpha * g, hinv, dim + 2);
@@ -1000,7 +1034,7 @@ SPH_API sph_real sph_pair_interpolate(sph_real V_j, sph_real f_j, sph_real W) { 
 SPH__INLINE void sph__axpy(int dim, sph_real c, const sph_real *dx, sph_real *acc)
 {
     int a;
-    for (a = 0; a < dim; ++a) acc[a] += c * dx[a];
+    for (a = 0; a < dim && a < 3; ++a) acc[a] += c * dx[a];
 }
 
 /* (O4) standard gradient: acc += V_j f_j F dx. */
@@ -1033,8 +1067,14 @@ SPH_API void sph_pair_grad_pressure(int dim, sph_real m_j, sph_real P_i, sph_rea
     sph__axpy(dim, m_j * (P_i + P_j) * F, dx, acc);
 }
 
-/* P = p / rho^2, the per-particle factor of (O8). */
-SPH_API sph_real sph_pressure_factor(sph_real p, sph_real rho) { return p / (rho * rho); }
+/* P = p / rho^2, the per-particle factor of (O8). 0 where it is not a
+ * finite number: rho not positive (no division by 0), p or rho NaN or
+ * infinite, or rho^2 underflowing to 0. */
+SPH_API sph_real sph_pressure_factor(sph_real p, sph_real rho)
+{
+    const sph_real P = rho > 0 ? p / (rho * rho) : 0;
+    return sph__finite(P) ? P : 0;
+}
 
 /* (O9) standard divergence: V_j v_j . dx F. */
 SPH_API sph_real sph_pair_div_standard(int dim, sph_real V_j, const sph_real *v_j, sph_real F,
@@ -1042,7 +1082,7 @@ SPH_API sph_real sph_pair_div_standard(int dim, sph_real V_j, const sph_real *v_
 {
     sph_real s = 0;
     int a;
-    for (a = 0; a < dim; ++a) s += v_j[a] * dx[a];
+    for (a = 0; a < dim && a < 3; ++a) s += v_j[a] * dx[a];
     return V_j * F * s;
 }
 
@@ -1052,7 +1092,7 @@ SPH_API sph_real sph_pair_div_difference(int dim, sph_real V_j, const sph_real *
 {
     sph_real s = 0;
     int a;
-    for (a = 0; a < dim; ++a) s += (v_j[a] - v_i[a]) * dx[a];
+    for (a = 0; a < dim && a < 3; ++a) s += (v_j[a] - v_i[a]) * dx[a];
     return V_j * F * s;
 }
 
@@ -1078,11 +1118,22 @@ SPH_API sph_real sph_pair_laplacian(sph_real V_j, sph_real f_i, sph_real f_j, sp
 }
 
 /* (O13) pair coefficient k_ij = 4 k_i k_j / (k_i + k_j) (twice the harmonic
- * mean; 2k for k_i = k_j = k). 0 when k_i k_j <= 0 (a zero or sign-changing
- * coefficient blocks the flux), so k_i + k_j = 0 never divides. */
+ * mean; 2k for k_i = k_j = k). 0 when k_i and k_j do not have the same sign
+ * (a zero or sign-changing coefficient blocks the flux), so k_i + k_j = 0
+ * never divides, and 0 when either is NaN or infinite. Computed as
+ * a (4 b / (a + b)), a the one of smaller magnitude, so that the factor lies
+ * in [2, 4) and no intermediate overflows (a + b is scaled by 1/4 when b is
+ * that large); where k_ij itself exceeds the largest sph_real it saturates
+ * there, with a's sign. k_ij is symmetric in i, j bit for bit. */
 SPH_API sph_real sph_harmonic_k(sph_real k_i, sph_real k_j)
 {
-    return k_i * k_j > 0 ? 4 * k_i * k_j / (k_i + k_j) : 0;
+    const int same = (k_i > 0 && k_j > 0) || (k_i < 0 && k_j < 0);
+    const int swap = (k_i < 0 ? -k_i : k_i) > (k_j < 0 ? -k_j : k_j);
+    const sph_real a = swap ? k_j : k_i, b = swap ? k_i : k_j;
+    const sph_real big = (b < 0 ? -b : b) > SPH__REAL_MAX / 4 ? (sph_real)0.25 : 1; /* exact scaling of a + b */
+    const sph_real k = a * (4 * ((b * big) / (a * big + b * big)));
+    const sph_real sat = a > 0 ? SPH__REAL_MAX : -SPH__REAL_MAX;
+    return same && sph__finite(b) ? (sph__finite(k) ? k : sat) : 0;
 }
 
 /* (O14) diffusion div(k grad f): V_j k_ij (f_i - f_j) F with k_ij from (O13). */
@@ -1098,8 +1149,8 @@ SPH_API void sph_pair_correction(int dim, sph_real V_j, sph_real F, const sph_re
 {
     const sph_real c = -V_j * F;
     int a, b;
-    for (a = 0; a < dim; ++a)
-        for (b = 0; b < dim; ++b) M[3 * a + b] += c * dx[a] * dx[b];
+    for (a = 0; a < dim && a < 3; ++a)
+        for (b = 0; b < dim && b < 3; ++b) M[3 * a + b] += c * dx[a] * dx[b];
 }
 
 /* Largest column sum of |A| over the dim x dim block (matrix 1-norm). */
@@ -1117,13 +1168,21 @@ SPH__INLINE sph_real sph__norm1(int dim, const sph_real *A)
 
 /* (O16) B = M^-1 when M is well conditioned: reciprocal condition number in
  * the 1-norm, |det M| / (||M||_1 ||adj M||_1) >= rcond_min, tested without a
- * division (scale-free). Otherwise (degenerate neighbourhood, NaN) B = identity
- * and 0 is returned, else 1. M and B are 3x3 row-major; the dim x dim block
- * is used, the rest of B is set to zero. */
+ * division (scale-free), and every entry of M^-1 finite. Otherwise
+ * (degenerate neighbourhood, NaN or Inf in M, an inverse beyond the range of
+ * sph_real, rcond_min NaN) B = identity and 0 is returned, else 1. M and B
+ * are 3x3 row-major; the dim x dim block is used, the rest of B is set to
+ * zero (dim outside 1..3, or M NULL: B = identity of the block that fits, 0
+ * returned; B NULL: nothing written, 0). */
 SPH_API int sph_correction_invert(int dim, const sph_real *M, sph_real rcond_min, sph_real *B)
 {
-    sph_real A[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0}, det, ad, nm, na, inv;
+    sph_real A[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0}, det = 0, ad, nm, na, inv;
     int a, ok;
+    if (B == NULL) return 0;
+    if (M == NULL || dim < 1 || dim > 3) {
+        for (a = 0; a < 9; ++a) B[a] = a % 4 == 0 && a / 3 < dim ? 1 : 0;
+        return 0;
+    }
     if (dim == 1) {
         A[0] = 1;
         det = M[0];
@@ -1156,6 +1215,7 @@ SPH_API int sph_correction_invert(int dim, const sph_real *M, sph_real rcond_min
     ok = ad > 0 && ad <= SPH__REAL_MAX && ad >= rcond_min * nm * na &&
          (dim < 3 || 16 * na >= rcond_min * nm * nm);
     inv = ok ? 1 / det : 0;
+    for (a = 0; a < 9; ++a) ok &= sph__finite(A[a] * inv); /* a denormal det can make 1/det or an entry overflow */
     for (a = 0; a < 9; ++a) B[a] = ok ? A[a] * inv : (a % 4 == 0 && a / 3 < dim ? 1 : 0);
     return ok;
 }
@@ -2399,8 +2459,6 @@ SPH_API sph_real sph__nsearch_eps(void)
     return sizeof(sph_real) == sizeof(float) ? (sph_real)FLT_EPSILON : (sph_real)DBL_EPSILON;
 }
 
-SPH_API int sph__ns_finite(sph_real x) { return x >= -SPH__REAL_MAX && x <= SPH__REAL_MAX; }
-
 /* Component a of particle i of a view. */
 SPH_API sph_real sph__ns_at(sph_view v, int a, sph_idx i) { return v.p[a][(ptrdiff_t)i * v.stride]; }
 
@@ -3007,7 +3065,7 @@ SPH_API int sph__nsearch_geometry(sph_nsearch *g, int dim, sph_view xs, sph_idx 
         if (per) {
             lo = box->lo[a];
             L = box->length[a];
-            if (!sph__ns_finite(lo) || !(L > 0 && L <= SPH__REAL_MAX)) return SPH_EINVAL;
+            if (!sph__finite(lo) || !(L > 0 && L <= SPH__REAL_MAX)) return SPH_EINVAL;
         } else if (a < dim && ns > 0) {
             sph_real hi = sph__ns_at(xs, a, 0);
             lo = hi;
