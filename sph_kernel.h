@@ -1069,7 +1069,8 @@ SPH_API void sph_pair_grad_pressure(int dim, sph_real m_j, sph_real P_i, sph_rea
 
 /* P = p / rho^2, the per-particle factor of (O8). 0 where it is not a
  * finite number: rho not positive (no division by 0), p or rho NaN or
- * infinite, or rho^2 underflowing to 0. */
+ * infinite, or rho^2 underflowing to 0; 0 also where rho^2 overflows (one
+ * multiplication and one division per call, as the pair loops need). */
 SPH_API sph_real sph_pressure_factor(sph_real p, sph_real rho)
 {
     const sph_real P = rho > 0 ? p / (rho * rho) : 0;
@@ -1111,10 +1112,11 @@ SPH_API void sph_pair_curl(int dim, sph_real V_j, const sph_real *u, sph_real F,
     }
 }
 
-/* (O12) Laplacian (Brookshaw / Morris): 2 V_j (f_i - f_j) F. */
+/* (O12) Laplacian (Brookshaw / Morris): 2 V_j (f_i - f_j) F (the factor 2
+ * applied last: the same bits, and no 2 V_j overflowing on its own). */
 SPH_API sph_real sph_pair_laplacian(sph_real V_j, sph_real f_i, sph_real f_j, sph_real F)
 {
-    return 2 * V_j * (f_i - f_j) * F;
+    return V_j * (f_i - f_j) * F * 2;
 }
 
 /* (O13) pair coefficient k_ij = 4 k_i k_j / (k_i + k_j) (twice the harmonic
@@ -2076,14 +2078,16 @@ SPH_API int sph__setup(const sph_ctx *c, int need, int ncomp, sph_view f, sph_vi
 #if defined(SPH_DIM)
     if (c->dim != (SPH_DIM)) return SPH_EDIM;
 #endif
+    /* the counts against each other first: nothing is read beyond what they allow */
     if (c->list->offset == NULL) return SPH_ENULL;
     if (c->list->n_targets < 0 || c->list->n_sources < 0) return SPH_ESIZE;
+    if (c->x_target.p[0] == NULL && c->list->n_targets > c->list->n_sources) return SPH_ESIZE;
     if (full && (st = sph_neighbours_check(c->list)) != SPH_OK) return st;
     if (c->list->offset[c->list->n_targets] > 0 && c->list->index == NULL) return SPH_ENULL;
-    if (c->x_target.p[0] == NULL && c->list->n_targets > c->list->n_sources) return SPH_ESIZE;
     if (!(c->rcond_min >= 0 && c->rcond_min < 1)) return SPH_EINVAL;
     for (a = 0; c->box != NULL && a < c->dim; ++a)
-        if (c->box->periodic[a] && !(c->box->length[a] > 0 && c->box->length[a] <= SPH__REAL_MAX))
+        if (c->box->periodic[a] && !(c->box->length[a] > 0 && c->box->length[a] <= SPH__REAL_MAX &&
+                                     1 / c->box->length[a] <= SPH__REAL_MAX)) /* (O0) takes 1/L */
             return SPH_EINVAL;
     A->kernel = c->kernel;
     A->dim = c->dim;
@@ -3054,6 +3058,7 @@ SPH_API int sph__nsearch_geometry(sph_nsearch *g, int dim, sph_view xs, sph_idx 
     if (dim < 1 || dim > 3) return SPH_EDIM;
     if (ns < 0 || ns > SPH_NSEARCH_MAX_SOURCES) return SPH_ESIZE;
     if (!(cell > 0 && cell <= SPH__REAL_MAX)) return SPH_EINVAL;
+    if (!(1 / cell <= SPH__REAL_MAX)) return SPH_EGRID; /* a denormal cell: cell widths of 1/0 */
     if ((st = sph__ns_scan_x(dim, xs, ns, amax)) != SPH_OK) return st;
     if ((st = sph__ns_check_h(hs, ns, dim, &g->h_max)) != SPH_OK) return st;
     g->n_sources = ns;
@@ -3065,7 +3070,7 @@ SPH_API int sph__nsearch_geometry(sph_nsearch *g, int dim, sph_view xs, sph_idx 
         if (per) {
             lo = box->lo[a];
             L = box->length[a];
-            if (!sph__finite(lo) || !(L > 0 && L <= SPH__REAL_MAX)) return SPH_EINVAL;
+            if (!sph__finite(lo) || !(L > 0 && L <= SPH__REAL_MAX && 1 / L <= SPH__REAL_MAX)) return SPH_EINVAL;
         } else if (a < dim && ns > 0) {
             sph_real hi = sph__ns_at(xs, a, 0);
             lo = hi;
