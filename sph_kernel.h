@@ -1594,11 +1594,11 @@ SPH__INLINE __m512d sph__load8(const sph_real *p)
 /* sph__pform_eval and sph__nshape_pick on 8 values of q. */
 SPH__INLINE __m512d sph__pform_eval8(const sph__pform *f, __m512d q)
 {
-    const __m512d t = _mm512_sub_pd(_mm512_set1_pd(f->b), q), u = _mm512_sub_pd(q, _mm512_set1_pd(f->e));
-    __m512d p = _mm512_set1_pd(f->c[f->degree]), tm = _mm512_set1_pd(1);
+    const __m512d t = _mm512_sub_pd(_mm512_set1_pd((double)f->b), q), u = _mm512_sub_pd(q, _mm512_set1_pd((double)f->e));
+    __m512d p = _mm512_set1_pd((double)f->c[f->degree]), tm = _mm512_set1_pd(1);
     int i;
     SPH__UNROLL
-    for (i = f->degree - 1; i >= 0; --i) p = _mm512_fmadd_pd(p, u, _mm512_set1_pd(f->c[i]));
+    for (i = f->degree - 1; i >= 0; --i) p = _mm512_fmadd_pd(p, u, _mm512_set1_pd((double)f->c[i]));
     SPH__UNROLL
     for (i = 0; i < f->m; ++i) tm = _mm512_mul_pd(tm, t);
     return _mm512_mul_pd(tm, p);
@@ -1611,7 +1611,7 @@ SPH__INLINE __m512d sph__nshape_pick8(const sph__nshape *s, const int G, __m512d
     SPH__UNROLL
     for (p = 1; p < s->npiece; ++p) {
         const __m512d x = sph__pform_eval8(G ? &s->piece[p].g : &s->piece[p].w, q);
-        v = _mm512_mask_mov_pd(v, _mm512_cmp_pd_mask(q, _mm512_set1_pd(s->lo[p]), _CMP_GE_OQ), x);
+        v = _mm512_mask_mov_pd(v, _mm512_cmp_pd_mask(q, _mm512_set1_pd((double)s->lo[p]), _CMP_GE_OQ), x);
     }
     return v;
 }
@@ -1655,8 +1655,8 @@ SPH__INLINE void sph__t_dg8(const sph__args *A, const sph__kdim *kd, const int D
     const ptrdiff_t sx = A->x.stride, sm = ONE_STRIDE ? sx : A->m.stride, sV = ONE_STRIDE ? sx : A->V.stride,
                     sf = ONE_STRIDE ? sx : A->f.stride;
     const sph__nshape *sh = &sph__nshapes[kd->shape];
-    const __m512d hinv = _mm512_set1_pd(t->hinv), kap = _mm512_set1_pd(sh->kappa), zero = _mm512_setzero_pd();
-    const __m512d vfi = _mm512_set1_pd(fi), half = _mm512_set1_pd(0.5);
+    const __m512d hinv = _mm512_set1_pd((double)t->hinv), kap = _mm512_set1_pd((double)sh->kappa), zero = _mm512_setzero_pd();
+    const __m512d vfi = _mm512_set1_pd((double)fi), half = _mm512_set1_pd(0.5);
     __m512d s[3] = {zero, zero, zero}, s3 = zero;
     sph_off o;
     int a;
@@ -1686,7 +1686,7 @@ SPH__INLINE void sph__t_dg8(const sph__args *A, const sph__kdim *kd, const int D
         if (GRAD) {
             __m512d gq = sph__nshape_pick8(sh, 1, q), c;
             if (sh->npiece > 1)
-                gq = _mm512_div_pd(gq, _mm512_mask_mov_pd(_mm512_set1_pd(1), _mm512_cmp_pd_mask(q, _mm512_set1_pd(sh->lo[1]), _CMP_GE_OQ), q));
+                gq = _mm512_div_pd(gq, _mm512_mask_mov_pd(_mm512_set1_pd(1), _mm512_cmp_pd_mask(q, _mm512_set1_pd((double)sh->lo[1]), _CMP_GE_OQ), q));
             c = _mm512_mul_pd(sph__at8(zero, in, j, A->V, 0, sV),
                               _mm512_sub_pd(sph__at8(vfi, in, j, A->f, 0, sf), vfi));
             c = _mm512_mul_pd(c, _mm512_maskz_mul_pd(in, _mm512_set1_pd((double)t->cF), gq));
@@ -3013,8 +3013,9 @@ SPH_API void sph__nsearch_target(const sph_nsearch *g, sph__probe *p)
     sph_real Rm, far = 0;
     int a, kc[3] = {0, 0, 0}, E[3] = {0, 0, 0}, inside = 1, edge = 0;
     for (a = 0; a < 3; ++a) {
+        const sph_real ax = p->xt[a] < 0 ? -p->xt[a] : p->xt[a]; /* |x| in sph_real: no promotion to double */
         p->t[a] = a < g->dim ? sph__nsearch_rel(g, a, p->xt[a]) : (sph_real)0.5;
-        far = fabs(p->xt[a]) > far ? fabs(p->xt[a]) : far;
+        far = ax > far ? ax : far;
     }
     /* search radius with the rounding allowance of docs/neighbours.md: never misses a pair */
     Rm = Rs + Rs / 1024 + g->slack + 64 * sph__nsearch_eps() * far;
