@@ -16,8 +16,10 @@
  *
  * Scalar kernel functions never fail loudly: for an unknown kernel, a
  * dimension the kernel is not defined in, r < 0, r or h not finite, h <= 0
- * (or h so small that 1/h overflows) they return 0 (and write zeros).
- * Use sph_kernel_check(k, dim) to validate once, outside hot loops.
+ * (or h so small that some kernel's W or F in that dimension would overflow:
+ * 64 h^-(d+2) beyond the largest sph_real) they return 0 (and write zeros).
+ * Use sph_kernel_check(k, dim) and sph_check_h(h) to validate once, outside
+ * hot loops.
  *
  * ==== CONFIGURATION (define before including) ==============================
  *
@@ -155,36 +157,44 @@ SPH_API sph_real sph__floor(sph_real x)
     return sizeof(sph_real) == sizeof(float) ? (sph_real)floorf((float)x) : (sph_real)floor((double)x);
 }
 
+/* 1 when x is finite (neither NaN nor +-Inf), without isfinite's double promotion. */
+SPH_API int sph__finite(sph_real x) { return x >= -SPH__REAL_MAX && x <= SPH__REAL_MAX; }
+
 
 /* ======================================================================== */
 /* 2. Status codes                                                           */
 /* ======================================================================== */
 
+/* One list generates the status enum and the sentences of sph_strerror:
+ * X(name, value, sentence). Every function that can fail returns SPH_OK or
+ * one of the negative codes; the values never change between versions. */
+#define SPH_STATUS_LIST(X) \
+    X(SPH_OK, 0, "success") \
+    X(SPH_EKERNEL, -1, "unknown kernel") \
+    X(SPH_EDIM, -2, "dimension outside 1..3 or not defined for this kernel") \
+    X(SPH_EH, -3, "smoothing length not positive and finite, or so small that W or F would overflow") \
+    X(SPH_ENULL, -4, "NULL pointer where data is required") \
+    X(SPH_EINDEX, -5, "neighbour index out of range") \
+    X(SPH_ESIZE, -6, "negative or too large count, or an array or workspace too small") \
+    X(SPH_ENONFINITE, -7, "NaN or Inf in an input array") \
+    X(SPH_EINVAL, -8, "invalid argument") \
+    X(SPH_EGRID, -9, "neighbour grid too large: a source far from the others, or a cell size too small") \
+    X(SPH_EPERIOD, -10, "periodic box shorter than twice the search radius kappa h")
+
 enum {
-    SPH_OK = 0,          /* success */
-    SPH_EKERNEL = -1,    /* unknown kernel */
-    SPH_EDIM = -2,       /* dimension outside 1..3, or not defined for the kernel */
-    SPH_EH = -3,         /* smoothing length not positive and finite */
-    SPH_ENULL = -4,      /* NULL where data is required */
-    SPH_EINDEX = -5,     /* neighbour index out of range */
-    SPH_ESIZE = -6,      /* negative count or workspace too small */
-    SPH_ENONFINITE = -7, /* NaN or Inf in an input array */
-    SPH_EINVAL = -8      /* any other invalid argument */
+#define SPH__STATUS_ENUM(name, value, sentence) name = value,
+    SPH_STATUS_LIST(SPH__STATUS_ENUM)
+#undef SPH__STATUS_ENUM
 };
 
 /* A sentence for a status code; never NULL. */
 SPH_API const char *sph_strerror(int status)
 {
     switch (status) {
-    case SPH_OK: return "success";
-    case SPH_EKERNEL: return "unknown kernel";
-    case SPH_EDIM: return "dimension outside 1..3 or not defined for this kernel";
-    case SPH_EH: return "smoothing length is not positive and finite";
-    case SPH_ENULL: return "NULL pointer where data is required";
-    case SPH_EINDEX: return "neighbour index out of range";
-    case SPH_ESIZE: return "negative count or workspace too small";
-    case SPH_ENONFINITE: return "NaN or Inf in an input array";
-    case SPH_EINVAL: return "invalid argument";
+#define SPH__STATUS_CASE(name, value, sentence) \
+    case name: return sentence;
+        SPH_STATUS_LIST(SPH__STATUS_CASE)
+#undef SPH__STATUS_CASE
     default: return "unknown status code";
     }
 }
@@ -610,10 +620,28 @@ SPH_API int sph_kernel_check(sph_kernel k, int dim)
     return SPH_OK;
 }
 
-/* SPH_OK when h is a usable smoothing length: positive, finite, 1/h finite. */
+/* A bound on alpha_d times |w|, |w'/q|, |w'|, |w''| and |d w + q w'| over
+ * every kernel, dimension and q (the largest is Lucy's 3-D alpha_3 |w'/q| at
+ * q = 0, 25.07), so that W, F, dW/dr, d2W/dr2 and dW/dh are all bounded by
+ * SPH__SHAPE_MAX h^-(d+2) for h <= 1 and by SPH__SHAPE_MAX for h > 1. */
+#define SPH__SHAPE_MAX 64
+
+/* 1 when h is a usable smoothing length in dim dimensions: positive, finite,
+ * and SPH__SHAPE_MAX h^-(dim+2) finite, so that every kernel quantity of
+ * every kernel is finite in sph_real (the scalar functions and the pair
+ * kernel take h in the caller's dim, the operators in ctx.dim). */
+SPH_API int sph__h_ok(sph_real h, int dim)
+{
+    return h > 0 && h <= SPH__REAL_MAX && sph__hpow(SPH__SHAPE_MAX, 1 / h, dim + 2) <= SPH__REAL_MAX;
+}
+
+/* SPH_OK when h is a usable smoothing length in every dimension: positive,
+ * finite and not so small that W, F or any other kernel quantity of any
+ * kernel in 3-D overflows sph_real (64 h^-5 finite: h above about 5.1e-62
+ * in double, 4.5e-8 in float); else SPH_EH. */
 SPH_API int sph_check_h(sph_real h)
 {
-    return (h > 0 && h <= SPH__REAL_MAX && 1 / h <= SPH__REAL_MAX) ? SPH_OK : SPH_EH;
+    return sph__h_ok(h, 3) ? SPH_OK : SPH_EH;
 }
 
 /* The per-dimension data of (k, dim), or NULL for invalid arguments. */
@@ -628,7 +656,7 @@ SPH_API const sph__kdim *sph__prep(sph_kernel k, int dim, sph_real r, sph_real h
                                    sph_real *hinv, sph_real *q)
 {
     const sph__kdim *kd = sph__kd(k, dim);
-    if (kd == NULL || sph_check_h(h) != SPH_OK || !(r >= 0 && r <= SPH__REAL_MAX)) return NULL;
+    if (kd == NULL || !sph__h_ok(h, dim) || !(r >= 0 && r <= SPH__REAL_MAX)) return NULL;
     *hinv = 1 / h;
     *q = r / h; /* one rounding: r = kappa h gives q = kappa exactly */
     /* beyond the support (r / h may even overflow to Inf): q = kappa selects
@@ -696,24 +724,33 @@ SPH_API sph_real sph__unit_ball(int dim)
 
 /* Expected number of neighbours inside the support (the particle itself
  * included) for particles of volume V = m / rho (docs/kernels.md eq. (K6)):
- * N = omega_d (kappa h)^d / V. 0 if invalid. */
+ * N = omega_d (kappa h)^d / V. 0 if invalid (V not positive and finite) and
+ * where N overflows sph_real. */
 SPH_API sph_real sph_kernel_neighbours(sph_kernel k, int dim, sph_real h, sph_real volume)
 {
     const sph_real kh = sph_kernel_support(k) * h;
-    if (sph_kernel_check(k, dim) != SPH_OK || !(volume > 0) || sph_check_h(h) != SPH_OK) return 0;
-    return sph__unit_ball(dim) * (dim == 1 ? kh : dim == 2 ? kh * kh : kh * kh * kh) / volume;
+    sph_real n;
+    if (sph_kernel_check(k, dim) != SPH_OK || !(volume > 0 && volume <= SPH__REAL_MAX) || !sph__h_ok(h, dim))
+        return 0;
+    n = sph__unit_ball(dim) * (dim == 1 ? kh : dim == 2 ? kh * kh : kh * kh * kh) / volume;
+    return sph__finite(n) ? n : 0;
 }
 
 /* The h that puts n_neigh neighbours (self included) inside the support of a
- * particle of volume V = m / rho: the inverse of sph_kernel_neighbours. */
+ * particle of volume V = m / rho: the inverse of sph_kernel_neighbours. 0 if
+ * invalid (n_neigh or V not positive and finite) and where n_neigh V
+ * overflows sph_real. */
 SPH_API sph_real sph_kernel_h_for_neighbours(sph_kernel k, int dim, sph_real n_neigh,
                                              sph_real volume)
 {
     sph_real x;
-    if (sph_kernel_check(k, dim) != SPH_OK || !(volume > 0) || !(n_neigh > 0)) return 0;
+    if (sph_kernel_check(k, dim) != SPH_OK || !(volume > 0 && volume <= SPH__REAL_MAX) ||
+        !(n_neigh > 0 && n_neigh <= SPH__REAL_MAX))
+        return 0;
     x = n_neigh * volume / sph__unit_ball(dim);
     x = dim == 1 ? x : dim == 2 ? sph__sqrt(x) : (sph_real)cbrt((double)x);
-    return x / sph_kernel_support(k);
+    x /= sph_kernel_support(k);
+    return sph__finite(x) ? x : 0;
 }
 
 /* The scalar kernel quantities, each alpha_d h^-p times a shape value. */
@@ -789,7 +826,7 @@ SPH_API void sph_kernel_grad(sph_kernel k, int dim, const sph_real *dx, sph_real
     sph_real s[3] = {0, 0, 0}, q2 = 0, q, w, g, G;
     const sph__kdim *kd = sph__kd(k, dim);
     int a;
-    if (kd == NULL || dx == NULL || grad == NULL || sph_check_h(h) != SPH_OK) {
+    if (kd == NULL || dx == NULL || grad == NULL || !sph__h_ok(h, dim)) {
         for (a = 0; grad != NULL && a < dim && a < 3; ++a) grad[a] = 0;
         return;
     }
@@ -848,12 +885,19 @@ typedef struct {
 /* Minimum image of one component of x_i - x_j (docs/operators.md eq. (O0)):
  * along a periodic axis of length L, dx - L * round(dx / L), so |dx| <= L/2
  * whatever multiple of L the two positions are apart. Unchanged when box is
- * NULL or the axis is not periodic. Every part of the library (and the
- * brute-force references of the tests) uses this one function. */
+ * NULL, a is outside 0..2, the axis is not periodic or its length not
+ * positive and finite, and where there is no image to take (dx NaN or
+ * infinite, or dx / L beyond the largest sph_real). Every part of the
+ * library (and the brute-force references of the tests) uses this one
+ * function. */
 SPH_API sph_real sph_box_delta(const sph_box *box, int a, sph_real dx)
 {
-    if (box == NULL || !box->periodic[a]) return dx;
-    return dx - box->length[a] * sph__floor(dx / box->length[a] + (sph_real)0.5);
+    sph_real L, d;
+    if (box == NULL || a < 0 || a > 2 || !box->periodic[a]) return dx;
+    L = box->length[a];
+    if (!(L > 0 && L <= SPH__REAL_MAX)) return dx;
+    d = dx - L * sph__floor(dx / L + (sph_real)0.5);
+    return sph__finite(d) ? d : dx;
 }
 
 /* View of a structure-of-arrays field (pass NULL for unused components). */
@@ -919,7 +963,17 @@ SPH_API sph_out sph_out_aos(sph_real *first, int ncomp, size_t stride_bytes)
  * fuse several operators in their own neighbour loop (docs/operators.md,
  * "Pair terms"). Conventions: dx = x_ij = x_i - x_j (minimum image, (O0)),
  * F = F_ij = (1/r) dW/dr at the pair's h, grad_i W_ij = F dx (O1); V_j = m_j /
- * rho_j. The vector terms add into acc[0..dim-1]; nothing is divided by r. */
+ * rho_j. The vector terms add into acc[0..dim-1]; nothing is divided by r.
+ *
+ * Bad input. These are the caller's inner loop and check nothing they need
+ * not: the sums and products below are plain arithmetic, finite for finite
+ * arguments whose products stay in range, and NaN or Inf in an argument
+ * passes into the result (validate fields once with sph_check_field). Arrays
+ * must hold dim (1..3) values; no component beyond the third is read or
+ * written whatever dim is. The functions that divide or evaluate the kernel
+ * return a documented finite fallback instead: sph_pair_kernel (zeros),
+ * sph_pressure_factor (0), sph_harmonic_k (0) and sph_correction_invert
+ * (identity). */
 
 /* Force-inlined helpers: the operator loops rely on them folding into one
  * loop body per kernel and dimension. */
@@ -940,19 +994,24 @@ typedef struct {
 
 /* (O1) r, q, W and F of a pair from dx = x_i - x_j (dim components) and the
  * pair's h (the caller picks h_i, or (h_i + h_j) / 2 for symmetric terms).
- * All zero for invalid kernel, dim or h (as the scalar kernel functions). */
+ * All zero, as the scalar kernel functions give, for invalid kernel, dim or
+ * h, and for a dx with a NaN or Inf component or so long that |dx|^2 or
+ * |dx| / h overflows (far beyond the support, where W = F = 0 anyway). */
 SPH_API sph_pair sph_pair_kernel(sph_kernel k, int dim, const sph_real *dx, sph_real h)
 {
     sph_pair p;
-    sph_real r2 = 0, w, g, hinv;
+    sph_real r2 = 0, w, g, hinv, r, q;
     const sph__kdim *kd = sph__kd(k, dim);
     int a;
     p.r = p.q = p.W = p.F = 0;
-    if (kd == NULL || dx == NULL || sph_check_h(h) != SPH_OK) return p;
+    if (kd == NULL || dx == NULL || !sph__h_ok(h, dim)) return p;
     for (a = 0; a < dim; ++a) r2 += dx[a] * dx[a];
     hinv = 1 / h;
-    p.r = sph__sqrt(r2);
-    p.q = p.r * hinv;
+    r = sph__sqrt(r2);
+    q = r * hinv;
+    if (!(q <= SPH__REAL_MAX)) return p; /* NaN (a NaN in dx) or Inf (Inf in dx, or overflow) */
+    p.r = r;
+    p.q = q;
     sph__shape_wg(&sph__shapes[kd->shape], p.q, &w, &g);
     p.W = sph__hpow(kd->alpha * w, hinv, dim);
     p.F = sph__hpow(kd->alpha * g, hinv, dim + 2);
@@ -969,7 +1028,7 @@ SPH_API sph_real sph_pair_interpolate(sph_real V_j, sph_real f_j, sph_real W) { 
 SPH__INLINE void sph__axpy(int dim, sph_real c, const sph_real *dx, sph_real *acc)
 {
     int a;
-    for (a = 0; a < dim; ++a) acc[a] += c * dx[a];
+    for (a = 0; a < dim && a < 3; ++a) acc[a] += c * dx[a];
 }
 
 /* (O4) standard gradient: acc += V_j f_j F dx. */
@@ -1002,8 +1061,15 @@ SPH_API void sph_pair_grad_pressure(int dim, sph_real m_j, sph_real P_i, sph_rea
     sph__axpy(dim, m_j * (P_i + P_j) * F, dx, acc);
 }
 
-/* P = p / rho^2, the per-particle factor of (O8). */
-SPH_API sph_real sph_pressure_factor(sph_real p, sph_real rho) { return p / (rho * rho); }
+/* P = p / rho^2, the per-particle factor of (O8). 0 where it is not a
+ * finite number: rho not positive (no division by 0), p or rho NaN or
+ * infinite, or rho^2 underflowing to 0; 0 also where rho^2 overflows (one
+ * multiplication and one division per call, as the pair loops need). */
+SPH_API sph_real sph_pressure_factor(sph_real p, sph_real rho)
+{
+    const sph_real P = rho > 0 ? p / (rho * rho) : 0;
+    return sph__finite(P) ? P : 0;
+}
 
 /* (O9) standard divergence: V_j v_j . dx F. */
 SPH_API sph_real sph_pair_div_standard(int dim, sph_real V_j, const sph_real *v_j, sph_real F,
@@ -1011,7 +1077,7 @@ SPH_API sph_real sph_pair_div_standard(int dim, sph_real V_j, const sph_real *v_
 {
     sph_real s = 0;
     int a;
-    for (a = 0; a < dim; ++a) s += v_j[a] * dx[a];
+    for (a = 0; a < dim && a < 3; ++a) s += v_j[a] * dx[a];
     return V_j * F * s;
 }
 
@@ -1021,7 +1087,7 @@ SPH_API sph_real sph_pair_div_difference(int dim, sph_real V_j, const sph_real *
 {
     sph_real s = 0;
     int a;
-    for (a = 0; a < dim; ++a) s += (v_j[a] - v_i[a]) * dx[a];
+    for (a = 0; a < dim && a < 3; ++a) s += (v_j[a] - v_i[a]) * dx[a];
     return V_j * F * s;
 }
 
@@ -1040,18 +1106,30 @@ SPH_API void sph_pair_curl(int dim, sph_real V_j, const sph_real *u, sph_real F,
     }
 }
 
-/* (O12) Laplacian (Brookshaw / Morris): 2 V_j (f_i - f_j) F. */
+/* (O12) Laplacian (Brookshaw / Morris): 2 V_j (f_i - f_j) F (the factor 2
+ * applied last: the same bits, and no 2 V_j overflowing on its own). */
 SPH_API sph_real sph_pair_laplacian(sph_real V_j, sph_real f_i, sph_real f_j, sph_real F)
 {
-    return 2 * V_j * (f_i - f_j) * F;
+    return V_j * (f_i - f_j) * F * 2;
 }
 
 /* (O13) pair coefficient k_ij = 4 k_i k_j / (k_i + k_j) (twice the harmonic
- * mean; 2k for k_i = k_j = k). 0 when k_i k_j <= 0 (a zero or sign-changing
- * coefficient blocks the flux), so k_i + k_j = 0 never divides. */
+ * mean; 2k for k_i = k_j = k). 0 when k_i and k_j do not have the same sign
+ * (a zero or sign-changing coefficient blocks the flux), so k_i + k_j = 0
+ * never divides, and 0 when either is NaN or infinite. Computed as
+ * a (4 b / (a + b)), a the one of smaller magnitude, so that the factor lies
+ * in [2, 4) and no intermediate overflows (a + b is scaled by 1/4 when b is
+ * that large); where k_ij itself exceeds the largest sph_real it saturates
+ * there, with a's sign. k_ij is symmetric in i, j bit for bit. */
 SPH_API sph_real sph_harmonic_k(sph_real k_i, sph_real k_j)
 {
-    return k_i * k_j > 0 ? 4 * k_i * k_j / (k_i + k_j) : 0;
+    const int same = (k_i > 0 && k_j > 0) || (k_i < 0 && k_j < 0);
+    const int swap = (k_i < 0 ? -k_i : k_i) > (k_j < 0 ? -k_j : k_j);
+    const sph_real a = swap ? k_j : k_i, b = swap ? k_i : k_j;
+    const sph_real big = (b < 0 ? -b : b) > SPH__REAL_MAX / 4 ? (sph_real)0.25 : 1; /* exact scaling of a + b */
+    const sph_real k = a * (4 * ((b * big) / (a * big + b * big)));
+    const sph_real sat = a > 0 ? SPH__REAL_MAX : -SPH__REAL_MAX;
+    return same && sph__finite(b) ? (sph__finite(k) ? k : sat) : 0;
 }
 
 /* (O14) diffusion div(k grad f): V_j k_ij (f_i - f_j) F with k_ij from (O13). */
@@ -1067,8 +1145,8 @@ SPH_API void sph_pair_correction(int dim, sph_real V_j, sph_real F, const sph_re
 {
     const sph_real c = -V_j * F;
     int a, b;
-    for (a = 0; a < dim; ++a)
-        for (b = 0; b < dim; ++b) M[3 * a + b] += c * dx[a] * dx[b];
+    for (a = 0; a < dim && a < 3; ++a)
+        for (b = 0; b < dim && b < 3; ++b) M[3 * a + b] += c * dx[a] * dx[b];
 }
 
 /* Largest column sum of |A| over the dim x dim block (matrix 1-norm). */
@@ -1086,13 +1164,21 @@ SPH__INLINE sph_real sph__norm1(int dim, const sph_real *A)
 
 /* (O16) B = M^-1 when M is well conditioned: reciprocal condition number in
  * the 1-norm, |det M| / (||M||_1 ||adj M||_1) >= rcond_min, tested without a
- * division (scale-free). Otherwise (degenerate neighbourhood, NaN) B = identity
- * and 0 is returned, else 1. M and B are 3x3 row-major; the dim x dim block
- * is used, the rest of B is set to zero. */
+ * division (scale-free), and every entry of M^-1 finite. Otherwise
+ * (degenerate neighbourhood, NaN or Inf in M, an inverse beyond the range of
+ * sph_real, rcond_min NaN) B = identity and 0 is returned, else 1. M and B
+ * are 3x3 row-major; the dim x dim block is used, the rest of B is set to
+ * zero (dim outside 1..3, or M NULL: B = identity of the block that fits, 0
+ * returned; B NULL: nothing written, 0). */
 SPH_API int sph_correction_invert(int dim, const sph_real *M, sph_real rcond_min, sph_real *B)
 {
-    sph_real A[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0}, det, ad, nm, na, inv;
+    sph_real A[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0}, det = 0, ad, nm, na, inv;
     int a, ok;
+    if (B == NULL) return 0;
+    if (M == NULL || dim < 1 || dim > 3) {
+        for (a = 0; a < 9; ++a) B[a] = a % 4 == 0 && a / 3 < dim ? 1 : 0;
+        return 0;
+    }
     if (dim == 1) {
         A[0] = 1;
         det = M[0];
@@ -1125,6 +1211,7 @@ SPH_API int sph_correction_invert(int dim, const sph_real *M, sph_real rcond_min
     ok = ad > 0 && ad <= SPH__REAL_MAX && ad >= rcond_min * nm * na &&
          (dim < 3 || 16 * na >= rcond_min * nm * nm);
     inv = ok ? 1 / det : 0;
+    for (a = 0; a < 9; ++a) ok &= sph__finite(A[a] * inv); /* a denormal det can make 1/det or an entry overflow */
     for (a = 0; a < 9; ++a) B[a] = ok ? A[a] * inv : (a % 4 == 0 && a / 3 < dim ? 1 : 0);
     return ok;
 }
@@ -1830,11 +1917,11 @@ SPH__INLINE void sph__chunk_correction(const sph__args *A, const int D, sph__chu
 /* sph__pform_eval and sph__nshape_pick on 8 values of q. */
 SPH__INLINE __m512d sph__pform_eval8(const sph__pform *f, __m512d q)
 {
-    const __m512d t = _mm512_sub_pd(_mm512_set1_pd(f->b), q), u = _mm512_sub_pd(q, _mm512_set1_pd(f->e));
-    __m512d p = _mm512_set1_pd(f->c[f->degree]), tm = _mm512_set1_pd(1);
+    const __m512d t = _mm512_sub_pd(_mm512_set1_pd((double)f->b), q), u = _mm512_sub_pd(q, _mm512_set1_pd((double)f->e));
+    __m512d p = _mm512_set1_pd((double)f->c[f->degree]), tm = _mm512_set1_pd(1);
     int i;
     SPH__UNROLL
-    for (i = f->degree - 1; i >= 0; --i) p = _mm512_fmadd_pd(p, u, _mm512_set1_pd(f->c[i]));
+    for (i = f->degree - 1; i >= 0; --i) p = _mm512_fmadd_pd(p, u, _mm512_set1_pd((double)f->c[i]));
     SPH__UNROLL
     for (i = 0; i < f->m; ++i) tm = _mm512_mul_pd(tm, t);
     return _mm512_mul_pd(tm, p);
@@ -1847,7 +1934,7 @@ SPH__INLINE __m512d sph__nshape_pick8(const sph__nshape *s, const int G, __m512d
     SPH__UNROLL
     for (p = 1; p < s->npiece; ++p) {
         const __m512d x = sph__pform_eval8(G ? &s->piece[p].g : &s->piece[p].w, q);
-        v = _mm512_mask_mov_pd(v, _mm512_cmp_pd_mask(q, _mm512_set1_pd(s->lo[p]), _CMP_GE_OQ), x);
+        v = _mm512_mask_mov_pd(v, _mm512_cmp_pd_mask(q, _mm512_set1_pd((double)s->lo[p]), _CMP_GE_OQ), x);
     }
     return v;
 }
@@ -1886,8 +1973,8 @@ SPH__INLINE void sph__dg8_body(const sph__args *A, const sph__nshape *sh, const 
     const ptrdiff_t sx = A->x.stride, sm = A->m.stride, sV = A->V.stride, sf = A->f.stride;
     /* views sharing the stride of x (SoA, or one array of structs) share its offsets */
     const int one = (!dens || sm == sx) && (!grad || (sV == sx && sf == sx));
-    const __m512d hinv = _mm512_set1_pd(t->hinv), kap = _mm512_set1_pd(sh->kappa), zero = _mm512_setzero_pd();
-    const __m512d vfi = _mm512_set1_pd(fi);
+    const __m512d hinv = _mm512_set1_pd((double)t->hinv), kap = _mm512_set1_pd((double)sh->kappa);
+    const __m512d zero = _mm512_setzero_pd(), vfi = _mm512_set1_pd((double)fi);
     __m512d s0 = zero, s1 = zero, s2 = zero, sr = zero;
     sph_off o;
     int k;
@@ -1916,7 +2003,7 @@ SPH__INLINE void sph__dg8_body(const sph__args *A, const sph__nshape *sh, const 
             __m512d gq = sph__nshape_pick8(sh, 1, q), c;
             if (sh->npiece > 1)
                 gq = _mm512_div_pd(gq, _mm512_mask_mov_pd(_mm512_set1_pd(1),
-                                                          _mm512_cmp_pd_mask(q, _mm512_set1_pd(sh->lo[1]), _CMP_GE_OQ), q));
+                                                          _mm512_cmp_pd_mask(q, _mm512_set1_pd((double)sh->lo[1]), _CMP_GE_OQ), q));
             c = _mm512_mul_pd(sph__at8(zero, in, A->V.p[0], one ? ox : oV),
                               _mm512_sub_pd(sph__at8(vfi, in, A->f.p[0], one ? ox : of), vfi));
             c = _mm512_mul_pd(c, _mm512_maskz_mul_pd(in, _mm512_set1_pd((double)t->cF), gq));
@@ -2186,12 +2273,12 @@ SPH_API int sph__out_ok(sph_out v, int ncomp)
     return v.stride > 0 ? SPH_OK : SPH_EINVAL;
 }
 
-/* SPH_OK when h is usable by the operators in dim dimensions: sph_check_h,
- * and 64 h^-(dim+2) finite, so alpha h^-(dim+2) and every F_ij are
- * (docs/operators.md, "Extreme cases"); else SPH_EH. */
+/* SPH_OK when h is usable by the operators in dim dimensions (sph__h_ok: 64
+ * h^-(dim+2) finite, so alpha h^-(dim+2) and every F_ij are;
+ * docs/operators.md, "Extreme cases"); else SPH_EH. */
 SPH_API int sph__op_h(sph_real h, int dim)
 {
-    return sph_check_h(h) == SPH_OK && sph__hpow(64, 1 / h, dim + 2) <= SPH__REAL_MAX ? SPH_OK : SPH_EH;
+    return sph__h_ok(h, dim) ? SPH_OK : SPH_EH;
 }
 
 /* Largest |coordinate| the operators take: twice it squared, times 3, stays
@@ -2253,15 +2340,17 @@ SPH_API int sph__setup(const sph_ctx *c, int need, int ncomp, sph_view f, sph_vi
 #if defined(SPH_DIM)
     if (c->dim != (SPH_DIM)) return SPH_EDIM;
 #endif
+    /* the counts against each other first: nothing is read beyond what they allow */
     if (c->list->offset == NULL) return SPH_ENULL;
     if (c->list->n_targets < 0 || c->list->n_sources < 0) return SPH_ESIZE;
+    if (c->x_target.p[0] == NULL && c->list->n_targets > c->list->n_sources) return SPH_ESIZE;
     if (full && (st = sph_neighbours_check(c->list)) != SPH_OK) return st;
     if (c->list->offset[c->list->n_targets] > 0 && c->list->index == NULL) return SPH_ENULL;
-    if (c->x_target.p[0] == NULL && c->list->n_targets > c->list->n_sources) return SPH_ESIZE;
     if (!(c->rcond_min >= 0 && c->rcond_min < 1)) return SPH_EINVAL;
     if (c->loops != SPH_LOOPS_FAST && c->loops != SPH_LOOPS_REFERENCE) return SPH_EINVAL;
     for (a = 0; c->box != NULL && a < c->dim; ++a)
-        if (c->box->periodic[a] && !(c->box->length[a] > 0 && c->box->length[a] <= SPH__REAL_MAX))
+        if (c->box->periodic[a] && !(c->box->length[a] > 0 && c->box->length[a] <= SPH__REAL_MAX &&
+                                     1 / c->box->length[a] <= SPH__REAL_MAX)) /* (O0) takes 1/L */
             return SPH_EINVAL;
     A->kernel = c->kernel;
     A->op = -1;
@@ -2564,16 +2653,30 @@ SPH_API int sph_check_field(sph_view f, int ncomp, sph_idx n, sph_idx *first_bad
  * particles is faster and their lists map back to the unsorted ones.
  *
  * Every function returns SPH_OK or a negative status: SPH_EDIM (dim outside
- * 1..3), SPH_ESIZE (negative count, workspace or index too small, more than
- * SPH_NSEARCH_MAX_CELLS cells), SPH_ENULL, SPH_EH (h not positive and finite),
- * SPH_ENONFINITE (NaN or Inf position), SPH_EINVAL (cell or kappa not positive
- * and finite, bad mode or box, grid not built, offsets inconsistent with the
- * targets), SPH_EINDEX (not a permutation). */
+ * 1..3), SPH_ESIZE (negative count, more than SPH_NSEARCH_MAX_SOURCES
+ * sources, workspace or index too small), SPH_EGRID (more than
+ * SPH_NSEARCH_MAX_CELLS cells: a source far from the others, or a cell size
+ * too small for the cloud), SPH_ENULL, SPH_EH (h not positive and finite),
+ * SPH_ENONFINITE (NaN or Inf position), SPH_EINVAL (cell or kappa not
+ * positive and finite, bad mode or box, grid not built, offsets inconsistent
+ * with the targets), SPH_EPERIOD (a search radius above half a period: the
+ * minimum image of eq. (N3) would see one image of a source where two or
+ * more lie within reach), SPH_EINDEX (not a permutation).
+ *
+ * Limits, in one place (docs/neighbours.md, "Limits"): particle counts and
+ * source indices are sph_idx (int32), so at most 2^31 - 1 targets and
+ * SPH_NSEARCH_MAX_SOURCES = 2^31 - 17 sources; a grid has at most
+ * SPH_NSEARCH_MAX_CELLS = 2^29 - 1 cells; list positions are sph_off (int64),
+ * so the total list length is bounded by memory alone. */
 
 enum { SPH_NSEARCH_GATHER = 0, SPH_NSEARCH_SYMMETRIC = 1 };
 
-/* Largest number of cells of a grid (keeps every cell index arithmetic in int). */
-#define SPH_NSEARCH_MAX_CELLS 536870911
+/* Hard limits (docs/neighbours.md, "Limits"): cells of a grid, per axis
+ * and in all, so that every cell index stays in int (more: SPH_EGRID), and
+ * sources of a grid, so that the padded arrays stay indexable by sph_idx
+ * (more: SPH_ESIZE). */
+#define SPH_NSEARCH_MAX_CELLS 536870911    /* 2^29 - 1 */
+#define SPH_NSEARCH_MAX_SOURCES 2147483631 /* 2^31 - 17 */
 
 /* A cell grid over the sources. Filled by sph_nsearch_build; the arrays live
  * in the caller's workspace. */
@@ -2581,6 +2684,7 @@ typedef struct {
     int dim;              /* 1..3 once built, 0 otherwise */
     int n[3];             /* cells per axis (1 for unused axes) */
     int n_cells;          /* n[0] n[1] n[2] */
+    int n_occupied;       /* cells holding at least one source */
     sph_idx n_sources;
     sph_real lo[3];       /* grid origin */
     sph_real w[3];        /* cell width per axis */
@@ -2632,8 +2736,6 @@ SPH_API sph_real sph__nsearch_eps(void)
     return sizeof(sph_real) == sizeof(float) ? (sph_real)FLT_EPSILON : (sph_real)DBL_EPSILON;
 }
 
-SPH_API int sph__ns_finite(sph_real x) { return x >= -SPH__REAL_MAX && x <= SPH__REAL_MAX; }
-
 /* Component a of particle i of a view. */
 SPH_API sph_real sph__ns_at(sph_view v, int a, sph_idx i) { return v.p[a][(ptrdiff_t)i * v.stride]; }
 
@@ -2680,12 +2782,18 @@ SPH_API int sph__ns_scan_x(int dim, sph_view x, sph_idx n, sph_real *amax)
 
 SPH_API int sph__ns_check_x(int dim, sph_view x, sph_idx n) { return sph__ns_scan_x(dim, x, n, NULL); }
 
-/* Checks n per-particle smoothing lengths (absent view: none): SPH_EH if any is bad. */
-SPH_API int sph__ns_check_h(sph_view h, sph_idx n)
+/* Checks n per-particle smoothing lengths (absent view: none) in dim
+ * dimensions (sph__h_ok, so that the lists serve the operators): SPH_EH if
+ * any is bad; the largest into *hmax (0 for none). */
+SPH_API int sph__ns_check_h(sph_view h, sph_idx n, int dim, sph_real *hmax)
 {
     sph_idx i;
-    for (i = 0; h.p[0] != NULL && i < n; ++i)
-        if (sph_check_h(h.p[0][(ptrdiff_t)i * h.stride]) != SPH_OK) return SPH_EH;
+    *hmax = 0;
+    for (i = 0; h.p[0] != NULL && i < n; ++i) {
+        const sph_real hi = h.p[0][(ptrdiff_t)i * h.stride];
+        if (!sph__h_ok(hi, dim)) return SPH_EH;
+        *hmax = hi > *hmax ? hi : *hmax;
+    }
     return SPH_OK;
 }
 
@@ -3178,8 +3286,9 @@ SPH_API void sph__nsearch_target(const sph_nsearch *g, sph__probe *p)
     sph_real Rm, far = 0;
     int a, kc[3] = {0, 0, 0}, E[3] = {0, 0, 0}, inside = 1, edge = 0;
     for (a = 0; a < 3; ++a) {
+        const sph_real ax = p->xt[a] < 0 ? -p->xt[a] : p->xt[a]; /* |x| in sph_real: no promotion to double */
         p->t[a] = a < g->dim ? sph__nsearch_rel(g, a, p->xt[a]) : (sph_real)0.5;
-        far = fabs(p->xt[a]) > far ? fabs(p->xt[a]) : far;
+        far = ax > far ? ax : far;
     }
     /* search radius with the rounding allowance of docs/neighbours.md: never misses a pair */
     Rm = Rs + Rs / 1024 + g->slack + 64 * sph__nsearch_eps() * far;
@@ -3221,17 +3330,13 @@ SPH_API int sph__nsearch_geometry(sph_nsearch *g, int dim, sph_view xs, sph_idx 
     sph_idx i;
     g->dim = 0;
     if (dim < 1 || dim > 3) return SPH_EDIM;
-    if (ns < 0 || ns > INT32_MAX - SPH__NS_BLOCK) return SPH_ESIZE;
+    if (ns < 0 || ns > SPH_NSEARCH_MAX_SOURCES) return SPH_ESIZE;
     if (!(cell > 0 && cell <= SPH__REAL_MAX)) return SPH_EINVAL;
+    if (!(1 / cell <= SPH__REAL_MAX)) return SPH_EGRID; /* a denormal cell: cell widths of 1/0 */
     if ((st = sph__ns_scan_x(dim, xs, ns, amax)) != SPH_OK) return st;
-    if (ns > 0 && hs.p[0] != NULL && (st = sph__ns_check_h(hs, ns)) != SPH_OK) return st;
+    if ((st = sph__ns_check_h(hs, ns, dim, &g->h_max)) != SPH_OK) return st;
     g->n_sources = ns;
     g->n_padded = ns + SPH__NS_BLOCK;
-    g->h_max = 0;
-    for (i = 0; hs.p[0] != NULL && i < ns; ++i) {
-        const sph_real hi = hs.p[0][(ptrdiff_t)i * hs.stride];
-        g->h_max = hi > g->h_max ? hi : g->h_max;
-    }
     for (a = 0; a < 3; ++a) {
         sph_real lo = 0, L = 0;
         double na = 1;
@@ -3239,7 +3344,7 @@ SPH_API int sph__nsearch_geometry(sph_nsearch *g, int dim, sph_view xs, sph_idx 
         if (per) {
             lo = box->lo[a];
             L = box->length[a];
-            if (!sph__ns_finite(lo) || !(L > 0 && L <= SPH__REAL_MAX)) return SPH_EINVAL;
+            if (!sph__finite(lo) || !(L > 0 && L <= SPH__REAL_MAX && 1 / L <= SPH__REAL_MAX)) return SPH_EINVAL;
         } else if (a < dim && ns > 0) {
             sph_real hi = sph__ns_at(xs, a, 0);
             lo = hi;
@@ -3251,7 +3356,7 @@ SPH_API int sph__nsearch_geometry(sph_nsearch *g, int dim, sph_view xs, sph_idx 
             L = hi - lo;
         }
         if (a < dim) na = floor((double)L / (double)cell);
-        if (!(na <= (double)SPH_NSEARCH_MAX_CELLS)) return SPH_ESIZE;
+        if (!(na <= (double)SPH_NSEARCH_MAX_CELLS)) return SPH_EGRID;
         na = na < 1 ? 1 : na;
         total *= na;
         g->n[a] = (int)na;
@@ -3266,7 +3371,7 @@ SPH_API int sph__nsearch_geometry(sph_nsearch *g, int dim, sph_view xs, sph_idx 
             extent = fabs((double)lo) + (double)L + (double)g->w[a];
         if (a < dim && (double)amax[a] > extent) extent = (double)amax[a]; /* sources outside a periodic box */
     }
-    if (total > (double)SPH_NSEARCH_MAX_CELLS) return SPH_ESIZE;
+    if (total > (double)SPH_NSEARCH_MAX_CELLS) return SPH_EGRID;
     g->quarter2 = SPH__REAL_MAX;
     for (a = 0; a < dim; ++a)
         if (g->box.periodic[a] && g->quarter[a] * g->quarter[a] < g->quarter2) g->quarter2 = g->quarter[a] * g->quarter[a];
@@ -3310,7 +3415,7 @@ SPH_API int sph_nsearch_workspace_size(int dim, sph_view xs, sph_idx n_sources, 
     *bytes = 0;
     if ((st = sph__nsearch_geometry(&g, dim, xs, n_sources, hs, cell, box)) != SPH_OK) return st;
     need = sph__nsearch_layout(&g, hs.p[0] != NULL, NULL);
-    if (!(need <= (double)SIZE_MAX)) return SPH_ESIZE;
+    if (!(need <= (double)SIZE_MAX)) return SPH_EGRID;
     *bytes = (size_t)need;
     return SPH_OK;
 }
@@ -3340,7 +3445,11 @@ SPH_API int sph_nsearch_build(sph_nsearch *g, int dim, sph_view xs, sph_idx n_so
         for (a = 0; a < dim; ++a) x[a] = sph__ns_at(xs, a, i);
         ++g->cell_start[sph__nsearch_source_cell(g, x) + 1];
     }
-    for (c = 0; c < g->n_cells; ++c) g->cell_start[c + 1] += g->cell_start[c];
+    g->n_occupied = 0;
+    for (c = 0; c < g->n_cells; ++c) {
+        g->n_occupied += g->cell_start[c + 1] > 0;
+        g->cell_start[c + 1] += g->cell_start[c];
+    }
     for (i = 0; i < n_sources; ++i) { /* scatter; cell_start[c] runs ahead to the next cell */
         sph_idx k;
         for (a = 0; a < dim; ++a) x[a] = sph__ns_at(xs, a, i);
@@ -3360,20 +3469,32 @@ SPH_API int sph_nsearch_build(sph_nsearch *g, int dim, sph_view xs, sph_idx n_so
     return SPH_OK;
 }
 
-/* Checks the arguments shared by count, fill and stats. */
+/* Checks the arguments shared by count, fill, lists and stats. The largest
+ * search radius R = kappa h_i (gather) or kappa max(h_i, h_j) (symmetric)
+ * must fit the minimum image: R <= L/2 on every periodic axis, so that no
+ * source has two images within reach (else SPH_EPERIOD). */
 SPH_API int sph__nsearch_check(const sph_nsearch *g, sph_view xt, sph_idx nt, sph_view ht,
                                sph_real h, sph_real kappa, int mode)
 {
     int uses_h = ht.p[0] == NULL || (mode == SPH_NSEARCH_SYMMETRIC && g != NULL && g->h == NULL);
-    int st;
+    int st, a;
+    sph_real hmax;
     if (g == NULL) return SPH_ENULL;
     if (g->dim < 1 || g->dim > 3) return SPH_EINVAL;
     if (nt < 0) return SPH_ESIZE;
     if (mode != SPH_NSEARCH_GATHER && mode != SPH_NSEARCH_SYMMETRIC) return SPH_EINVAL;
     if (!(kappa > 0 && kappa <= SPH__REAL_MAX)) return SPH_EINVAL;
-    if (uses_h && sph_check_h(h) != SPH_OK) return SPH_EH;
+    if (uses_h && !sph__h_ok(h, g->dim)) return SPH_EH;
     if ((st = sph__ns_check_x(g->dim, xt, nt)) != SPH_OK) return st;
-    return sph__ns_check_h(ht, nt);
+    if ((st = sph__ns_check_h(ht, nt, g->dim, &hmax)) != SPH_OK) return st;
+    if (ht.p[0] == NULL) hmax = h;
+    if (mode == SPH_NSEARCH_SYMMETRIC) {
+        const sph_real hs = g->h != NULL ? g->h_max : h;
+        hmax = hs > hmax ? hs : hmax;
+    }
+    for (a = 0; a < g->dim; ++a)
+        if (g->box.periodic[a] && !(kappa * hmax <= g->box.length[a] / 2)) return SPH_EPERIOD;
+    return SPH_OK;
 }
 
 /* The search parameters of target i (position, h_i, criterion). */
@@ -3541,9 +3662,13 @@ SPH_API int sph_nsearch_lists(const sph_nsearch *g, sph_view xt, sph_idx n_targe
 }
 
 /* Statistics of one search without storing it (docs/neighbours.md,
- * "Measured"): pairs found by (N1)/(N2) and candidate distance checks made. */
+ * "Measured"): pairs found by (N1)/(N2), candidate distance checks made and,
+ * when fill != NULL, the grid's fill ratio: occupied cells / cells (1 for
+ * one source per cell; a small value means a mostly empty grid, e.g. around
+ * an escaped particle: docs/neighbours.md, "Limits"). */
 SPH_API int sph_nsearch_stats(const sph_nsearch *g, sph_view xt, sph_idx n_targets, sph_view ht,
-                              sph_real h, sph_real kappa, int mode, sph_off *pairs, sph_off *candidates)
+                              sph_real h, sph_real kappa, int mode, sph_off *pairs, sph_off *candidates,
+                              sph_real *fill)
 {
     sph_off stats[3];
     int st = sph__nsearch_check(g, xt, n_targets, ht, h, kappa, mode);
@@ -3552,6 +3677,7 @@ SPH_API int sph_nsearch_stats(const sph_nsearch *g, sph_view xt, sph_idx n_targe
     sph__nsearch_run(g, xt, n_targets, ht, h, kappa, mode, NULL, NULL, NULL, stats);
     *pairs = stats[0];
     *candidates = stats[1];
+    if (fill != NULL) *fill = (sph_real)((double)g->n_occupied / (double)g->n_cells);
     return SPH_OK;
 }
 

@@ -53,7 +53,7 @@ static void run(const char *label, const sph_real *x, int n, sph_real h, sph_rea
     st |= sph_nsearch_lists(&g, v, n, sph_view_none(), h, kappa, SPH_NSEARCH_GATHER, off, idx, cap,
                             &pairs);
     t4 = now();
-    st |= sph_nsearch_stats(&g, v, n, sph_view_none(), h, kappa, SPH_NSEARCH_GATHER, &pairs, &cand);
+    st |= sph_nsearch_stats(&g, v, n, sph_view_none(), h, kappa, SPH_NSEARCH_GATHER, &pairs, &cand, NULL);
     printf("%-12s cell %.3f R  cells %7d  build %.4f s  count %.4f s  fill %.4f s  lists %.4f s  "
            "neighbours/particle %.1f  candidates/neighbour %.3f  workspace %.1f MB%s\n",
            label, cell_over_R, g.n_cells, t1 - t0, t2 - t1, t3 - t2, t4 - t3, (double)pairs / n,

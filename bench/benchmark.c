@@ -518,7 +518,7 @@ int main(int argc, char **argv)
         sph_nsearch g;
         const sph_real kappa = sph_kernel_support(SPH_KERNEL_CUBIC);
         chk(sph_nsearch_build(&g, 3, xview(&s), s.n, sph_view_none(), kappa * s.h / 2, &s.box, s.work, s.ws_bytes));
-        chk(sph_nsearch_stats(&g, xview(&s), s.n, sph_view_none(), s.h, kappa, SPH_NSEARCH_GATHER, &npairs, &ncand));
+        chk(sph_nsearch_stats(&g, xview(&s), s.n, sph_view_none(), s.h, kappa, SPH_NSEARCH_GATHER, &npairs, &ncand, NULL));
     }
     pairs = (double)s.off[s.n];
     printf("benchmark: %s, %d^3 = %d particles, perturbed lattice (+-10%% dx), periodic unit box, sorted by cell\n",

@@ -3,13 +3,20 @@
  * Invalid input (documented fallback of section 3): every scalar kernel
  * function returns 0, sph_kernel_wf and sph_kernel_grad write zeros, for an
  * unknown kernel, a dimension outside 1..3, r < 0 / NaN / Inf, h <= 0 / NaN /
- * Inf / so small that 1/h overflows; sph_kernel_check and sph_check_h report
- * SPH_EKERNEL, SPH_EDIM, SPH_EH; names round-trip through
- * sph_kernel_from_name (NULL and unknown names give SPH_EKERNEL);
- * sph_strerror is never NULL.
+ * Inf / so small that 64 h^-(d+2) overflows (float 1e-30 among them);
+ * sph_kernel_check and sph_check_h report SPH_EKERNEL, SPH_EDIM, SPH_EH;
+ * names round-trip through sph_kernel_from_name (NULL and unknown names give
+ * SPH_EKERNEL); sph_strerror is never NULL.
+ *
+ * The smallest usable h (64 h^-(d+2) = the largest sph_real, found here in
+ * long double): just above it every quantity of every kernel is finite, just
+ * below it h is refused (SPH_EH, zeros) in that dimension and still usable in
+ * lower ones; 0.8 times it the true 3-D Lucy F(0) = 25.07 h^-5 overflows,
+ * so the refusal is needed, not merely cautious.
  *
  * Scale: W(r, h) = h^-d W(r/h, 1), dW/dr and dW/dh scale with h^-(d+1),
- * F and d2W/dr2 with h^-(d+2), grad W with h^-(d+1).
+ * F and d2W/dr2 with h^-(d+2), grad W with h^-(d+1); where h is refused in
+ * dimension d (float 3-D below 4.5e-8) every value is 0 instead.
  *  - h = 2^k (double |k| <= 99, float |k| <= 29): r = q h and 1/h are exact,
  *    so the scaled values must be bitwise those of h = 1 times 2^(-k p)
  *    wherever that is a normal number (for grad W, at least 4 times the
@@ -17,9 +24,7 @@
  *    times smaller than the result);
  *  - h = 10^k (double 1e-30..1e30, float 1e-9..1e9): at q = 0 (no rounding
  *    of q) the relative error is <= 8 eps, and at q = 0, 0.3 kappa, 0.7 kappa
- *    every value is finite wherever the true value is a normal number (in
- *    float 3-D at h = 1e-9, F and d2W/dr2 ~ 1e45 are not representable and
- *    are not judged).
+ *    every value is finite wherever the true value is a normal number.
  */
 #include "kernel_ref.h"
 
@@ -29,6 +34,10 @@
 enum { S_W, S_DWDR, S_F, S_D2W, S_DWDH, S_COUNT };
 static const char *const sname[S_COUNT] = {"W", "dW/dr", "F", "d2W/dr2", "dW/dh"};
 static const int spow[S_COUNT] = {0, 1, 2, 2, 1}; /* extra power of 1/h beyond d */
+
+/* The documented rule of sph_check_h in dimension dim: h refused where
+ * 64 h^-(dim+2) exceeds the largest sph_real (long double, no sph_real rounding). */
+static int h_refused(long double h, int dim) { return 64.0L / powl(h, dim + 2) > (long double)REAL_MAX; }
 
 static sph_real scalar(int which, sph_kernel k, int dim, sph_real r, sph_real h)
 {
@@ -64,7 +73,8 @@ static void test_invalid(void)
     const sph_kernel bad_k[3] = {(sph_kernel)-1, SPH_KERNEL_COUNT, (sph_kernel)100};
     const int bad_dim[3] = {0, 4, -1};
     const sph_real bad_r[4] = {-1, -(sph_real)1e-30, nan, inf};
-    const sph_real bad_h[7] = {0, -1, -0.0, nan, inf, -inf, sub};
+    const sph_real tiny = TH_IS_FLOAT ? (sph_real)1e-30f : (sph_real)1e-110; /* 1/h finite, 64 h^-3 not */
+    const sph_real bad_h[8] = {0, -1, -0.0, nan, inf, -inf, sub, tiny};
     int i, ik, dim;
     th_begin("invalid kernel: zeros, SPH_EKERNEL, alpha/sigma/support/neighbours 0");
     for (i = 0; i < 3; ++i) {
@@ -94,7 +104,7 @@ static void test_invalid(void)
              * support, every value is 0 (it was NaN: 0 * Inf in the zero row) */
             expect_fallback(k, dim, (sph_real)(TH_IS_FLOAT ? FLT_MAX / 2 : DBL_MAX / 2), (sph_real)1e-3,
                             "r / h overflows");
-            for (i = 0; i < 7; ++i) {
+            for (i = 0; i < 8; ++i) {
                 expect_fallback(k, dim, (sph_real)0.5 * (sph_real)1e-30, bad_h[i], "bad h");
                 TH_CHECK(sph_check_h(bad_h[i]) == SPH_EH, "sph_check_h(%g) = %d", (double)bad_h[i],
                          sph_check_h(bad_h[i]));
@@ -120,10 +130,53 @@ static void test_invalid(void)
         th_end();
     }
     th_begin("sph_check_h accepts usable h");
-    TH_CHECK(sph_check_h(1) == SPH_OK && sph_check_h((sph_real)1e-30 * (TH_IS_FLOAT ? 1e21f : 1)) == SPH_OK &&
-                 sph_check_h((sph_real)REAL_MIN) == SPH_OK,
+    TH_CHECK(sph_check_h(1) == SPH_OK && sph_check_h((sph_real)(TH_IS_FLOAT ? 1e-7 : 1e-60)) == SPH_OK &&
+                 sph_check_h((sph_real)REAL_MAX) == SPH_OK,
              "usable h rejected");
     th_end();
+}
+
+/* The boundary of sph_check_h and of the per-dimension rule of the scalar functions. */
+static void test_h_boundary(void)
+{
+    static const double qf[4] = {0, 0.3, 0.7, 0.95};
+    int ik, dim, i, j, a;
+    for (dim = 1; dim <= 3; ++dim) {
+        const long double hb = powl(64.0L / (long double)REAL_MAX, 1.0L / (dim + 2));
+        const sph_real h_in = (sph_real)(hb * 1.0001L), h_out = (sph_real)(hb * 0.9999L);
+        th_begin("smallest usable h in %dD (%.4Lg): above it every quantity finite, below it zeros", dim, hb);
+        TH_CHECK(!h_refused(h_in, dim) && h_refused(h_out, dim), "the test's own h straddle the bound");
+        if (dim == 3) {
+            const long double F_true = (long double)sph_kernel_f(SPH_KERNEL_LUCY, 3, 0, 1) / powl(hb * 0.8L, 5);
+            TH_CHECK(sph_check_h(h_in) == SPH_OK && sph_check_h(h_out) == SPH_EH, "sph_check_h(%g) = %d, (%g) = %d",
+                     (double)h_in, sph_check_h(h_in), (double)h_out, sph_check_h(h_out));
+            TH_CHECK(fabsl(F_true) > (long double)REAL_MAX, "at 0.8 of the bound Lucy 3-D F(0) = %Lg fits: the bound is loose",
+                     F_true);
+        }
+        for (ik = 0; ik < SPH_KERNEL_COUNT; ++ik) {
+            const sph_kernel k = ref_kernels[ik];
+            for (j = 0; j < 4; ++j) {
+                const sph_real q = (sph_real)(qf[j] * (double)sph_kernel_support(k));
+                sph_real dx[3] = {0, 0, 0}, g[3] = {7, 7, 7}, W = 7, F = 7;
+                for (i = 0; i < S_COUNT; ++i) {
+                    const double in = (double)scalar(i, k, dim, q * h_in, h_in);
+                    const double out = (double)scalar(i, k, dim, q * h_out, h_out);
+                    TH_CHECK(isfinite(in) && (j > 0 || i == S_DWDR || in != 0), "%s q %g: %s = %g at h just usable",
+                             sph_kernel_name(k), (double)q, sname[i], in);
+                    TH_CHECK(out == 0, "%s: %s = %g at h just refused", sph_kernel_name(k), sname[i], out);
+                }
+                sph_kernel_wf(k, dim, q * h_in, h_in, &W, &F);
+                TH_CHECK(isfinite((double)W) && isfinite((double)F), "wf: %g %g", (double)W, (double)F);
+                dx[0] = q * h_in;
+                sph_kernel_grad(k, dim, dx, h_in, g);
+                for (a = 0; a < dim; ++a) TH_CHECK(isfinite((double)g[a]), "grad[%d] = %g", a, (double)g[a]);
+                if (dim > 1) /* refused in dim is still usable in dim - 1 (a bound per dimension) */
+                    TH_CHECK(sph_kernel_w(k, dim - 1, 0, h_out) > 0, "%s: W in %dD = 0 at an h usable there",
+                             sph_kernel_name(k), dim - 1);
+            }
+        }
+        th_end();
+    }
 }
 
 static void test_names(void)
@@ -156,6 +209,12 @@ static void test_scale_pow2(sph_kernel k, int dim)
         for (j = 0; j < 6; ++j) {
             const sph_real q = (sph_real)(qs[j] * kap), r = q * h;
             sph_real dx[3] = {0, 0, 0}, dx1[3] = {0, 0, 0}, g[3], g1[3];
+            if (h_refused(h, dim)) { /* refused in this dimension: every value 0 */
+                for (i = 0; i < S_COUNT; ++i)
+                    TH_CHECK(scalar(i, k, dim, r, h) == 0, "h = 2^%d refused: %s = %g", e, sname[i],
+                             (double)scalar(i, k, dim, r, h));
+                continue;
+            }
             for (i = 0; i < S_COUNT; ++i) {
                 const long double want = ldexpl((long double)scalar(i, k, dim, q, 1), -e * (dim + spow[i]));
                 const double got = (double)scalar(i, k, dim, r, h);
@@ -199,6 +258,12 @@ static void test_scale_pow10(sph_kernel k, int dim)
             const sph_real q = (sph_real)(j == 0 ? 0 : j == 1 ? 0.3 * kap : 0.7 * kap);
             const sph_real r = q * h;
             sph_real dx[3] = {0, 0, 0}, g[3];
+            if (h_refused(h, dim)) { /* refused in this dimension: every value 0 */
+                for (i = 0; i < S_COUNT; ++i)
+                    TH_CHECK(scalar(i, k, dim, r, h) == 0, "h = 1e%d refused: %s = %g", e, sname[i],
+                             (double)scalar(i, k, dim, r, h));
+                continue;
+            }
             for (i = 0; i < S_COUNT; ++i) {
                 const long double want = (long double)scalar(i, k, dim, q, 1) / powl((long double)h, dim + spow[i]);
                 const double got = (double)scalar(i, k, dim, r, h);
@@ -230,6 +295,7 @@ int main(void)
 {
     int ik, dim;
     test_invalid();
+    test_h_boundary();
     test_names();
     for (ik = 0; ik < SPH_KERNEL_COUNT; ++ik) {
         for (dim = 1; dim <= 3; ++dim) {

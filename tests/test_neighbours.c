@@ -211,7 +211,8 @@ static void test_lattice_edges(void)
 }
 
 /* Periodic boxes: every subset of periodic axes, with 1, 2, 3 or many cells
- * per axis (R up to above L/2), positions also outside the box. */
+ * per axis (R up to L/2, the largest the minimum image allows), positions
+ * also outside the box. */
 static void test_periodic(void)
 {
     static const double cells_per_L[4] = {1, 2, 3, 7.5};
@@ -227,8 +228,8 @@ static void test_periodic(void)
                 nb_problem p;
                 tp_uniform_cloud(dim, n, L, &rng, x);
                 for (i = 0; i < n; i += 7) x[3 * i] += (sph_real)(i % 2 ? L : -2 * L); /* other images */
-                /* h so that R = 0.3 L (3-D: ~80 neighbours) and, for the last, R = 0.6 L > L/2 */
-                p = nb_make(dim, x, n, (sph_real)(c == 3 ? 0.6 : 0.3) * (sph_real)L / 2, 2,
+                /* h so that R = 0.3 L (3-D: ~80 neighbours) and, for the last, R = L/2 */
+                p = nb_make(dim, x, n, (sph_real)(c == 3 ? 0.5 : 0.3) * (sph_real)L / 2, 2,
                             (sph_real)(L / cells_per_L[c]));
                 p.box = &box;
                 th_begin("periodic %dD axes mask %d, %.3g cells per period: list equals brute force",
@@ -271,11 +272,16 @@ static void test_faces(void)
                     for (a = 0; a < 3; ++a) x[3 * n + a] = a == 0 ? v : a < dim ? (sph_real)(0.3 + 0.7 * tp_uniform(&rng)) : 0;
                     ++n;
                 }
-            for (i = 0; i < n; ++i) { /* R_i just above the distance to a random other particle */
-                int j = (int)(tp_uniform(&rng) * n);
-                sph_real r2 = tp_r2(dim, x + 3 * i, x + 3 * j, per ? &box : NULL), R = (sph_real)sqrt((double)r2);
-                while (r2 > 0 && R * R <= r2) R = nb_next(R, 1e9);
-                h[i] = r2 > 0 ? R : 1;
+            for (i = 0; i < n; ++i) { /* R_i just above the distance to a random other particle, at most L/2 */
+                int j, tries = 0;
+                sph_real r2, R;
+                do {
+                    j = (int)(tp_uniform(&rng) * n);
+                    r2 = tp_r2(dim, x + 3 * i, x + 3 * j, per ? &box : NULL);
+                    R = (sph_real)sqrt((double)r2);
+                    while (r2 > 0 && R * R <= r2) R = nb_next(R, 1e9);
+                } while (per && R > L / 2 && ++tries < 100);
+                h[i] = r2 > 0 && !(per && R > L / 2) ? R : per ? L / 2 : 1;
             }
             p = nb_make(dim, x, n, 0, 1, w * (sph_real)0.999);
             p.ht = h;
@@ -564,10 +570,16 @@ static void test_errors(void)
     TH_CHECK(sph_nsearch_workspace_size(3, v, N, sph_view_none(), 0, NULL, &bytes) == SPH_EINVAL, "cell 0");
     TH_CHECK(sph_nsearch_workspace_size(3, v, N, sph_view_none(), -1, NULL, &bytes) == SPH_EINVAL, "cell < 0");
     TH_CHECK(sph_nsearch_workspace_size(3, v, N, sph_view_none(), nanv, NULL, &bytes) == SPH_EINVAL, "cell NaN");
-    TH_CHECK(sph_nsearch_workspace_size(3, v, N, sph_view_none(), (sph_real)1e-9, NULL, &bytes) == SPH_ESIZE,
-             "1e27 cells");
-    TH_CHECK(sph_nsearch_workspace_size(1, v, N, sph_view_none(), (sph_real)1e-9, NULL, &bytes) == SPH_ESIZE,
+    TH_CHECK(sph_nsearch_workspace_size(3, v, N, sph_view_none(), (sph_real)1e-9, NULL, &bytes) == SPH_EGRID,
+             "1e27 cells: the grid, not a workspace, is too large");
+    TH_CHECK(sph_nsearch_workspace_size(1, v, N, sph_view_none(), (sph_real)1e-9, NULL, &bytes) == SPH_EGRID,
              "1e9 cells in 1-D, more than an int can index safely");
+    x[3 * 9] = (sph_real)1e6; /* an escaped particle: 1e7 cells of 0.1 along x alone, times 10 x 10 */
+    TH_CHECK(sph_nsearch_workspace_size(3, v, N, sph_view_none(), (sph_real)0.1, NULL, &bytes) == SPH_EGRID,
+             "one source at 1e6: SPH_EGRID, not the workspace's SPH_ESIZE");
+    x[3 * 9] = (sph_real)0.5;
+    TH_CHECK(sph_nsearch_workspace_size(3, v, SPH_NSEARCH_MAX_SOURCES + 1, sph_view_none(), 1, NULL, &bytes) ==
+                 SPH_ESIZE, "more than SPH_NSEARCH_MAX_SOURCES sources (rejected before any is read)");
     TH_CHECK(sph_nsearch_workspace_size(2, v, N, sph_view_none(), (sph_real)1e-4, &box, &bytes) == SPH_OK,
              "1e8 cells are allowed");
     x[3 * 5 + 1] = nanv;
@@ -653,6 +665,55 @@ static void test_errors(void)
     TH_CHECK(sph_nsearch_fill(&g0, v, N, sph_view_none(), (sph_real)0.1, 2, 0, off, idx, N * N) == SPH_EINVAL, "unbuilt grid");
     th_end();
 
+    /* The minimum image (N3) sees one image of each source; R <= L/2 keeps every
+     * other image out of reach (|x_ij + w L| >= L - |x_ij| >= L/2). */
+    th_begin("search radius above half a period: SPH_EPERIOD from count, fill, lists and stats, nothing written");
+    {
+        const sph_real half = (sph_real)0.25; /* kappa 2: R = L/2 of the unit box */
+        sph_off pairs = -7, cand = -7;
+        sph_real fill = -7;
+        sph_nsearch g2;
+        char work2[65536];
+        st = sph_nsearch_count(&g, v, N, sph_view_none(), half, 2, 0, off);
+        TH_CHECK(st == SPH_OK, "R = L/2 exactly is accepted: %d", st);
+        for (i = 0; i <= N; ++i) off[i] = -7;
+        for (i = 0; i <= N * N; ++i) idx[i] = -7;
+        TH_CHECK(sph_nsearch_count(&g, v, N, sph_view_none(), nb_next(half, 1), 2, 0, off) == SPH_EPERIOD,
+                 "R one ulp above L/2");
+        TH_CHECK(sph_nsearch_fill(&g, v, N, sph_view_none(), nb_next(half, 1), 2, 0, off, idx, N * N) == SPH_EPERIOD,
+                 "fill");
+        TH_CHECK(sph_nsearch_lists(&g, v, N, sph_view_none(), nb_next(half, 1), 2, 0, off, idx, N * N, &pairs) ==
+                     SPH_EPERIOD, "lists");
+        TH_CHECK(sph_nsearch_stats(&g, v, N, sph_view_none(), nb_next(half, 1), 2, 0, &pairs, &cand, &fill) ==
+                     SPH_EPERIOD,
+                 "stats");
+        for (i = 0; i <= N && off[i] == -7; ++i) continue;
+        TH_CHECK(i > N && pairs == -7 && cand == -7 && fill == -7, "a refused search wrote offset[%d] or its counts", i);
+        for (i = 0; i <= N * N && idx[i] == -7; ++i) continue;
+        TH_CHECK(i > N * N, "a refused search wrote index[%d]", i);
+        h[5] = (sph_real)0.3; /* one target of R = 0.6 */
+        TH_CHECK(sph_nsearch_count(&g, v, N, sph_view_soa(h, NULL, NULL), 1, 2, 0, off) == SPH_EPERIOD,
+                 "one per-target h too large");
+        h[5] = (sph_real)0.2;
+        /* the grid's sources have h 0.2 (R = 0.4), one of them 0.3: only symmetric mode reaches with it */
+        h[6] = (sph_real)0.3;
+        st = sph_nsearch_build(&g2, 3, v, N, sph_view_soa(h, NULL, NULL), (sph_real)0.1, &box, work2, sizeof work2);
+        h[6] = (sph_real)0.2;
+        TH_CHECK(st == SPH_OK, "build %d", st);
+        TH_CHECK(sph_nsearch_count(&g2, v, N, sph_view_none(), (sph_real)0.1, 2, SPH_NSEARCH_GATHER, off) == SPH_OK,
+                 "gather: the sources' h do not matter");
+        TH_CHECK(sph_nsearch_count(&g2, v, N, sph_view_none(), (sph_real)0.1, 2, SPH_NSEARCH_SYMMETRIC, off) ==
+                     SPH_EPERIOD, "symmetric: one source's h too large");
+        /* a period of 0.05 with R = 0.26 (the sources wrap into it) */
+        box.length[0] = box.length[1] = box.length[2] = (sph_real)0.05;
+        st = sph_nsearch_build(&g2, 3, v, N, sph_view_none(), (sph_real)0.01, &box, work2, sizeof work2);
+        box.length[0] = box.length[1] = box.length[2] = 1;
+        TH_CHECK(st == SPH_OK, "build %d", st);
+        st = sph_nsearch_count(&g2, v, N, sph_view_none(), (sph_real)0.13, 2, 0, off);
+        TH_CHECK(st == SPH_EPERIOD, "period 0.05, R = 0.26: %d", st);
+    }
+    th_end();
+
     th_begin("one-pass lists: status of each bad argument");
     {
         sph_off pairs;
@@ -733,7 +794,7 @@ static void test_candidate_ratio(void)
         sph_nsearch_workspace_size(3, v, n, sph_view_none(), cell, &box, &bytes);
         work = malloc(bytes);
         st = sph_nsearch_build(&g, 3, v, n, sph_view_none(), cell, &box, work, bytes);
-        st |= sph_nsearch_stats(&g, v, n, sph_view_none(), h, kappa, SPH_NSEARCH_GATHER, &pairs, &cand);
+        st |= sph_nsearch_stats(&g, v, n, sph_view_none(), h, kappa, SPH_NSEARCH_GATHER, &pairs, &cand, NULL);
         th_begin("perturbed lattice 3D, cell = %.3g R: candidates per neighbour", nb_cells[c]);
         TH_CHECK(st == SPH_OK, "status %d", st);
         TH_NEAR((double)pairs / n, 60, 0.05); /* the h above was chosen for 60 */
@@ -748,6 +809,45 @@ static void test_candidate_ratio(void)
         th_end();
         free(work);
     }
+    free(x);
+}
+
+/* The fill ratio of sph_nsearch_stats (occupied cells / cells): a lattice of
+ * spacing 0.1 binned into cells of at least 0.1 (eq. (N4): n_a = floor(L /
+ * cell) cells of L / n_a) has a source in every cell, fill exactly 1; one
+ * more source at (3, 3, 3) stretches the grid to at least 28^3 cells, of
+ * which at most 1001 can hold a source: fill <= 1001 / 28^3 < 0.046. No
+ * sources: fill 0. */
+static void test_fill_ratio(void)
+{
+    enum { S = 10, N = S * S * S };
+    sph_real *x = nb_alloc(N + 1), fill = -1, fill_far = -1, fill_none = -1;
+    sph_view v = sph_view_interleaved(x, 3);
+    const sph_real cell = (sph_real)0.1;
+    sph_off pairs, cand;
+    sph_nsearch g;
+    size_t bytes = 0;
+    void *work;
+    int st;
+    tp_lattice(3, S, 0.1, x);
+    x[3 * N] = x[3 * N + 1] = x[3 * N + 2] = 3;
+    st = sph_nsearch_workspace_size(3, v, N + 1, sph_view_none(), cell, NULL, &bytes); /* the larger grid */
+    work = malloc(bytes);
+    st |= sph_nsearch_build(&g, 3, v, N, sph_view_none(), cell, NULL, work, bytes);
+    st |= sph_nsearch_stats(&g, v, N, sph_view_none(), cell, 2, SPH_NSEARCH_GATHER, &pairs, &cand, &fill);
+    st |= sph_nsearch_build(&g, 3, v, N + 1, sph_view_none(), cell, NULL, work, bytes);
+    st |= sph_nsearch_stats(&g, v, N + 1, sph_view_none(), cell, 2, SPH_NSEARCH_GATHER, &pairs, &cand, &fill_far);
+    st |= sph_nsearch_build(&g, 3, v, 0, sph_view_none(), cell, NULL, work, bytes);
+    st |= sph_nsearch_stats(&g, v, 0, sph_view_none(), cell, 2, SPH_NSEARCH_GATHER, &pairs, &cand, &fill_none);
+    th_begin("fill ratio: 1 for one source per cell, < 0.046 with one escaped source, 0 without sources");
+    TH_CHECK(st == SPH_OK, "status %d", st);
+    TH_CHECK(fill == 1, "lattice: fill %g", (double)fill);
+    TH_CHECK(fill_far > 0 && fill_far < (sph_real)0.046, "one source at (3, 3, 3): fill %g", (double)fill_far);
+    TH_CHECK(fill_none == 0, "no sources: fill %g", (double)fill_none);
+    TH_CHECK(sph_nsearch_stats(&g, v, 0, sph_view_none(), cell, 2, SPH_NSEARCH_GATHER, &pairs, &cand, NULL) == SPH_OK,
+             "fill may be NULL");
+    th_end();
+    free(work);
     free(x);
 }
 
@@ -953,6 +1053,7 @@ int main(void)
     test_permutation();
     test_errors();
     test_candidate_ratio();
+    test_fill_ratio();
     test_images();
     test_image_rounding();
     test_threads();

@@ -93,8 +93,10 @@ static void test_status_codes(void)
     off[4] = b.s.L.list.offset[4];
     off[0] = 1, expect(&b, &c, SPH_SCHEME_CORRECTED, SPH_EINVAL, "offset[0] != 0"), off[0] = 0;
     L.n_targets = -1, expect(&b, &c, SPH_SCHEME_CORRECTED, SPH_ESIZE, "n_targets < 0"), L.n_targets = (sph_idx)b.s.n;
+    /* targets are the sources: n_sources below n_targets is refused on the counts alone, before
+       the list is read (tests/test_bad_input.c checks that no offset beyond them is read) */
     L.n_sources = (sph_idx)b.s.n - 1;
-    expect(&b, &c, SPH_SCHEME_CORRECTED, SPH_EINDEX, "n_sources too small for the indices");
+    expect(&b, &c, SPH_SCHEME_CORRECTED, SPH_ESIZE, "n_sources below n_targets without x_target");
     L.n_sources = (sph_idx)b.s.n;
     L.index = NULL, expect(&b, &c, SPH_SCHEME_CORRECTED, SPH_ENULL, "index NULL"), L.index = idx;
     c.x.p[1] = NULL, expect(&b, &c, SPH_SCHEME_CORRECTED, SPH_ENULL, "y positions NULL"), c.x = b.s.c.x;
