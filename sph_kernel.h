@@ -2297,7 +2297,7 @@ SPH_API int sph__scan(sph_view v, int ncomp, sph_idx n, int kind, int dim)
         for (a = 0; a < ncomp; ++a) {
             const sph_real y = SPH__AT(v, a, i);
             if (kind == 1 && sph__op_h(y, dim) != SPH_OK) return SPH_EH;
-            if (!(y - y == 0)) return SPH_ENONFINITE;
+            if (!sph__finite(y)) return SPH_ENONFINITE;
             if (kind == 2 && !(y > 0)) return SPH_EINVAL;
             if (kind == 3 && !(y <= SPH__XMAX && y >= -SPH__XMAX)) return SPH_EINVAL;
         }
@@ -2585,7 +2585,7 @@ SPH_API int sph_check_field(sph_view f, int ncomp, sph_idx n, sph_idx *first_bad
     for (i = 0; i < n; ++i)
         for (a = 0; a < ncomp; ++a) {
             const sph_real y = SPH__AT(f, a, i);
-            if (!(y - y == 0)) {
+            if (!sph__finite(y)) {
                 if (first_bad != NULL) *first_bad = i;
                 return SPH_ENONFINITE;
             }
@@ -2684,7 +2684,6 @@ typedef struct {
     int dim;              /* 1..3 once built, 0 otherwise */
     int n[3];             /* cells per axis (1 for unused axes) */
     int n_cells;          /* n[0] n[1] n[2] */
-    int n_occupied;       /* cells holding at least one source */
     sph_idx n_sources;
     sph_real lo[3];       /* grid origin */
     sph_real w[3];        /* cell width per axis */
@@ -2699,6 +2698,7 @@ typedef struct {
     sph_real *x;          /* [dim * n_padded]: source positions in sorted order, by axis: x[a n_padded + k] */
     sph_real *h;          /* [n_padded] per-source h in sorted order, or NULL */
     sph_idx n_padded;     /* n_sources + SPH__NS_BLOCK: the arrays' length (padding read by the blocked checks) */
+    int n_occupied;       /* cells holding at least one source (fill ratio n_occupied / n_cells) */
 } sph_nsearch;
 
 /* Candidates are checked in blocks of SPH__NS_BLOCK consecutive sorted
