@@ -199,16 +199,23 @@ SPH_API const char *sph_strerror(int status)
 /* 3. Kernels                                                                */
 /* ======================================================================== */
 
-typedef enum {
-    SPH_KERNEL_CUBIC,       /* cubic B-spline M4, kappa = 2, C2          */
-    SPH_KERNEL_LUCY,        /* Lucy quartic, kappa = 1, C2               */
-    SPH_KERNEL_NEW_QUARTIC, /* Liu & Liu new quartic, kappa = 2, C1       */
-    SPH_KERNEL_QUINTIC,     /* quintic B-spline M6, kappa = 3, C4        */
-    SPH_KERNEL_WENDLAND_C2, /* Wendland C2, kappa = 2                    */
-    SPH_KERNEL_WENDLAND_C4, /* Wendland C4, kappa = 2                    */
-    SPH_KERNEL_WENDLAND_C6, /* Wendland C6, kappa = 2                    */
-    SPH_KERNEL_COUNT
-} sph_kernel;
+/* The kernels, in enum order: X(ID, name, description, C) each. It makes the
+ * enum, sph_kernel_name, sph_kernel_from_name and the operators' dispatch, and
+ * tools/gen_kernel_tables.py makes each kernel's tables from it: a new kernel
+ * is one line here and its shape there. C reaches X unchanged (context for an
+ * X that needs it, else empty). */
+#define SPH_KERNEL_LIST(X, C)                                                           \
+    X(CUBIC, cubic, "cubic B-spline M4 (Monaghan & Lattanzio 1985), kappa 2, C2", C)   \
+    X(LUCY, lucy, "Lucy quartic (Lucy 1977), kappa 1, C2", C)                          \
+    X(NEW_QUARTIC, new_quartic, "new quartic (Liu, Liu & Lam 2003), kappa 2, C1", C)   \
+    X(QUINTIC, quintic, "quintic B-spline M6 (Morris 1996), kappa 3, C4", C)           \
+    X(WENDLAND_C2, wendland_c2, "Wendland C2 (Wendland 1995), kappa 2", C)             \
+    X(WENDLAND_C4, wendland_c4, "Wendland C4 (Wendland 1995), kappa 2", C)             \
+    X(WENDLAND_C6, wendland_c6, "Wendland C6 (Wendland 1995), kappa 2", C)
+
+#define SPH__KERNEL_ENUM(ID, name, description, C) SPH_KERNEL_##ID,
+typedef enum { SPH_KERNEL_LIST(SPH__KERNEL_ENUM, ) SPH_KERNEL_COUNT } sph_kernel;
+#undef SPH__KERNEL_ENUM
 
 /* One dimensionless shape w(q), cut into pieces of equal width. */
 typedef struct {
@@ -653,13 +660,9 @@ SPH_API sph_real sph_kernel_support(sph_kernel k)
 SPH_API const char *sph_kernel_name(sph_kernel k)
 {
     switch (k) {
-    case SPH_KERNEL_CUBIC: return "cubic";
-    case SPH_KERNEL_LUCY: return "lucy";
-    case SPH_KERNEL_NEW_QUARTIC: return "new_quartic";
-    case SPH_KERNEL_QUINTIC: return "quintic";
-    case SPH_KERNEL_WENDLAND_C2: return "wendland_c2";
-    case SPH_KERNEL_WENDLAND_C4: return "wendland_c4";
-    case SPH_KERNEL_WENDLAND_C6: return "wendland_c6";
+#define SPH__KERNEL_NAME(ID, name, description, C) case SPH_KERNEL_##ID: return #name;
+    SPH_KERNEL_LIST(SPH__KERNEL_NAME, )
+#undef SPH__KERNEL_NAME
     default: return "invalid";
     }
 }
@@ -1853,15 +1856,17 @@ SPH__INLINE int sph__t_lap(const sph__args *A, const int OP, const int K, const 
 #if defined(SPH_KERNEL)
 #define SPH__LOOP_K(A, FAM, OP, D) SPH__LOOP_G(A, FAM, OP, (int)(SPH_KERNEL), D)
 #elif SPH_OP_SPECIALISE
+/* One case per kernel of SPH_KERNEL_LIST, the kernel a constant k_ in it; no
+ * default loop: the operators have checked the kernel before they get here. */
+#define SPH__LOOP_KCASE(ID, name, description, C)                                  \
+    case SPH_KERNEL_##ID: {                                                        \
+        enum { k_ = SPH_KERNEL_##ID };                                             \
+        SPH__LOOP_G C;                                                             \
+    } break;
 #define SPH__LOOP_K(A, FAM, OP, D)                                                 \
     switch ((A)->kernel) {                                                         \
-    case SPH_KERNEL_CUBIC: SPH__LOOP_G(A, FAM, OP, SPH_KERNEL_CUBIC, D); break;    \
-    case SPH_KERNEL_LUCY: SPH__LOOP_G(A, FAM, OP, SPH_KERNEL_LUCY, D); break;      \
-    case SPH_KERNEL_NEW_QUARTIC: SPH__LOOP_G(A, FAM, OP, SPH_KERNEL_NEW_QUARTIC, D); break; \
-    case SPH_KERNEL_QUINTIC: SPH__LOOP_G(A, FAM, OP, SPH_KERNEL_QUINTIC, D); break; \
-    case SPH_KERNEL_WENDLAND_C2: SPH__LOOP_G(A, FAM, OP, SPH_KERNEL_WENDLAND_C2, D); break; \
-    case SPH_KERNEL_WENDLAND_C4: SPH__LOOP_G(A, FAM, OP, SPH_KERNEL_WENDLAND_C4, D); break; \
-    default: SPH__LOOP_G(A, FAM, OP, SPH_KERNEL_WENDLAND_C6, D); break;            \
+        SPH_KERNEL_LIST(SPH__LOOP_KCASE, (A, FAM, OP, k_, D))                      \
+    default: break;                                                                \
     }
 #else
 #define SPH__LOOP_K(A, FAM, OP, D) SPH__LOOP_G(A, FAM, OP, -1, D)
