@@ -36,13 +36,11 @@
  *   SPH_OP_SPECIALISE  1 (default): one operator loop per kernel x dimension,
  *               the kernel's natural pieces and their coefficients folded at
  *               compile time, so the pair loop vectorises. 0: one loop per
- *               dimension, the kernel read at run time (scalar pair loop).
- *               Measured (`make tiny-size`, `make bench`, README
- *               "Performance"): 0 compiles a unit calling sph_gradient about
- *               3.5x faster into an object about 3x smaller, and its pair loop
- *               is about 2x slower. 1 for production builds, 0 while
- *               developing. Pinning SPH_KERNEL makes the choice moot: one
- *               kernel, one loop either way.
+ *               dimension, the kernel read at run time (scalar pair loop):
+ *               quicker to compile into a smaller object, slower to run
+ *               (`make tiny-size` and `make bench` measure both; README
+ *               "Performance" quotes them). Pinning SPH_KERNEL makes the
+ *               choice moot: one kernel, one loop either way.
  *   SPH_NO_INTRINSICS  use only portable C: no SSE/AVX square-root helper in
  *               the operator loops, no AVX-512 one-pass loop for the density
  *               and difference gradient (results within 1e-13 of the pair
@@ -56,6 +54,92 @@
  * ==== SECTIONS =============================================================
  *   1. configuration   2. status codes   3. kernels   4. particle data (views,
  *   neighbour lists, box)   5. pair terms   6. array operators   7. neighbour search
+ *
+ * ==== API AT A GLANCE (every public function; k kernel, dim 1..3) ==========
+ * Names with a double underscore (sph__, SPH__) are internal.
+ * 2. Status codes
+ *   sph_strerror(status)                         a sentence for a status code
+ * 3. Kernels: scalar functions return 0 for invalid input
+ *   sph_kernel_check(k, dim)                     SPH_OK, SPH_EKERNEL or SPH_EDIM
+ *   sph_check_h(h)                               SPH_OK or SPH_EH
+ *   sph_kernel_support(k)                        kappa: W = 0 for r >= kappa h
+ *   sph_kernel_name(k)                           "cubic", "wendland_c4", ...
+ *   sph_kernel_from_name(name)                   the kernel, or SPH_EKERNEL
+ *   sph_kernel_alpha(k, dim)                     alpha_d (K1)
+ *   sph_kernel_sigma(k, dim)                     standard deviation / h (K5)
+ *   sph_kernel_neighbours(k, dim, h, V)          neighbours in the support (K6)
+ *   sph_kernel_h_for_neighbours(k, dim, N, V)    h for N neighbours (K6)
+ *   sph_kernel_w(k, dim, r, h)                   W (K1)
+ *   sph_kernel_f(k, dim, r, h)                   F = (1/r) dW/dr (K2)
+ *   sph_kernel_dwdr(k, dim, r, h)                dW/dr (K3)
+ *   sph_kernel_d2wdr2(k, dim, r, h)              d2W/dr2 (K4)
+ *   sph_kernel_dwdh(k, dim, r, h)                dW/dh (K7)
+ *   sph_kernel_wf(k, dim, r, h, &W, &F)          W and F in one call
+ *   sph_kernel_grad(k, dim, dx, h, grad)         grad_i W_ij = F dx (K8)
+ * 4. Particle data
+ *   sph_box_delta(box, a, dx)                    minimum image of one component (O0)
+ *   sph_view_soa(x, y, z)                        read view of one array per component
+ *   sph_view_aos(first, ncomp, stride_bytes)     read view into an array of structs
+ *   sph_view_interleaved(x, ncomp)               read view of x[ncomp i + a]
+ *   sph_out_soa(x, y, z)                         write view, as sph_view_soa
+ *   sph_out_aos(first, ncomp, stride_bytes)      write view, as sph_view_aos
+ *   sph_out_interleaved(x, ncomp)                write view, as sph_view_interleaved
+ * 5. Pair terms: neighbour j of target i, dx = x_i - x_j, F of the pair
+ *   sph_pair_kernel(k, dim, dx, h)               r, q, W and F of the pair (O1)
+ *   sph_pair_density(m_j, W)                     density term (O2)
+ *   sph_pair_interpolate(V_j, f_j, W)            interpolation term (O3)
+ *   sph_pair_grad_standard(dim, V_j, f_j, F, dx, acc)         acc += (O4)
+ *   sph_pair_grad_difference(dim, V_j, f_i, f_j, F, dx, acc)  acc += (O5)
+ *   sph_pair_grad_symmetric(dim, V_j, f_i, f_j, F, dx, acc)   acc += (O6)
+ *   sph_pair_grad_pressure(dim, m_j, P_i, P_j, F, dx, acc)    acc += (O8)
+ *   sph_pressure_factor(p, rho)                  P = p / rho^2 of (O8)
+ *   sph_pair_div_standard(dim, V_j, v_j, F, dx)  divergence term (O9)
+ *   sph_pair_div_difference(dim, V_j, v_i, v_j, F, dx)        (O10)
+ *   sph_pair_curl(dim, V_j, u, F, dx, acc)       acc += (O11)
+ *   sph_pair_laplacian(V_j, f_i, f_j, F)         Laplacian term (O12)
+ *   sph_harmonic_k(k_i, k_j)                     pair coefficient k_ij (O13)
+ *   sph_pair_diffusion(V_j, k_ij, f_i, f_j, F)   diffusion term (O14)
+ *   sph_pair_correction(dim, V_j, F, dx, M)      M += (O15)
+ *   sph_correction_invert(dim, M, rcond_min, B)  B = M^-1, or I if ill-conditioned (O16)
+ * 6. Array operators over a neighbour list (return SPH_OK or a status code)
+ *   sph_view_none()                              an absent view
+ *   sph_ctx_init(k, dim, h, list, x)             a context; set further fields as needed
+ *   sph_neighbours_check(list)                   validates a CSR list once
+ *   sph_density(c, rho)                          (O2)
+ *   sph_interpolate(c, f, out)                   (O3)
+ *   sph_interpolate_shepard(c, f, out, &n_empty) (O3) normalised
+ *   sph_gradient(c, scheme, f, f_t, grad, &n_fb) (O4)-(O8)
+ *   sph_density_gradient(c, f, f_t, rho, grad)   (O2) and (O5) in one pass
+ *   sph_gradient_vector(c, scheme, v, v_t, T, T_stride, &n_fb)  (O17)
+ *   sph_divergence(c, scheme, v, v_t, div, &n_fb)               (O9), (O10), (O18)
+ *   sph_curl(c, scheme, v, v_t, curl)            (O11)
+ *   sph_laplacian(c, f, f_t, lap)                (O12)
+ *   sph_diffusion(c, k, k_t, f, f_t, out)        (O13), (O14)
+ *   sph_correction_matrix(c, B, B_stride, &n_fb) (O15), (O16)
+ *   sph_check_field(f, ncomp, n, &first_bad)     first NaN or Inf of a field
+ * 7. Neighbour search (caller-owned workspace; no allocation)
+ *   sph_nsearch_workspace_size(dim, xs, n, hs, cell, box, &bytes)  bytes to build
+ *   sph_nsearch_build(&g, dim, xs, n, hs, cell, box, work, bytes)  bins the sources (N4)
+ *   sph_nsearch_count(&g, xt, n_t, ht, h, kappa, mode, offset)     list lengths (N1)/(N2)
+ *   sph_nsearch_fill(&g, xt, n_t, ht, h, kappa, mode, offset, index, cap)  the lists
+ *   sph_nsearch_lists(&g, ..., offset, index, cap, &pairs)  count and fill in one search
+ *   sph_nsearch_stats(&g, ..., &pairs, &candidates)         pairs and checks, no lists
+ *   sph_nsearch_list(&g, n_t, offset, index)     the sph_neighbours view of the lists
+ *   sph_nsearch_permutation(&g, perm)            sources in cell order (N5)
+ *   sph_permutation_invert(perm, n, inv)         inverse permutation (N6)
+ *   sph_permute(in, ncomp, n, perm, out)         out[k] = in[perm[k]] (N5)
+ *
+ * ==== EQUATION LABELS (comments cite docs/ by these) ========================
+ *   (K1)-(K8)   kernel quantities, docs/kernels.md section 1: W, F, dW/dr,
+ *               d2W/dr2, sigma, neighbour number, dW/dh, grad W
+ *   (O0)-(O18)  pair terms and operators, docs/operators.md "Formulas":
+ *               minimum image, pair kernel, density, interpolation, gradients
+ *               (O4)-(O8), divergences (O9)-(O10), curl, Laplacian, k_ij,
+ *               diffusion, correction matrix and inverse, velocity gradient,
+ *               corrected divergence
+ *   (N1)-(N7)   neighbour search, docs/neighbours.md: criteria (N1)-(N3),
+ *               grid (N4), permutation and inverse (N5)-(N6), periodic
+ *               image of a run of cells (N7)
  */
 #ifndef SPH_KERNEL_H
 #define SPH_KERNEL_H
