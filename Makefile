@@ -147,6 +147,15 @@ plots-report:
 stability: $(BUILD)/stability
 	./$(BUILD)/stability $(RESULTS)/stability.md
 
+# make tables: rewrites the GENERATED block of sph_kernel.h (the kernels'
+# natural pieces, alpha_d, sigma_d) from tools/gen_kernel_tables.py, which
+# needs python3 with sympy; tests/check_tables.sh checks the two agree.
+.PHONY: tables
+tables:
+	@python3 -c 'import sympy' > /dev/null 2>&1 || { \
+	    echo "make tables: needs python3 with sympy (Debian/Ubuntu: apt-get install python3-sympy)"; exit 1; }
+	python3 tools/gen_kernel_tables.py --write sph_kernel.h
+
 install:
 	install -d $(DESTDIR)$(PREFIX)/include $(DESTDIR)$(PREFIX)/lib/pkgconfig
 	install -m 644 sph_kernel.h $(DESTDIR)$(PREFIX)/include/sph_kernel.h

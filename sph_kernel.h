@@ -55,6 +55,92 @@
  * ==== SECTIONS =============================================================
  *   1. configuration   2. status codes   3. kernels   4. particle data (views,
  *   neighbour lists, box)   5. pair terms   6. array operators   7. neighbour search
+ *
+ * ==== API AT A GLANCE (every public function; k kernel, dim 1..3) ==========
+ * Names with a double underscore (sph__, SPH__) are internal.
+ * 2. Status codes
+ *   sph_strerror(status)                         a sentence for a status code
+ * 3. Kernels: scalar functions return 0 for invalid input
+ *   sph_kernel_check(k, dim)                     SPH_OK, SPH_EKERNEL or SPH_EDIM
+ *   sph_check_h(h)                               SPH_OK or SPH_EH
+ *   sph_kernel_support(k)                        kappa: W = 0 for r >= kappa h
+ *   sph_kernel_name(k)                           "cubic", "wendland_c4", ...
+ *   sph_kernel_from_name(name)                   the kernel, or SPH_EKERNEL
+ *   sph_kernel_alpha(k, dim)                     alpha_d (K1)
+ *   sph_kernel_sigma(k, dim)                     standard deviation / h (K5)
+ *   sph_kernel_neighbours(k, dim, h, V)          neighbours in the support (K6)
+ *   sph_kernel_h_for_neighbours(k, dim, N, V)    h for N neighbours (K6)
+ *   sph_kernel_w(k, dim, r, h)                   W (K1)
+ *   sph_kernel_f(k, dim, r, h)                   F = (1/r) dW/dr (K2)
+ *   sph_kernel_dwdr(k, dim, r, h)                dW/dr (K3)
+ *   sph_kernel_d2wdr2(k, dim, r, h)              d2W/dr2 (K4)
+ *   sph_kernel_dwdh(k, dim, r, h)                dW/dh (K7)
+ *   sph_kernel_wf(k, dim, r, h, &W, &F)          W and F in one call
+ *   sph_kernel_grad(k, dim, dx, h, grad)         grad_i W_ij = F dx (K8)
+ * 4. Particle data
+ *   sph_box_delta(box, a, dx)                    minimum image of one component (O0)
+ *   sph_view_soa(x, y, z)                        read view of one array per component
+ *   sph_view_aos(first, ncomp, stride_bytes)     read view into an array of structs
+ *   sph_view_interleaved(x, ncomp)               read view of x[ncomp i + a]
+ *   sph_out_soa(x, y, z)                         write view, as sph_view_soa
+ *   sph_out_aos(first, ncomp, stride_bytes)      write view, as sph_view_aos
+ *   sph_out_interleaved(x, ncomp)                write view, as sph_view_interleaved
+ * 5. Pair terms: neighbour j of target i, dx = x_i - x_j, F of the pair
+ *   sph_pair_kernel(k, dim, dx, h)               r, q, W and F of the pair (O1)
+ *   sph_pair_density(m_j, W)                     density term (O2)
+ *   sph_pair_interpolate(V_j, f_j, W)            interpolation term (O3)
+ *   sph_pair_grad_standard(dim, V_j, f_j, F, dx, acc)         acc += (O4)
+ *   sph_pair_grad_difference(dim, V_j, f_i, f_j, F, dx, acc)  acc += (O5)
+ *   sph_pair_grad_symmetric(dim, V_j, f_i, f_j, F, dx, acc)   acc += (O6)
+ *   sph_pair_grad_pressure(dim, m_j, P_i, P_j, F, dx, acc)    acc += (O8)
+ *   sph_pressure_factor(p, rho)                  P = p / rho^2 of (O8)
+ *   sph_pair_div_standard(dim, V_j, v_j, F, dx)  divergence term (O9)
+ *   sph_pair_div_difference(dim, V_j, v_i, v_j, F, dx)        (O10)
+ *   sph_pair_curl(dim, V_j, u, F, dx, acc)       acc += (O11)
+ *   sph_pair_laplacian(V_j, f_i, f_j, F)         Laplacian term (O12)
+ *   sph_harmonic_k(k_i, k_j)                     pair coefficient k_ij (O13)
+ *   sph_pair_diffusion(V_j, k_ij, f_i, f_j, F)   diffusion term (O14)
+ *   sph_pair_correction(dim, V_j, F, dx, M)      M += (O15)
+ *   sph_correction_invert(dim, M, rcond_min, B)  B = M^-1, or I if ill-conditioned (O16)
+ * 6. Array operators over a neighbour list (return SPH_OK or a status code)
+ *   sph_view_none()                              an absent view
+ *   sph_ctx_init(k, dim, h, list, x)             a context; set further fields as needed
+ *   sph_neighbours_check(list)                   validates a CSR list once
+ *   sph_density(c, rho)                          (O2)
+ *   sph_interpolate(c, f, out)                   (O3)
+ *   sph_interpolate_shepard(c, f, out, &n_empty) (O3) normalised
+ *   sph_gradient(c, scheme, f, f_t, grad, &n_fb) (O4)-(O8)
+ *   sph_density_gradient(c, f, f_t, rho, grad)   (O2) and (O5) in one pass
+ *   sph_gradient_vector(c, scheme, v, v_t, T, T_stride, &n_fb)  (O17)
+ *   sph_divergence(c, scheme, v, v_t, div, &n_fb)               (O9), (O10), (O18)
+ *   sph_curl(c, scheme, v, v_t, curl)            (O11)
+ *   sph_laplacian(c, f, f_t, lap)                (O12)
+ *   sph_diffusion(c, k, k_t, f, f_t, out)        (O13), (O14)
+ *   sph_correction_matrix(c, B, B_stride, &n_fb) (O15), (O16)
+ *   sph_check_field(f, ncomp, n, &first_bad)     first NaN or Inf of a field
+ * 7. Neighbour search (caller-owned workspace; no allocation)
+ *   sph_nsearch_workspace_size(dim, xs, n, hs, cell, box, &bytes)  bytes to build
+ *   sph_nsearch_build(&g, dim, xs, n, hs, cell, box, work, bytes)  bins the sources (N4)
+ *   sph_nsearch_count(&g, xt, n_t, ht, h, kappa, mode, offset)     list lengths (N1)/(N2)
+ *   sph_nsearch_fill(&g, xt, n_t, ht, h, kappa, mode, offset, index, cap)  the lists
+ *   sph_nsearch_lists(&g, ..., offset, index, cap, &pairs)  count and fill in one search
+ *   sph_nsearch_stats(&g, ..., &pairs, &candidates)         pairs and checks, no lists
+ *   sph_nsearch_list(&g, n_t, offset, index)     the sph_neighbours view of the lists
+ *   sph_nsearch_permutation(&g, perm)            sources in cell order (N5)
+ *   sph_permutation_invert(perm, n, inv)         inverse permutation (N6)
+ *   sph_permute(in, ncomp, n, perm, out)         out[k] = in[perm[k]] (N5)
+ *
+ * ==== EQUATION LABELS (comments cite docs/ by these) ========================
+ *   (K1)-(K8)   kernel quantities, docs/kernels.md section 1: W, F, dW/dr,
+ *               d2W/dr2, sigma, neighbour number, dW/dh, grad W
+ *   (O0)-(O18)  pair terms and operators, docs/operators.md "Formulas":
+ *               minimum image, pair kernel, density, interpolation, gradients
+ *               (O4)-(O8), divergences (O9)-(O10), curl, Laplacian, k_ij,
+ *               diffusion, correction matrix and inverse, velocity gradient,
+ *               corrected divergence
+ *   (N1)-(N7)   neighbour search, docs/neighbours.md: criteria (N1)-(N3),
+ *               grid (N4), permutation and inverse (N5)-(N6), periodic
+ *               image of a run of cells (N7)
  */
 #ifndef SPH_KERNEL_H
 #define SPH_KERNEL_H
@@ -91,6 +177,19 @@ typedef SPH_REAL sph_real;
 
 #ifndef SPH_API
 #define SPH_API static inline SPH_HOSTDEV
+#endif
+
+/* Force-inlined helpers (the kernel forms, the pair terms' loops): the
+ * operator loops rely on them folding into one loop body per kernel and
+ * dimension. */
+#if defined(__CUDACC__)
+#define SPH__INLINE static __forceinline__ SPH_HOSTDEV
+#elif defined(__GNUC__) || defined(__clang__)
+#define SPH__INLINE static inline __attribute__((always_inline))
+#elif defined(_MSC_VER)
+#define SPH__INLINE static __forceinline
+#else
+#define SPH__INLINE static inline
 #endif
 
 /* Vector square roots for the operator loops (section 6): AVX (2), SSE2 (1),
@@ -203,403 +302,312 @@ SPH_API const char *sph_strerror(int status)
 /* 3. Kernels                                                                */
 /* ======================================================================== */
 
-typedef enum {
-    SPH_KERNEL_CUBIC,       /* cubic B-spline M4, kappa = 2, C2          */
-    SPH_KERNEL_LUCY,        /* Lucy quartic, kappa = 1, C2               */
-    SPH_KERNEL_NEW_QUARTIC, /* Liu & Liu new quartic, kappa = 2, C1       */
-    SPH_KERNEL_QUINTIC,     /* quintic B-spline M6, kappa = 3, C4        */
-    SPH_KERNEL_WENDLAND_C2, /* Wendland C2, kappa = 2                    */
-    SPH_KERNEL_WENDLAND_C4, /* Wendland C4, kappa = 2                    */
-    SPH_KERNEL_WENDLAND_C6, /* Wendland C6, kappa = 2                    */
-    SPH_KERNEL_COUNT
-} sph_kernel;
+/* The kernels, in enum order: X(ID, name, description, C) each. It makes the
+ * enum, sph_kernel_name, sph_kernel_from_name and the operators' dispatch, and
+ * tools/gen_kernel_tables.py makes each kernel's tables from it: a new kernel
+ * is one line here and its shape there. C reaches X unchanged (context for an
+ * X that needs it, else empty). */
+#define SPH_KERNEL_LIST(X, C)                                                           \
+    X(CUBIC, cubic, "cubic B-spline M4 (Monaghan & Lattanzio 1985), kappa 2, C2", C)   \
+    X(LUCY, lucy, "Lucy quartic (Lucy 1977), kappa 1, C2", C)                          \
+    X(NEW_QUARTIC, new_quartic, "new quartic (Liu, Liu & Lam 2003), kappa 2, C1", C)   \
+    X(QUINTIC, quintic, "quintic B-spline M6 (Morris 1996), kappa 3, C4", C)           \
+    X(WENDLAND_C2, wendland_c2, "Wendland C2 (Wendland 1995), kappa 2", C)             \
+    X(WENDLAND_C4, wendland_c4, "Wendland C4 (Wendland 1995), kappa 2", C)             \
+    X(WENDLAND_C6, wendland_c6, "Wendland C6 (Wendland 1995), kappa 2", C)
 
-/* One dimensionless shape w(q), cut into pieces of equal width. */
-typedef struct {
-    sph_real kappa;     /* support in units of h */
-    sph_real inv_width; /* 1 / piece width: the piece of q is (int)(q * inv_width) */
-    int npiece;         /* pieces before the zero row */
-    int degree;         /* polynomial degree of every piece (zero-padded) */
-    int offset;         /* first coefficient in sph__coef */
-} sph__shape;
+#define SPH__KERNEL_ENUM(ID, name, description, C) SPH_KERNEL_##ID,
+typedef enum { SPH_KERNEL_LIST(SPH__KERNEL_ENUM, ) SPH_KERNEL_COUNT } sph_kernel;
+#undef SPH__KERNEL_ENUM
 
-/* A kernel in one dimension: which shape, its normalisation, its width. */
-typedef struct {
-    int shape;      /* index into sph__shapes */
-    sph_real alpha; /* alpha_d: W = alpha_d h^-d w(q) */
-    sph_real sigma; /* standard deviation per coordinate, in units of h */
-} sph__kdim;
+enum { SPH__PIECES = 3 }; /* natural pieces per shape, at most */
 
-/* One product form (b - q)^m P(q - e), P of the given degree, lowest power first. */
+/* One polynomial in product form, (b - q)^m P(q - e), P of the given degree
+ * with its coefficients lowest power first: next to the root b the value is a
+ * product of small numbers, not the difference of large ones. */
 typedef struct {
     sph_real b, e;
     int m, degree;
     sph_real c[6];
 } sph__pform;
 
-/* A shape over its natural pieces (at most 3), each in product form, for
- * evaluation without a per-pair table row: w, and g = w'(q)/q on the piece
- * holding 0, w'(q) on the others (divided by q at run time). */
+/* A shape w(q) over its natural pieces (at most 3): piece p holds q in
+ * [lo[p], lo[p + 1]), and holds w, g and w2 = w''. g is w'(q)/q on the piece
+ * holding 0 (finite at q = 0) and w'(q) on the others. */
 typedef struct {
     int npiece;
-    sph_real kappa;
-    sph_real lo[3]; /* piece p holds q in [lo[p], lo[p + 1]) */
+    sph_real kappa; /* support in units of h: w = 0 for q >= kappa */
+    sph_real lo[SPH__PIECES];
     struct {
-        sph__pform w, g;
-    } piece[3];
+        sph__pform w, g, w2;
+    } piece[SPH__PIECES];
 } sph__nshape;
 
-enum { SPH__SHAPE_COUNT = 10 };
+/* A kernel in one dimension: which shape, its normalisation, its width. */
+typedef struct {
+    int shape;      /* index into sph__nshapes */
+    sph_real alpha; /* alpha_d: W = alpha_d h^-d w(q) */
+    sph_real sigma; /* standard deviation per coordinate, in units of h */
+} sph__kdim;
 
-/* ---- GENERATED by tools/gen_kernel_tables.py: do not edit by hand ---- */
-/* Per piece [a, b): c, den0, den1, then w, g, w2 as deg+1 coefficients each
-   (lowest power first) in u = q - c; F = alpha h^-(d+2) g(u) / (den0 + den1 q),
-   W = alpha h^-d w(u), d2W/dr2 = alpha h^-(d+2) w2(u). The last row of each
-   shape is the zero row used for q >= kappa (and for NaN q).            */
-SPH__TABLE sph_real sph__coef[] = {
-    /* cubic spline (M4), Monaghan & Lattanzio 1985, kappa = 2, degree 3 */
-    /*   w = (3*q**3 - 6*q**2 + 4)/6  on [0, 1) */
-    /*   w = -(q - 2)**3/6  on [1, 2) */
-    /* [0, 1/2) c = 0 */ 0, 1, 0,
-        /* w   */ SPH__Q(2, 3), 0, SPH__Q(-1, 1), SPH__Q(1, 2),
-        /* g   */ SPH__Q(-2, 1), SPH__Q(3, 2), 0, 0,
-        /* w2  */ SPH__Q(-2, 1), SPH__Q(3, 1), 0, 0,
-    /* [1/2, 1) c = 1 */ SPH__Q(1, 1), 0, 1,
-        /* w   */ SPH__Q(1, 6), SPH__Q(-1, 2), SPH__Q(1, 2), SPH__Q(1, 2),
-        /* g   */ SPH__Q(-1, 2), SPH__Q(1, 1), SPH__Q(3, 2), 0,
-        /* w2  */ SPH__Q(1, 1), SPH__Q(3, 1), 0, 0,
-    /* [1, 3/2) c = 3/2 */ SPH__Q(3, 2), 0, 1,
-        /* w   */ SPH__Q(1, 48), SPH__Q(-1, 8), SPH__Q(1, 4), SPH__Q(-1, 6),
-        /* g   */ SPH__Q(-1, 8), SPH__Q(1, 2), SPH__Q(-1, 2), 0,
-        /* w2  */ SPH__Q(1, 2), SPH__Q(-1, 1), 0, 0,
-    /* [3/2, 2) c = 2 */ SPH__Q(2, 1), 0, 1,
-        /* w   */ 0, 0, 0, SPH__Q(-1, 6),
-        /* g   */ 0, 0, SPH__Q(-1, 2), 0,
-        /* w2  */ 0, SPH__Q(-1, 1), 0, 0,
-    /* zero row */ 0, 1, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0,
-    /* Lucy quartic, Lucy 1977, kappa = 1, degree 4 */
-    /*   w = -(q - 1)**3*(3*q + 1)  on [0, 1) */
-    /* [0, 1/2) c = 0 */ 0, 1, 0,
-        /* w   */ SPH__Q(1, 1), 0, SPH__Q(-6, 1), SPH__Q(8, 1), SPH__Q(-3, 1),
-        /* g   */ SPH__Q(-12, 1), SPH__Q(24, 1), SPH__Q(-12, 1), 0, 0,
-        /* w2  */ SPH__Q(-12, 1), SPH__Q(48, 1), SPH__Q(-36, 1), 0, 0,
-    /* [1/2, 1) c = 1 */ SPH__Q(1, 1), 0, 1,
-        /* w   */ 0, 0, 0, SPH__Q(-4, 1), SPH__Q(-3, 1),
-        /* g   */ 0, 0, SPH__Q(-12, 1), SPH__Q(-12, 1), 0,
-        /* w2  */ 0, SPH__Q(-24, 1), SPH__Q(-36, 1), 0, 0,
-    /* zero row */ 0, 1, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0,
-    /* new quartic, Liu & Liu 2003, kappa = 2, degree 4 */
-    /*   w = -(q - 2)**2*(15*q**2 - 16*q - 16)/96  on [0, 2) */
-    /* [0, 1/2) c = 0 */ 0, 1, 0,
-        /* w   */ SPH__Q(2, 3), 0, SPH__Q(-9, 8), SPH__Q(19, 24), SPH__Q(-5, 32),
-        /* g   */ SPH__Q(-9, 4), SPH__Q(19, 8), SPH__Q(-5, 8), 0, 0,
-        /* w2  */ SPH__Q(-9, 4), SPH__Q(19, 4), SPH__Q(-15, 8), 0, 0,
-    /* [1/2, 1) c = 1 */ SPH__Q(1, 1), 0, 1,
-        /* w   */ SPH__Q(17, 96), SPH__Q(-1, 2), SPH__Q(5, 16), SPH__Q(1, 6), SPH__Q(-5, 32),
-        /* g   */ SPH__Q(-1, 2), SPH__Q(5, 8), SPH__Q(1, 2), SPH__Q(-5, 8), 0,
-        /* w2  */ SPH__Q(5, 8), SPH__Q(1, 1), SPH__Q(-15, 8), 0, 0,
-    /* [1, 3/2) c = 3/2 */ SPH__Q(3, 2), 0, 1,
-        /* w   */ SPH__Q(25, 1536), SPH__Q(-9, 64), SPH__Q(21, 64), SPH__Q(-7, 48), SPH__Q(-5, 32),
-        /* g   */ SPH__Q(-9, 64), SPH__Q(21, 32), SPH__Q(-7, 16), SPH__Q(-5, 8), 0,
-        /* w2  */ SPH__Q(21, 32), SPH__Q(-7, 8), SPH__Q(-15, 8), 0, 0,
-    /* [3/2, 2) c = 2 */ SPH__Q(2, 1), 0, 1,
-        /* w   */ 0, 0, SPH__Q(-1, 8), SPH__Q(-11, 24), SPH__Q(-5, 32),
-        /* g   */ 0, SPH__Q(-1, 4), SPH__Q(-11, 8), SPH__Q(-5, 8), 0,
-        /* w2  */ SPH__Q(-1, 4), SPH__Q(-11, 4), SPH__Q(-15, 8), 0, 0,
-    /* zero row */ 0, 1, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0,
-    /* quintic spline (M6), Morris 1996, kappa = 3, degree 5 */
-    /*   w = -2*(5*q**5 - 15*q**4 + 30*q**2 - 33)  on [0, 1) */
-    /*   w = 5*q**5 - 45*q**4 + 150*q**3 - 210*q**2 + 75*q + 51  on [1, 2) */
-    /*   w = -(q - 3)**5  on [2, 3) */
-    /* [0, 1/2) c = 0 */ 0, 1, 0,
-        /* w   */ SPH__Q(66, 1), 0, SPH__Q(-60, 1), 0, SPH__Q(30, 1), SPH__Q(-10, 1),
-        /* g   */ SPH__Q(-120, 1), 0, SPH__Q(120, 1), SPH__Q(-50, 1), 0, 0,
-        /* w2  */ SPH__Q(-120, 1), 0, SPH__Q(360, 1), SPH__Q(-200, 1), 0, 0,
-    /* [1/2, 1) c = 1 */ SPH__Q(1, 1), 0, 1,
-        /* w   */ SPH__Q(26, 1), SPH__Q(-50, 1), SPH__Q(20, 1), SPH__Q(20, 1), SPH__Q(-20, 1), SPH__Q(-10, 1),
-        /* g   */ SPH__Q(-50, 1), SPH__Q(40, 1), SPH__Q(60, 1), SPH__Q(-80, 1), SPH__Q(-50, 1), 0,
-        /* w2  */ SPH__Q(40, 1), SPH__Q(120, 1), SPH__Q(-240, 1), SPH__Q(-200, 1), 0, 0,
-    /* [1, 3/2) c = 3/2 */ SPH__Q(3, 2), 0, 1,
-        /* w   */ SPH__Q(237, 32), SPH__Q(-375, 16), SPH__Q(105, 4), SPH__Q(-15, 2), SPH__Q(-15, 2), SPH__Q(5, 1),
-        /* g   */ SPH__Q(-375, 16), SPH__Q(105, 2), SPH__Q(-45, 2), SPH__Q(-30, 1), SPH__Q(25, 1), 0,
-        /* w2  */ SPH__Q(105, 2), SPH__Q(-45, 1), SPH__Q(-90, 1), SPH__Q(100, 1), 0, 0,
-    /* [3/2, 2) c = 2 */ SPH__Q(2, 1), 0, 1,
-        /* w   */ SPH__Q(1, 1), SPH__Q(-5, 1), SPH__Q(10, 1), SPH__Q(-10, 1), SPH__Q(5, 1), SPH__Q(5, 1),
-        /* g   */ SPH__Q(-5, 1), SPH__Q(20, 1), SPH__Q(-30, 1), SPH__Q(20, 1), SPH__Q(25, 1), 0,
-        /* w2  */ SPH__Q(20, 1), SPH__Q(-60, 1), SPH__Q(60, 1), SPH__Q(100, 1), 0, 0,
-    /* [2, 5/2) c = 5/2 */ SPH__Q(5, 2), 0, 1,
-        /* w   */ SPH__Q(1, 32), SPH__Q(-5, 16), SPH__Q(5, 4), SPH__Q(-5, 2), SPH__Q(5, 2), SPH__Q(-1, 1),
-        /* g   */ SPH__Q(-5, 16), SPH__Q(5, 2), SPH__Q(-15, 2), SPH__Q(10, 1), SPH__Q(-5, 1), 0,
-        /* w2  */ SPH__Q(5, 2), SPH__Q(-15, 1), SPH__Q(30, 1), SPH__Q(-20, 1), 0, 0,
-    /* [5/2, 3) c = 3 */ SPH__Q(3, 1), 0, 1,
-        /* w   */ 0, 0, 0, 0, 0, SPH__Q(-1, 1),
-        /* g   */ 0, 0, 0, 0, SPH__Q(-5, 1), 0,
-        /* w2  */ 0, 0, 0, SPH__Q(-20, 1), 0, 0,
-    /* zero row */ 0, 1, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0,
-    /* Wendland C2 (2-D/3-D), Wendland 1995, kappa = 2, degree 5 */
-    /*   w = (q - 2)**4*(2*q + 1)/16  on [0, 2) */
-    /* [0, 1/2) c = 0 */ 0, 1, 0,
-        /* w   */ SPH__Q(1, 1), 0, SPH__Q(-5, 2), SPH__Q(5, 2), SPH__Q(-15, 16), SPH__Q(1, 8),
-        /* g   */ SPH__Q(-5, 1), SPH__Q(15, 2), SPH__Q(-15, 4), SPH__Q(5, 8), 0, 0,
-        /* w2  */ SPH__Q(-5, 1), SPH__Q(15, 1), SPH__Q(-45, 4), SPH__Q(5, 2), 0, 0,
-    /* [1/2, 1) c = 1 */ SPH__Q(1, 1), 0, 1,
-        /* w   */ SPH__Q(3, 16), SPH__Q(-5, 8), SPH__Q(5, 8), 0, SPH__Q(-5, 16), SPH__Q(1, 8),
-        /* g   */ SPH__Q(-5, 8), SPH__Q(5, 4), 0, SPH__Q(-5, 4), SPH__Q(5, 8), 0,
-        /* w2  */ SPH__Q(5, 4), 0, SPH__Q(-15, 4), SPH__Q(5, 2), 0, 0,
-    /* [1, 3/2) c = 3/2 */ SPH__Q(3, 2), 0, 1,
-        /* w   */ SPH__Q(1, 64), SPH__Q(-15, 128), SPH__Q(5, 16), SPH__Q(-5, 16), 0, SPH__Q(1, 8),
-        /* g   */ SPH__Q(-15, 128), SPH__Q(5, 8), SPH__Q(-15, 16), 0, SPH__Q(5, 8), 0,
-        /* w2  */ SPH__Q(5, 8), SPH__Q(-15, 8), 0, SPH__Q(5, 2), 0, 0,
-    /* [3/2, 2) c = 2 */ SPH__Q(2, 1), 0, 1,
-        /* w   */ 0, 0, 0, 0, SPH__Q(5, 16), SPH__Q(1, 8),
-        /* g   */ 0, 0, 0, SPH__Q(5, 4), SPH__Q(5, 8), 0,
-        /* w2  */ 0, 0, SPH__Q(15, 4), SPH__Q(5, 2), 0, 0,
-    /* zero row */ 0, 1, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0,
-    /* Wendland C4 (2-D/3-D), Wendland 1995, kappa = 2, degree 8 */
-    /*   w = (q - 2)**6*(35*q**2 + 36*q + 12)/768  on [0, 2) */
-    /* [0, 1/2) c = 0 */ 0, 1, 0,
-        /* w   */ SPH__Q(1, 1), 0, SPH__Q(-7, 3), 0, SPH__Q(35, 8), SPH__Q(-14, 3), SPH__Q(35, 16), SPH__Q(-1, 2), SPH__Q(35, 768),
-        /* g   */ SPH__Q(-14, 3), 0, SPH__Q(35, 2), SPH__Q(-70, 3), SPH__Q(105, 8), SPH__Q(-7, 2), SPH__Q(35, 96), 0, 0,
-        /* w2  */ SPH__Q(-14, 3), 0, SPH__Q(105, 2), SPH__Q(-280, 3), SPH__Q(525, 8), SPH__Q(-21, 1), SPH__Q(245, 96), 0, 0,
-    /* [1/2, 1) c = 1 */ SPH__Q(1, 1), 0, 1,
-        /* w   */ SPH__Q(83, 768), SPH__Q(-49, 96), SPH__Q(161, 192), SPH__Q(-35, 96), SPH__Q(-175, 384), SPH__Q(49, 96), SPH__Q(-7, 192), SPH__Q(-13, 96), SPH__Q(35, 768),
-        /* g   */ SPH__Q(-49, 96), SPH__Q(161, 96), SPH__Q(-35, 32), SPH__Q(-175, 96), SPH__Q(245, 96), SPH__Q(-7, 32), SPH__Q(-91, 96), SPH__Q(35, 96), 0,
-        /* w2  */ SPH__Q(161, 96), SPH__Q(-35, 16), SPH__Q(-175, 32), SPH__Q(245, 24), SPH__Q(-35, 32), SPH__Q(-91, 16), SPH__Q(245, 96), 0, 0,
-    /* [1, 3/2) c = 3/2 */ SPH__Q(3, 2), 0, 1,
-        /* w   */ SPH__Q(193, 65536), SPH__Q(-133, 4096), SPH__Q(1757, 12288), SPH__Q(-315, 1024), SPH__Q(595, 2048), SPH__Q(7, 768), SPH__Q(-49, 256), SPH__Q(3, 64), SPH__Q(35, 768),
-        /* g   */ SPH__Q(-133, 4096), SPH__Q(1757, 6144), SPH__Q(-945, 1024), SPH__Q(595, 512), SPH__Q(35, 768), SPH__Q(-147, 128), SPH__Q(21, 64), SPH__Q(35, 96), 0,
-        /* w2  */ SPH__Q(1757, 6144), SPH__Q(-945, 512), SPH__Q(1785, 512), SPH__Q(35, 192), SPH__Q(-735, 128), SPH__Q(63, 32), SPH__Q(245, 96), 0, 0,
-    /* [3/2, 2) c = 2 */ SPH__Q(2, 1), 0, 1,
-        /* w   */ 0, 0, 0, 0, 0, 0, SPH__Q(7, 24), SPH__Q(11, 48), SPH__Q(35, 768),
-        /* g   */ 0, 0, 0, 0, 0, SPH__Q(7, 4), SPH__Q(77, 48), SPH__Q(35, 96), 0,
-        /* w2  */ 0, 0, 0, 0, SPH__Q(35, 4), SPH__Q(77, 8), SPH__Q(245, 96), 0, 0,
-    /* zero row */ 0, 1, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0,
-    /* Wendland C6 (2-D/3-D), Wendland 1995, kappa = 2, degree 11 */
-    /*   w = (q - 2)**8*(16*q**3 + 25*q**2 + 16*q + 4)/1024  on [0, 2) */
-    /* [0, 1/2) c = 0 */ 0, 1, 0,
-        /* w   */ SPH__Q(1, 1), 0, SPH__Q(-11, 4), 0, SPH__Q(33, 8), 0, SPH__Q(-231, 32), SPH__Q(33, 4), SPH__Q(-1155, 256), SPH__Q(11, 8), SPH__Q(-231, 1024), SPH__Q(1, 64),
-        /* g   */ SPH__Q(-11, 2), 0, SPH__Q(33, 2), 0, SPH__Q(-693, 16), SPH__Q(231, 4), SPH__Q(-1155, 32), SPH__Q(99, 8), SPH__Q(-1155, 512), SPH__Q(11, 64), 0, 0,
-        /* w2  */ SPH__Q(-11, 2), 0, SPH__Q(99, 2), 0, SPH__Q(-3465, 16), SPH__Q(693, 2), SPH__Q(-8085, 32), SPH__Q(99, 1), SPH__Q(-10395, 512), SPH__Q(55, 32), 0, 0,
-    /* [1/2, 1) c = 1 */ SPH__Q(1, 1), 0, 1,
-        /* w   */ SPH__Q(61, 1024), SPH__Q(-187, 512), SPH__Q(869, 1024), SPH__Q(-99, 128), SPH__Q(-99, 512), SPH__Q(231, 256), SPH__Q(-231, 512), SPH__Q(-33, 128), SPH__Q(297, 1024), SPH__Q(-11, 512), SPH__Q(-55, 1024), SPH__Q(1, 64),
-        /* g   */ SPH__Q(-187, 512), SPH__Q(869, 512), SPH__Q(-297, 128), SPH__Q(-99, 128), SPH__Q(1155, 256), SPH__Q(-693, 256), SPH__Q(-231, 128), SPH__Q(297, 128), SPH__Q(-99, 512), SPH__Q(-275, 512), SPH__Q(11, 64), 0,
-        /* w2  */ SPH__Q(869, 512), SPH__Q(-297, 64), SPH__Q(-297, 128), SPH__Q(1155, 64), SPH__Q(-3465, 256), SPH__Q(-693, 64), SPH__Q(2079, 128), SPH__Q(-99, 64), SPH__Q(-2475, 512), SPH__Q(55, 32), 0, 0,
-    /* [1, 3/2) c = 3/2 */ SPH__Q(3, 2), 0, 1,
-        /* w   */ SPH__Q(553, 1048576), SPH__Q(-2013, 262144), SPH__Q(12397, 262144), SPH__Q(-1287, 8192), SPH__Q(9537, 32768), SPH__Q(-2079, 8192), SPH__Q(-231, 8192), SPH__Q(231, 1024), SPH__Q(-363, 4096), SPH__Q(-77, 1024), SPH__Q(33, 1024), SPH__Q(1, 64),
-        /* g   */ SPH__Q(-2013, 262144), SPH__Q(12397, 131072), SPH__Q(-3861, 8192), SPH__Q(9537, 8192), SPH__Q(-10395, 8192), SPH__Q(-693, 4096), SPH__Q(1617, 1024), SPH__Q(-363, 512), SPH__Q(-693, 1024), SPH__Q(165, 512), SPH__Q(11, 64), 0,
-        /* w2  */ SPH__Q(12397, 131072), SPH__Q(-3861, 4096), SPH__Q(28611, 8192), SPH__Q(-10395, 2048), SPH__Q(-3465, 4096), SPH__Q(4851, 512), SPH__Q(-2541, 512), SPH__Q(-693, 128), SPH__Q(1485, 512), SPH__Q(55, 32), 0, 0,
-    /* [3/2, 2) c = 2 */ SPH__Q(2, 1), 0, 1,
-        /* w   */ 0, 0, 0, 0, 0, 0, 0, 0, SPH__Q(33, 128), SPH__Q(77, 256), SPH__Q(121, 1024), SPH__Q(1, 64),
-        /* g   */ 0, 0, 0, 0, 0, 0, 0, SPH__Q(33, 16), SPH__Q(693, 256), SPH__Q(605, 512), SPH__Q(11, 64), 0,
-        /* w2  */ 0, 0, 0, 0, 0, 0, SPH__Q(231, 16), SPH__Q(693, 32), SPH__Q(5445, 512), SPH__Q(55, 32), 0, 0,
-    /* zero row */ 0, 1, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0,
-    /* Wendland C2 (1-D), Wendland 1995, kappa = 2, degree 4 */
-    /*   w = -(q - 2)**3*(3*q + 2)/16  on [0, 2) */
-    /* [0, 1/2) c = 0 */ 0, 1, 0,
-        /* w   */ SPH__Q(1, 1), 0, SPH__Q(-3, 2), SPH__Q(1, 1), SPH__Q(-3, 16),
-        /* g   */ SPH__Q(-3, 1), SPH__Q(3, 1), SPH__Q(-3, 4), 0, 0,
-        /* w2  */ SPH__Q(-3, 1), SPH__Q(6, 1), SPH__Q(-9, 4), 0, 0,
-    /* [1/2, 1) c = 1 */ SPH__Q(1, 1), 0, 1,
-        /* w   */ SPH__Q(5, 16), SPH__Q(-3, 4), SPH__Q(3, 8), SPH__Q(1, 4), SPH__Q(-3, 16),
-        /* g   */ SPH__Q(-3, 4), SPH__Q(3, 4), SPH__Q(3, 4), SPH__Q(-3, 4), 0,
-        /* w2  */ SPH__Q(3, 4), SPH__Q(3, 2), SPH__Q(-9, 4), 0, 0,
-    /* [1, 3/2) c = 3/2 */ SPH__Q(3, 2), 0, 1,
-        /* w   */ SPH__Q(13, 256), SPH__Q(-9, 32), SPH__Q(15, 32), SPH__Q(-1, 8), SPH__Q(-3, 16),
-        /* g   */ SPH__Q(-9, 32), SPH__Q(15, 16), SPH__Q(-3, 8), SPH__Q(-3, 4), 0,
-        /* w2  */ SPH__Q(15, 16), SPH__Q(-3, 4), SPH__Q(-9, 4), 0, 0,
-    /* [3/2, 2) c = 2 */ SPH__Q(2, 1), 0, 1,
-        /* w   */ 0, 0, 0, SPH__Q(-1, 2), SPH__Q(-3, 16),
-        /* g   */ 0, 0, SPH__Q(-3, 2), SPH__Q(-3, 4), 0,
-        /* w2  */ 0, SPH__Q(-3, 1), SPH__Q(-9, 4), 0, 0,
-    /* zero row */ 0, 1, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0,
-    /* Wendland C4 (1-D), Wendland 1995, kappa = 2, degree 7 */
-    /*   w = -(q - 2)**5*(4*q**2 + 5*q + 2)/64  on [0, 2) */
-    /* [0, 1/2) c = 0 */ 0, 1, 0,
-        /* w   */ SPH__Q(1, 1), 0, SPH__Q(-7, 4), 0, SPH__Q(35, 16), SPH__Q(-7, 4), SPH__Q(35, 64), SPH__Q(-1, 16),
-        /* g   */ SPH__Q(-7, 2), 0, SPH__Q(35, 4), SPH__Q(-35, 4), SPH__Q(105, 32), SPH__Q(-7, 16), 0, 0,
-        /* w2  */ SPH__Q(-7, 2), 0, SPH__Q(105, 4), SPH__Q(-35, 1), SPH__Q(525, 32), SPH__Q(-21, 8), 0, 0,
-    /* [1/2, 1) c = 1 */ SPH__Q(1, 1), 0, 1,
-        /* w   */ SPH__Q(11, 64), SPH__Q(-21, 32), SPH__Q(49, 64), 0, SPH__Q(-35, 64), SPH__Q(7, 32), SPH__Q(7, 64), SPH__Q(-1, 16),
-        /* g   */ SPH__Q(-21, 32), SPH__Q(49, 32), 0, SPH__Q(-35, 16), SPH__Q(35, 32), SPH__Q(21, 32), SPH__Q(-7, 16), 0,
-        /* w2  */ SPH__Q(49, 32), 0, SPH__Q(-105, 16), SPH__Q(35, 8), SPH__Q(105, 32), SPH__Q(-21, 8), 0, 0,
-    /* [1, 3/2) c = 3/2 */ SPH__Q(3, 2), 0, 1,
-        /* w   */ SPH__Q(37, 4096), SPH__Q(-21, 256), SPH__Q(287, 1024), SPH__Q(-105, 256), SPH__Q(35, 256), SPH__Q(7, 32), SPH__Q(-7, 64), SPH__Q(-1, 16),
-        /* g   */ SPH__Q(-21, 256), SPH__Q(287, 512), SPH__Q(-315, 256), SPH__Q(35, 64), SPH__Q(35, 32), SPH__Q(-21, 32), SPH__Q(-7, 16), 0,
-        /* w2  */ SPH__Q(287, 512), SPH__Q(-315, 128), SPH__Q(105, 64), SPH__Q(35, 8), SPH__Q(-105, 32), SPH__Q(-21, 8), 0, 0,
-    /* [3/2, 2) c = 2 */ SPH__Q(2, 1), 0, 1,
-        /* w   */ 0, 0, 0, 0, 0, SPH__Q(-7, 16), SPH__Q(-21, 64), SPH__Q(-1, 16),
-        /* g   */ 0, 0, 0, 0, SPH__Q(-35, 16), SPH__Q(-63, 32), SPH__Q(-7, 16), 0,
-        /* w2  */ 0, 0, 0, SPH__Q(-35, 4), SPH__Q(-315, 32), SPH__Q(-21, 8), 0, 0,
-    /* zero row */ 0, 1, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0,
-    /* Wendland C6 (1-D), Wendland 1995, kappa = 2, degree 10 */
-    /*   w = -(q - 2)**7*(3*q + 2)*(7*q**2 + 8*q + 4)/1024  on [0, 2) */
-    /* [0, 1/2) c = 0 */ 0, 1, 0,
-        /* w   */ SPH__Q(1, 1), 0, SPH__Q(-9, 4), 0, SPH__Q(21, 8), 0, SPH__Q(-105, 32), SPH__Q(3, 1), SPH__Q(-315, 256), SPH__Q(1, 4), SPH__Q(-21, 1024),
-        /* g   */ SPH__Q(-9, 2), 0, SPH__Q(21, 2), 0, SPH__Q(-315, 16), SPH__Q(21, 1), SPH__Q(-315, 32), SPH__Q(9, 4), SPH__Q(-105, 512), 0, 0,
-        /* w2  */ SPH__Q(-9, 2), 0, SPH__Q(63, 2), 0, SPH__Q(-1575, 16), SPH__Q(126, 1), SPH__Q(-2205, 32), SPH__Q(18, 1), SPH__Q(-945, 512), 0, 0,
-    /* [1/2, 1) c = 1 */ SPH__Q(1, 1), 0, 1,
-        /* w   */ SPH__Q(95, 1024), SPH__Q(-249, 512), SPH__Q(927, 1024), SPH__Q(-63, 128), SPH__Q(-273, 512), SPH__Q(189, 256), SPH__Q(-21, 512), SPH__Q(-39, 128), SPH__Q(99, 1024), SPH__Q(23, 512), SPH__Q(-21, 1024),
-        /* g   */ SPH__Q(-249, 512), SPH__Q(927, 512), SPH__Q(-189, 128), SPH__Q(-273, 128), SPH__Q(945, 256), SPH__Q(-63, 256), SPH__Q(-273, 128), SPH__Q(99, 128), SPH__Q(207, 512), SPH__Q(-105, 512), 0,
-        /* w2  */ SPH__Q(927, 512), SPH__Q(-189, 64), SPH__Q(-819, 128), SPH__Q(945, 64), SPH__Q(-315, 256), SPH__Q(-819, 64), SPH__Q(693, 128), SPH__Q(207, 64), SPH__Q(-945, 512), 0, 0,
-    /* [1, 3/2) c = 3/2 */ SPH__Q(3, 2), 0, 1,
-        /* w   */ SPH__Q(1651, 1048576), SPH__Q(-5211, 262144), SPH__Q(26991, 262144), SPH__Q(-4473, 16384), SPH__Q(11739, 32768), SPH__Q(-945, 8192), SPH__Q(-1869, 8192), SPH__Q(183, 1024), SPH__Q(279, 4096), SPH__Q(-59, 1024), SPH__Q(-21, 1024),
-        /* g   */ SPH__Q(-5211, 262144), SPH__Q(26991, 131072), SPH__Q(-13419, 16384), SPH__Q(11739, 8192), SPH__Q(-4725, 8192), SPH__Q(-5607, 4096), SPH__Q(1281, 1024), SPH__Q(279, 512), SPH__Q(-531, 1024), SPH__Q(-105, 512), 0,
-        /* w2  */ SPH__Q(26991, 131072), SPH__Q(-13419, 8192), SPH__Q(35217, 8192), SPH__Q(-4725, 2048), SPH__Q(-28035, 4096), SPH__Q(3843, 512), SPH__Q(1953, 512), SPH__Q(-531, 128), SPH__Q(-945, 512), 0, 0,
-    /* [3/2, 2) c = 2 */ SPH__Q(2, 1), 0, 1,
-        /* w   */ 0, 0, 0, 0, 0, 0, 0, SPH__Q(-3, 8), SPH__Q(-27, 64), SPH__Q(-41, 256), SPH__Q(-21, 1024),
-        /* g   */ 0, 0, 0, 0, 0, 0, SPH__Q(-21, 8), SPH__Q(-27, 8), SPH__Q(-369, 256), SPH__Q(-105, 512), 0,
-        /* w2  */ 0, 0, 0, 0, 0, SPH__Q(-63, 4), SPH__Q(-189, 8), SPH__Q(-369, 32), SPH__Q(-945, 512), 0, 0,
-    /* zero row */ 0, 1, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0
+/* ---- GENERATED by tools/gen_kernel_tables.py (make tables): do not edit by hand ---- */
+/* Every shape over its natural pieces: pieces, kappa, left ends, then per
+   piece the forms of w, g and w'': { b, e, m, degree, P } is
+   (b - q)^m P(q - e), P's coefficients lowest power first. g is w'(q)/q on
+   the piece holding 0 and w'(q) (divided by q at run time) on the others. */
+SPH__TABLE sph__nshape sph__nshapes[] = {
+    /* 0 cubic, kappa = 2 */
+    { 2, SPH__Q(2, 1), { 0, SPH__Q(1, 1), 0 }, {
+        /* [0, 1): w          = (3 q^3 - 6 q^2 + 4)/6
+                   w'/q       = (3 q - 4)/2
+                   w''        = 3 q - 2 */
+        { { SPH__Q(1, 1), SPH__Q(1, 1), 0, 3, { SPH__Q(1, 6), SPH__Q(-1, 2), SPH__Q(1, 2), SPH__Q(1, 2), 0, 0 } },
+          { SPH__Q(1, 1), SPH__Q(1, 1), 0, 1, { SPH__Q(-1, 2), SPH__Q(3, 2), 0, 0, 0, 0 } },
+          { SPH__Q(1, 1), SPH__Q(1, 2), 0, 1, { SPH__Q(-1, 2), SPH__Q(3, 1), 0, 0, 0, 0 } } },
+        /* [1, 2): w          = (2 - q)^3/6
+                   w'         = -(2 - q)^2/2
+                   w''        = (2 - q) */
+        { { SPH__Q(2, 1), SPH__Q(1, 1), 3, 0, { SPH__Q(1, 6), 0, 0, 0, 0, 0 } },
+          { SPH__Q(2, 1), SPH__Q(1, 1), 2, 0, { SPH__Q(-1, 2), 0, 0, 0, 0, 0 } },
+          { SPH__Q(2, 1), SPH__Q(1, 1), 1, 0, { SPH__Q(1, 1), 0, 0, 0, 0, 0 } } }
+    } },
+    /* 1 lucy, kappa = 1 */
+    { 1, SPH__Q(1, 1), { 0, 0, 0 }, {
+        /* [0, 1): w          = (1 - q)^3 (3 q + 1)
+                   w'/q       = -12 (1 - q)^2
+                   w''        = 12 (1 - q) (3 q - 1) */
+        { { SPH__Q(1, 1), 0, 3, 1, { SPH__Q(1, 1), SPH__Q(3, 1), 0, 0, 0, 0 } },
+          { SPH__Q(1, 1), 0, 2, 0, { SPH__Q(-12, 1), 0, 0, 0, 0, 0 } },
+          { SPH__Q(1, 1), SPH__Q(1, 2), 1, 1, { SPH__Q(6, 1), SPH__Q(36, 1), 0, 0, 0, 0 } } }
+    } },
+    /* 2 new_quartic, kappa = 2 */
+    { 2, SPH__Q(2, 1), { 0, SPH__Q(1, 1), 0 }, {
+        /* [0, 1): w          = -(2 - q)^2 (15 q^2 - 16 q - 16)/96
+                   w'/q       = (2 - q) (5 q - 9)/8
+                   w''        = -(15 q^2 - 38 q + 18)/8 */
+        { { SPH__Q(2, 1), 0, 2, 2, { SPH__Q(1, 6), SPH__Q(1, 6), SPH__Q(-5, 32), 0, 0, 0 } },
+          { SPH__Q(2, 1), 0, 1, 1, { SPH__Q(-9, 8), SPH__Q(5, 8), 0, 0, 0, 0 } },
+          { SPH__Q(2, 1), SPH__Q(1, 2), 0, 2, { SPH__Q(-11, 32), SPH__Q(23, 8), SPH__Q(-15, 8), 0, 0, 0 } } },
+        /* [1, 2): w          = -(2 - q)^2 (15 q^2 - 16 q - 16)/96
+                   w'         = (2 - q) q (5 q - 9)/8
+                   w''        = -(15 q^2 - 38 q + 18)/8 */
+        { { SPH__Q(2, 1), SPH__Q(3, 2), 2, 2, { SPH__Q(25, 384), SPH__Q(-29, 96), SPH__Q(-5, 32), 0, 0, 0 } },
+          { SPH__Q(2, 1), SPH__Q(3, 2), 1, 2, { SPH__Q(-9, 32), SPH__Q(3, 4), SPH__Q(5, 8), 0, 0, 0 } },
+          { SPH__Q(2, 1), SPH__Q(2, 1), 0, 2, { SPH__Q(-1, 4), SPH__Q(-11, 4), SPH__Q(-15, 8), 0, 0, 0 } } }
+    } },
+    /* 3 quintic, kappa = 3 */
+    { 3, SPH__Q(3, 1), { 0, SPH__Q(1, 1), SPH__Q(2, 1) }, {
+        /* [0, 1): w          = -2 (5 q^5 - 15 q^4 + 30 q^2 - 33)
+                   w'/q       = -10 (5 q^3 - 12 q^2 + 12)
+                   w''        = -40 (5 q^3 - 9 q^2 + 3) */
+        { { SPH__Q(1, 1), 0, 0, 5, { SPH__Q(66, 1), 0, SPH__Q(-60, 1), 0, SPH__Q(30, 1), SPH__Q(-10, 1) } },
+          { SPH__Q(1, 1), 0, 0, 3, { SPH__Q(-120, 1), 0, SPH__Q(120, 1), SPH__Q(-50, 1), 0, 0 } },
+          { SPH__Q(1, 1), SPH__Q(1, 1), 0, 3, { SPH__Q(40, 1), SPH__Q(120, 1), SPH__Q(-240, 1), SPH__Q(-200, 1), 0, 0 } } },
+        /* [1, 2): w          = 5 q^5 - 45 q^4 + 150 q^3 - 210 q^2 + 75 q + 51
+                   w'         = 5 (5 q^4 - 36 q^3 + 90 q^2 - 84 q + 15)
+                   w''        = 20 (5 q^3 - 27 q^2 + 45 q - 21) */
+        { { SPH__Q(2, 1), SPH__Q(2, 1), 0, 5, { SPH__Q(1, 1), SPH__Q(-5, 1), SPH__Q(10, 1), SPH__Q(-10, 1), SPH__Q(5, 1), SPH__Q(5, 1) } },
+          { SPH__Q(2, 1), SPH__Q(2, 1), 0, 4, { SPH__Q(-5, 1), SPH__Q(20, 1), SPH__Q(-30, 1), SPH__Q(20, 1), SPH__Q(25, 1), 0 } },
+          { SPH__Q(2, 1), SPH__Q(3, 2), 0, 3, { SPH__Q(105, 2), SPH__Q(-45, 1), SPH__Q(-90, 1), SPH__Q(100, 1), 0, 0 } } },
+        /* [2, 3): w          = (3 - q)^5
+                   w'         = -5 (3 - q)^4
+                   w''        = 20 (3 - q)^3 */
+        { { SPH__Q(3, 1), SPH__Q(2, 1), 5, 0, { SPH__Q(1, 1), 0, 0, 0, 0, 0 } },
+          { SPH__Q(3, 1), SPH__Q(2, 1), 4, 0, { SPH__Q(-5, 1), 0, 0, 0, 0, 0 } },
+          { SPH__Q(3, 1), SPH__Q(2, 1), 3, 0, { SPH__Q(20, 1), 0, 0, 0, 0, 0 } } }
+    } },
+    /* 4 wendland_c2, kappa = 2 */
+    { 1, SPH__Q(2, 1), { 0, 0, 0 }, {
+        /* [0, 2): w          = (2 - q)^4 (2 q + 1)/16
+                   w'/q       = -5 (2 - q)^3/8
+                   w''        = 5 (2 - q)^2 (2 q - 1)/4 */
+        { { SPH__Q(2, 1), 0, 4, 1, { SPH__Q(1, 16), SPH__Q(1, 8), 0, 0, 0, 0 } },
+          { SPH__Q(2, 1), 0, 3, 0, { SPH__Q(-5, 8), 0, 0, 0, 0, 0 } },
+          { SPH__Q(2, 1), 0, 2, 1, { SPH__Q(-5, 4), SPH__Q(5, 2), 0, 0, 0, 0 } } }
+    } },
+    /* 5 wendland_c2_1d, kappa = 2 */
+    { 1, SPH__Q(2, 1), { 0, 0, 0 }, {
+        /* [0, 2): w          = (2 - q)^3 (3 q + 2)/16
+                   w'/q       = -3 (2 - q)^2/4
+                   w''        = 3 (2 - q) (3 q - 2)/4 */
+        { { SPH__Q(2, 1), 0, 3, 1, { SPH__Q(1, 8), SPH__Q(3, 16), 0, 0, 0, 0 } },
+          { SPH__Q(2, 1), 0, 2, 0, { SPH__Q(-3, 4), 0, 0, 0, 0, 0 } },
+          { SPH__Q(2, 1), SPH__Q(1, 1), 1, 1, { SPH__Q(3, 4), SPH__Q(9, 4), 0, 0, 0, 0 } } }
+    } },
+    /* 6 wendland_c4, kappa = 2 */
+    { 1, SPH__Q(2, 1), { 0, 0, 0 }, {
+        /* [0, 2): w          = (2 - q)^6 (35 q^2 + 36 q + 12)/768
+                   w'/q       = -7 (2 - q)^5 (5 q + 2)/96
+                   w''        = 7 (2 - q)^4 (35 q^2 - 8 q - 4)/96 */
+        { { SPH__Q(2, 1), 0, 6, 2, { SPH__Q(1, 64), SPH__Q(3, 64), SPH__Q(35, 768), 0, 0, 0 } },
+          { SPH__Q(2, 1), 0, 5, 1, { SPH__Q(-7, 48), SPH__Q(-35, 96), 0, 0, 0, 0 } },
+          { SPH__Q(2, 1), 0, 4, 2, { SPH__Q(-7, 24), SPH__Q(-7, 12), SPH__Q(245, 96), 0, 0, 0 } } }
+    } },
+    /* 7 wendland_c4_1d, kappa = 2 */
+    { 1, SPH__Q(2, 1), { 0, 0, 0 }, {
+        /* [0, 2): w          = (2 - q)^5 (4 q^2 + 5 q + 2)/64
+                   w'/q       = -7 (2 - q)^4 (2 q + 1)/32
+                   w''        = 7 (2 - q)^3 (12 q^2 - 3 q - 2)/32 */
+        { { SPH__Q(2, 1), 0, 5, 2, { SPH__Q(1, 32), SPH__Q(5, 64), SPH__Q(1, 16), 0, 0, 0 } },
+          { SPH__Q(2, 1), 0, 4, 1, { SPH__Q(-7, 32), SPH__Q(-7, 16), 0, 0, 0, 0 } },
+          { SPH__Q(2, 1), 0, 3, 2, { SPH__Q(-7, 16), SPH__Q(-21, 32), SPH__Q(21, 8), 0, 0, 0 } } }
+    } },
+    /* 8 wendland_c6, kappa = 2 */
+    { 1, SPH__Q(2, 1), { 0, 0, 0 }, {
+        /* [0, 2): w          = (2 - q)^8 (16 q^3 + 25 q^2 + 16 q + 4)/1024
+                   w'/q       = -11 (2 - q)^7 (8 q^2 + 7 q + 2)/512
+                   w''        = 11 (2 - q)^6 (80 q^3 + 15 q^2 - 12 q - 4)/512 */
+        { { SPH__Q(2, 1), 0, 8, 3, { SPH__Q(1, 256), SPH__Q(1, 64), SPH__Q(25, 1024), SPH__Q(1, 64), 0, 0 } },
+          { SPH__Q(2, 1), 0, 7, 2, { SPH__Q(-11, 256), SPH__Q(-77, 512), SPH__Q(-11, 64), 0, 0, 0 } },
+          { SPH__Q(2, 1), 0, 6, 3, { SPH__Q(-11, 128), SPH__Q(-33, 128), SPH__Q(165, 512), SPH__Q(55, 32), 0, 0 } } }
+    } },
+    /* 9 wendland_c6_1d, kappa = 2 */
+    { 1, SPH__Q(2, 1), { 0, 0, 0 }, {
+        /* [0, 2): w          = (2 - q)^7 (3 q + 2) (7 q^2 + 8 q + 4)/1024
+                   w'/q       = -3 (2 - q)^6 (35 q^2 + 36 q + 12)/512
+                   w''        = 9 (2 - q)^5 (105 q^3 + 26 q^2 - 20 q - 8)/512 */
+        { { SPH__Q(2, 1), 0, 7, 3, { SPH__Q(1, 128), SPH__Q(7, 256), SPH__Q(19, 512), SPH__Q(21, 1024), 0, 0 } },
+          { SPH__Q(2, 1), 0, 6, 2, { SPH__Q(-9, 128), SPH__Q(-27, 128), SPH__Q(-105, 512), 0, 0, 0 } },
+          { SPH__Q(2, 1), 0, 5, 3, { SPH__Q(-9, 64), SPH__Q(-45, 128), SPH__Q(117, 256), SPH__Q(945, 512), 0, 0 } } }
+    } }
 };
 
-SPH__TABLE sph__shape sph__shapes[] = {
-    /* kappa, 1/width, pieces, degree, offset into sph__coef */
-    { SPH__Q(2, 1), SPH__Q(2, 1), 4, 3, 0 }, /* 0 cubic */
-    { SPH__Q(1, 1), SPH__Q(2, 1), 2, 4, 75 }, /* 1 lucy */
-    { SPH__Q(2, 1), SPH__Q(2, 1), 4, 4, 129 }, /* 2 new_quartic */
-    { SPH__Q(3, 1), SPH__Q(2, 1), 6, 5, 219 }, /* 3 quintic */
-    { SPH__Q(2, 1), SPH__Q(2, 1), 4, 5, 366 }, /* 4 wendland_c2 */
-    { SPH__Q(2, 1), SPH__Q(2, 1), 4, 8, 471 }, /* 5 wendland_c4 */
-    { SPH__Q(2, 1), SPH__Q(2, 1), 4, 11, 621 }, /* 6 wendland_c6 */
-    { SPH__Q(2, 1), SPH__Q(2, 1), 4, 4, 816 }, /* 7 wendland_c2_1d */
-    { SPH__Q(2, 1), SPH__Q(2, 1), 4, 7, 906 }, /* 8 wendland_c4_1d */
-    { SPH__Q(2, 1), SPH__Q(2, 1), 4, 10, 1041 }  /* 9 wendland_c6_1d */
-};
-
-/* Per kernel and dimension 1..3: shape index, alpha_d (exact integration of
-   the shape, correctly rounded) and sigma_d / h, sigma_d^2 = int |x|^2 W d^dx / d. */
-SPH__TABLE sph__kdim sph__kdims[SPH_KERNEL_COUNT][3] = {
-    { /* cubic */
+/* Per kernel (SPH_KERNEL_LIST order) and dimension 1..3: shape, alpha_d and
+   sigma_d / h (exact integration, rounded once). */
+SPH__TABLE sph__kdim sph__kdims[][3] = {
+    { /* cubic: cubic B-spline M4 (Monaghan & Lattanzio 1985), kappa 2, C2 */
         { 0, SPH__C(1.00000000000000000000), SPH__C(0.577350269189625764509) }, /* 1D: alpha = 1, sigma/h = sqrt(3)/3 */
         { 0, SPH__C(0.682092613250980010438), SPH__C(0.562429133857986501406) }, /* 2D: alpha = 15/(7*pi), sigma/h = sqrt(62)/14 */
         { 0, SPH__C(0.477464829275686007307), SPH__C(0.547722557505166113457) }  /* 3D: alpha = 3/(2*pi), sigma/h = sqrt(30)/10 */
     },
-    { /* lucy */
+    { /* lucy: Lucy quartic (Lucy 1977), kappa 1, C2 */
         { 1, SPH__C(1.25000000000000000000), SPH__C(0.308606699924183820522) }, /* 1D: alpha = 5/4, sigma/h = sqrt(42)/21 */
         { 1, SPH__C(1.59154943091895335769), SPH__C(0.298807152333598409992) }, /* 2D: alpha = 5/pi, sigma/h = sqrt(70)/28 */
         { 1, SPH__C(2.08890862808112628197), SPH__C(0.288675134594812882255) }  /* 3D: alpha = 105/(16*pi), sigma/h = sqrt(3)/6 */
     },
-    { /* new_quartic */
+    { /* new_quartic: new quartic (Liu, Liu & Lam 2003), kappa 2, C1 */
         { 2, SPH__C(1.00000000000000000000), SPH__C(0.574594404914223089000) }, /* 1D: alpha = 1, sigma/h = 2*sqrt(910)/105 */
         { 2, SPH__C(0.682092613250980010438), SPH__C(0.553283335172488126454) }, /* 2D: alpha = 15/(7*pi), sigma/h = sqrt(15)/7 */
         { 2, SPH__C(0.482055837249490680454), SPH__C(0.531085004543794336722) }  /* 3D: alpha = 315/(208*pi), sigma/h = sqrt(429)/39 */
     },
-    { /* quintic */
+    { /* quintic: quintic B-spline M6 (Morris 1996), kappa 3, C4 */
         { 3, SPH__C(0.00833333333333333333333), SPH__C(0.707106781186547524401) }, /* 1D: alpha = 1/120, sigma/h = sqrt(2)/2 */
         { 3, SPH__C(0.00466144184787977970871), SPH__C(0.695046229260274514650) }, /* 2D: alpha = 7/(478*pi), sigma/h = sqrt(3973614)/2868 */
         { 3, SPH__C(0.00265258238486492226281), SPH__C(0.683130051063973225548) }  /* 3D: alpha = 1/(120*pi), sigma/h = sqrt(105)/15 */
     },
-    { /* wendland_c2 */
-        { 7, SPH__C(0.625000000000000000000), SPH__C(0.617213399848367641044) }, /* 1D: alpha = 5/8, sigma/h = 2*sqrt(42)/21 */
+    { /* wendland_c2: Wendland C2 (Wendland 1995), kappa 2 */
+        { 5, SPH__C(0.625000000000000000000), SPH__C(0.617213399848367641044) }, /* 1D: alpha = 5/8, sigma/h = 2*sqrt(42)/21 */
         { 4, SPH__C(0.557042300821633675191), SPH__C(0.527046276694729888666) }, /* 2D: alpha = 7/(4*pi), sigma/h = sqrt(10)/6 */
         { 4, SPH__C(0.417781725616225256393), SPH__C(0.516397779494322251357) }  /* 3D: alpha = 21/(16*pi), sigma/h = 2*sqrt(15)/15 */
     },
-    { /* wendland_c4 */
-        { 8, SPH__C(0.750000000000000000000), SPH__C(0.516397779494322251357) }, /* 1D: alpha = 3/4, sigma/h = 2*sqrt(15)/15 */
-        { 5, SPH__C(0.716197243913529010960), SPH__C(0.460566186471838291869) }, /* 2D: alpha = 9/(4*pi), sigma/h = sqrt(231)/33 */
-        { 5, SPH__C(0.615482006488188993794), SPH__C(0.452910813657838300244) }  /* 3D: alpha = 495/(256*pi), sigma/h = 2*sqrt(78)/39 */
+    { /* wendland_c4: Wendland C4 (Wendland 1995), kappa 2 */
+        { 7, SPH__C(0.750000000000000000000), SPH__C(0.516397779494322251357) }, /* 1D: alpha = 3/4, sigma/h = 2*sqrt(15)/15 */
+        { 6, SPH__C(0.716197243913529010960), SPH__C(0.460566186471838291869) }, /* 2D: alpha = 9/(4*pi), sigma/h = sqrt(231)/33 */
+        { 6, SPH__C(0.615482006488188993794), SPH__C(0.452910813657838300244) }  /* 3D: alpha = 495/(256*pi), sigma/h = 2*sqrt(78)/39 */
     },
-    { /* wendland_c6 */
+    { /* wendland_c6: Wendland C6 (Wendland 1995), kappa 2 */
         { 9, SPH__C(0.859375000000000000000), SPH__C(0.452910813657838300244) }, /* 1D: alpha = 55/64, sigma/h = 2*sqrt(78)/39 */
-        { 6, SPH__C(0.886720397226274013569), SPH__C(0.414039335605412530678) }, /* 2D: alpha = 39/(14*pi), sigma/h = sqrt(210)/35 */
-        { 6, SPH__C(0.848619130157957552049), SPH__C(0.408248290463863016366) }  /* 3D: alpha = 1365/(512*pi), sigma/h = sqrt(6)/6 */
+        { 8, SPH__C(0.886720397226274013569), SPH__C(0.414039335605412530678) }, /* 2D: alpha = 39/(14*pi), sigma/h = sqrt(210)/35 */
+        { 8, SPH__C(0.848619130157957552049), SPH__C(0.408248290463863016366) }  /* 3D: alpha = 1365/(512*pi), sigma/h = sqrt(6)/6 */
     }
 };
-
-/* The natural pieces in product form, per shape (same order as sph__shapes):
-   pieces, kappa, left ends, then per piece the forms of w and g,
-   { b, e, m, degree, P } means (b - q)^m P(q - e); W = w, F from g, where g
-   is w'(q)/q on the piece holding 0 and w'(q) (to divide by q) elsewhere. */
-SPH__TABLE sph__nshape sph__nshapes[] = {
-    { 2, SPH__Q(2, 1), { 0, SPH__Q(1, 1), 0 }, { /* cubic */
-        { { SPH__Q(1, 1), SPH__Q(1, 1), 0, 3, { SPH__Q(1, 6), SPH__Q(-1, 2), SPH__Q(1, 2), SPH__Q(1, 2), 0, 0 } },
-          { SPH__Q(1, 1), SPH__Q(1, 1), 0, 1, { SPH__Q(-1, 2), SPH__Q(3, 2), 0, 0, 0, 0 } } },
-        { { SPH__Q(2, 1), SPH__Q(1, 1), 3, 0, { SPH__Q(1, 6), 0, 0, 0, 0, 0 } },
-          { SPH__Q(2, 1), SPH__Q(1, 1), 2, 0, { SPH__Q(-1, 2), 0, 0, 0, 0, 0 } } }
-    } },
-    { 1, SPH__Q(1, 1), { 0, 0, 0 }, { /* lucy */
-        { { SPH__Q(1, 1), 0, 3, 1, { SPH__Q(1, 1), SPH__Q(3, 1), 0, 0, 0, 0 } },
-          { SPH__Q(1, 1), 0, 2, 0, { SPH__Q(-12, 1), 0, 0, 0, 0, 0 } } }
-    } },
-    { 2, SPH__Q(2, 1), { 0, SPH__Q(1, 1), 0 }, { /* new_quartic */
-        { { SPH__Q(2, 1), 0, 2, 2, { SPH__Q(1, 6), SPH__Q(1, 6), SPH__Q(-5, 32), 0, 0, 0 } },
-          { SPH__Q(2, 1), 0, 1, 1, { SPH__Q(-9, 8), SPH__Q(5, 8), 0, 0, 0, 0 } } },
-        { { SPH__Q(2, 1), SPH__Q(3, 2), 2, 2, { SPH__Q(25, 384), SPH__Q(-29, 96), SPH__Q(-5, 32), 0, 0, 0 } },
-          { SPH__Q(2, 1), SPH__Q(2, 1), 1, 2, { SPH__Q(1, 4), SPH__Q(11, 8), SPH__Q(5, 8), 0, 0, 0 } } }
-    } },
-    { 3, SPH__Q(3, 1), { 0, SPH__Q(1, 1), SPH__Q(2, 1) }, { /* quintic */
-        { { SPH__Q(1, 1), 0, 0, 5, { SPH__Q(66, 1), 0, SPH__Q(-60, 1), 0, SPH__Q(30, 1), SPH__Q(-10, 1) } },
-          { SPH__Q(1, 1), 0, 0, 3, { SPH__Q(-120, 1), 0, SPH__Q(120, 1), SPH__Q(-50, 1), 0, 0 } } },
-        { { SPH__Q(2, 1), SPH__Q(2, 1), 0, 5, { SPH__Q(1, 1), SPH__Q(-5, 1), SPH__Q(10, 1), SPH__Q(-10, 1), SPH__Q(5, 1), SPH__Q(5, 1) } },
-          { SPH__Q(2, 1), SPH__Q(2, 1), 0, 4, { SPH__Q(-5, 1), SPH__Q(20, 1), SPH__Q(-30, 1), SPH__Q(20, 1), SPH__Q(25, 1), 0 } } },
-        { { SPH__Q(3, 1), SPH__Q(2, 1), 5, 0, { SPH__Q(1, 1), 0, 0, 0, 0, 0 } },
-          { SPH__Q(3, 1), SPH__Q(2, 1), 4, 0, { SPH__Q(-5, 1), 0, 0, 0, 0, 0 } } }
-    } },
-    { 1, SPH__Q(2, 1), { 0, 0, 0 }, { /* wendland_c2 */
-        { { SPH__Q(2, 1), 0, 4, 1, { SPH__Q(1, 16), SPH__Q(1, 8), 0, 0, 0, 0 } },
-          { SPH__Q(2, 1), 0, 3, 0, { SPH__Q(-5, 8), 0, 0, 0, 0, 0 } } }
-    } },
-    { 1, SPH__Q(2, 1), { 0, 0, 0 }, { /* wendland_c4 */
-        { { SPH__Q(2, 1), 0, 6, 2, { SPH__Q(1, 64), SPH__Q(3, 64), SPH__Q(35, 768), 0, 0, 0 } },
-          { SPH__Q(2, 1), 0, 5, 1, { SPH__Q(-7, 48), SPH__Q(-35, 96), 0, 0, 0, 0 } } }
-    } },
-    { 1, SPH__Q(2, 1), { 0, 0, 0 }, { /* wendland_c6 */
-        { { SPH__Q(2, 1), 0, 8, 3, { SPH__Q(1, 256), SPH__Q(1, 64), SPH__Q(25, 1024), SPH__Q(1, 64), 0, 0 } },
-          { SPH__Q(2, 1), 0, 7, 2, { SPH__Q(-11, 256), SPH__Q(-77, 512), SPH__Q(-11, 64), 0, 0, 0 } } }
-    } },
-    { 1, SPH__Q(2, 1), { 0, 0, 0 }, { /* wendland_c2_1d */
-        { { SPH__Q(2, 1), 0, 3, 1, { SPH__Q(1, 8), SPH__Q(3, 16), 0, 0, 0, 0 } },
-          { SPH__Q(2, 1), 0, 2, 0, { SPH__Q(-3, 4), 0, 0, 0, 0, 0 } } }
-    } },
-    { 1, SPH__Q(2, 1), { 0, 0, 0 }, { /* wendland_c4_1d */
-        { { SPH__Q(2, 1), 0, 5, 2, { SPH__Q(1, 32), SPH__Q(5, 64), SPH__Q(1, 16), 0, 0, 0 } },
-          { SPH__Q(2, 1), 0, 4, 1, { SPH__Q(-7, 32), SPH__Q(-7, 16), 0, 0, 0, 0 } } }
-    } },
-    { 1, SPH__Q(2, 1), { 0, 0, 0 }, { /* wendland_c6_1d */
-        { { SPH__Q(2, 1), 0, 7, 3, { SPH__Q(1, 128), SPH__Q(7, 256), SPH__Q(19, 512), SPH__Q(21, 1024), 0, 0 } },
-          { SPH__Q(2, 1), 0, 6, 2, { SPH__Q(-9, 128), SPH__Q(-27, 128), SPH__Q(-105, 512), 0, 0, 0 } } }
-    } }
-};
 /* ---- end of GENERATED tables ---- */
+/* A kernel of SPH_KERNEL_LIST without its row (a stale block: run make tables)
+ * does not compile. */
+typedef char sph__kdims_cover_the_list[(int)(sizeof sph__kdims / sizeof sph__kdims[0]) == (int)SPH_KERNEL_COUNT ? 1 : -1];
 
-/* Horner's rule, lowest power first: c[0] + u (c[1] + u (c[2] + ...)). */
-SPH_API sph_real sph__horner(const sph_real *c, int degree, sph_real u)
+/* Complete unrolling of the short constant-count loops of the product forms
+ * (gcc's default limits leave the quintic's nest rolled, and unvectorised). */
+#if defined(__GNUC__) && !defined(__clang__) && !defined(__CUDACC__) && !defined(__INTEL_COMPILER) && __GNUC__ >= 8
+#define SPH__UNROLL _Pragma("GCC unroll 8")
+#else
+#define SPH__UNROLL
+#endif
+
+/* (b - q)^m P(q - e): one form of sph__nshapes, in the pair loops. */
+SPH__INLINE sph_real sph__pform_eval(const sph__pform *f, sph_real q)
 {
-    sph_real p = c[degree];
+    const sph_real t = f->b - q, u = q - f->e;
+    sph_real p = f->c[f->degree], tm = 1;
     int i;
-    for (i = degree - 1; i >= 0; --i) p = p * u + c[i];
-    return p;
+    SPH__UNROLL
+    for (i = f->degree - 1; i >= 0; --i) p = p * u + f->c[i];
+    SPH__UNROLL
+    for (i = 0; i < f->m; ++i) tm *= t;
+    return tm * p;
 }
 
-/* The table row of the piece holding q: picked by one conversion, no chain of
- * ifs. q outside [0, kappa) (and NaN) selects the zero row. */
-SPH_API const sph_real *sph__row(const sph__shape *s, sph_real q)
+/* Form G (0 w, 1 g, 2 w'') of piece p. */
+SPH__INLINE const sph__pform *sph__nshape_form(const sph__nshape *s, int p, const int G)
 {
-    const int i = (q >= 0 && q < s->kappa) ? (int)(q * s->inv_width) : s->npiece;
-    return sph__coef + s->offset + i * (3 + 3 * (s->degree + 1));
+    return G == 0 ? &s->piece[p].w : G == 1 ? &s->piece[p].g : &s->piece[p].w2;
 }
 
-/* docs/kernels.md eq. (K1), (K2): the dimensionless shape w(q) and
- * g(q) = w'(q)/q at q >= 0, both from one table row. */
-SPH_API void sph__shape_wg(const sph__shape *s, sph_real q, sph_real *w, sph_real *g)
+/* For the pair loops, form G of the natural piece holding q >= 0: every piece
+ * is evaluated and the one holding q selected by comparisons, so a loop over
+ * pairs has no branch and no per-pair table gather (the forms are constants
+ * of the kernel). */
+SPH__INLINE sph_real sph__nshape_pick(const sph__nshape *s, const int G, sph_real q)
 {
-    const sph_real *row = sph__row(s, q);
-    const sph_real u = q - row[0];
-    *w = sph__horner(row + 3, s->degree, u);
-    *g = sph__horner(row + 4 + s->degree, s->degree, u) / (row[1] + row[2] * q);
+    sph_real v = sph__pform_eval(sph__nshape_form(s, 0, G), q);
+    const int np = s->npiece < SPH__PIECES ? s->npiece : SPH__PIECES; /* no read past the table */
+    int p;
+    SPH__UNROLL
+    for (p = 1; p < np; ++p) {
+        const sph_real x = sph__pform_eval(sph__nshape_form(s, p, G), q);
+        v = q >= s->lo[p] ? x : v;
+    }
+    return v;
 }
 
-/* w, g = w'/q, w' and w'' at q >= 0 from one table row (scalar API). */
-SPH_API void sph__shape_all(const sph__shape *s, sph_real q, sph_real d[4])
+/* docs/kernels.md eq. (K1), pair loops: w(q); 0 for q >= kappa and NaN. */
+SPH__INLINE sph_real sph__nshape_w(const sph__nshape *s, sph_real q)
 {
-    const sph_real *row = sph__row(s, q);
-    const sph_real u = q - row[0];
-    const int n = s->degree + 1;
-    const sph_real num = sph__horner(row + 3 + n, s->degree, u);
-    d[0] = sph__horner(row + 3, s->degree, u);
-    d[1] = num / (row[1] + row[2] * q);
-    d[2] = row[1] > 0 ? num * q : num; /* inner piece stores w'/q, the others w' */
-    d[3] = sph__horner(row + 3 + 2 * n, s->degree, u);
+    const sph_real w = sph__nshape_pick(s, 0, q);
+    return q < s->kappa ? w : 0;
+}
+
+/* (K2), pair loops: g(q) = w'(q)/q the same way; the piece holding 0 has q
+ * divided out exactly (finite at q = 0), the others divide by q: one division
+ * per pair. */
+SPH__INLINE sph_real sph__nshape_g(const sph__nshape *s, sph_real q)
+{
+    sph_real g = sph__nshape_pick(s, 1, q);
+    if (s->npiece > 1) g /= q >= s->lo[1] ? q : 1;
+    return q < s->kappa ? g : 0;
+}
+
+/* The same form for the scalar functions: in double whatever sph_real is, and
+ * with the rounding error of t = b - q taken back (b - q = t + dt exactly,
+ * Fast2Sum; (t + dt)^m = t^m + m t^(m-1) dt to first order), which (2 - q)^8
+ * would otherwise raise to 4 eps next to q = 1. With SPH_REAL float a value
+ * is then the form rounded once, so W is as monotone as w to the last bit. */
+SPH_API double sph__pform_at(const sph__pform *f, double q)
+{
+    const double b = (double)f->b, t = b - q, u = q - (double)f->e;
+    double p = (double)f->c[f->degree], tm = 1;
+    int i;
+    for (i = f->degree - 1; i >= 0; --i) p = p * u + (double)f->c[i];
+    for (i = 1; i < f->m; ++i) tm *= t;
+    if (f->m > 0) tm = tm * t + (double)f->m * tm * ((b - t) - q);
+    return tm * p;
+}
+
+/* What the scalar functions take of the shape: w, g = w'/q, w'', w'. */
+enum { SPH__SW, SPH__SG, SPH__SW2, SPH__SW1 };
+
+/* w, g, w'' or w' at q >= 0 for the scalar functions, 0 for q >= kappa: the
+ * piece holding q alone, by sph__pform_at. */
+SPH_API double sph__shape_at(const sph__nshape *s, int what, sph_real q)
+{
+    int p = s->npiece - 1;
+    double v;
+    if (!(q < s->kappa)) return 0;
+    while (p > 0 && q < s->lo[p]) --p;
+    v = sph__pform_at(sph__nshape_form(s, p, what == SPH__SW1 ? SPH__SG : what), (double)q);
+    if (what == SPH__SG && p > 0) v /= (double)q; /* g holds w' off the piece holding 0 */
+    if (what == SPH__SW1 && p == 0) v *= (double)q; /* and w'/q on it */
+    return v;
 }
 
 /* x * hinv^n, scaling last so intermediate values stay representable. */
@@ -659,29 +667,25 @@ SPH_API const sph__kdim *sph__prep(sph_kernel k, int dim, sph_real r, sph_real h
     if (kd == NULL || !sph__h_ok(h, dim) || !(r >= 0 && r <= SPH__REAL_MAX)) return NULL;
     *hinv = 1 / h;
     *q = r / h; /* one rounding: r = kappa h gives q = kappa exactly */
-    /* beyond the support (r / h may even overflow to Inf): q = kappa selects
-     * the zero row and keeps every product with q finite */
-    if (!(*q < sph__shapes[kd->shape].kappa)) *q = sph__shapes[kd->shape].kappa;
+    /* beyond the support (r / h may even overflow to Inf): every form is 0
+     * at q = kappa, and products with q stay finite */
+    if (!(*q < sph__nshapes[kd->shape].kappa)) *q = sph__nshapes[kd->shape].kappa;
     return kd;
 }
 
 /* kappa: W(r, h) = 0 for r >= kappa h (0 for an unknown kernel). */
 SPH_API sph_real sph_kernel_support(sph_kernel k)
 {
-    return sph_kernel_check(k, 1) == SPH_OK ? sph__shapes[sph__kdims[k][0].shape].kappa : 0;
+    return sph_kernel_check(k, 1) == SPH_OK ? sph__nshapes[sph__kdims[k][0].shape].kappa : 0;
 }
 
 /* Short lower-case identifier ("cubic", "wendland_c4", ...); "invalid" otherwise. */
 SPH_API const char *sph_kernel_name(sph_kernel k)
 {
     switch (k) {
-    case SPH_KERNEL_CUBIC: return "cubic";
-    case SPH_KERNEL_LUCY: return "lucy";
-    case SPH_KERNEL_NEW_QUARTIC: return "new_quartic";
-    case SPH_KERNEL_QUINTIC: return "quintic";
-    case SPH_KERNEL_WENDLAND_C2: return "wendland_c2";
-    case SPH_KERNEL_WENDLAND_C4: return "wendland_c4";
-    case SPH_KERNEL_WENDLAND_C6: return "wendland_c6";
+#define SPH__KERNEL_NAME(ID, name, description, C) case SPH_KERNEL_##ID: return #name;
+    SPH_KERNEL_LIST(SPH__KERNEL_NAME, )
+#undef SPH__KERNEL_NAME
     default: return "invalid";
     }
 }
@@ -758,16 +762,18 @@ enum { SPH__W, SPH__F, SPH__DWDR, SPH__D2WDR2, SPH__DWDH };
 
 SPH_API sph_real sph__scalar(sph_kernel k, int dim, sph_real r, sph_real h, int what)
 {
-    sph_real hinv = 0, q = 0, d[4];
+    sph_real hinv = 0, q = 0;
     const sph__kdim *kd = sph__prep(k, dim, r, h, &hinv, &q);
+    const sph__nshape *s = kd ? &sph__nshapes[kd->shape] : NULL;
     if (kd == NULL) return 0;
-    sph__shape_all(&sph__shapes[kd->shape], q, d);
     switch (what) {
-    case SPH__W: return sph__hpow(kd->alpha * d[0], hinv, dim);
-    case SPH__F: return sph__hpow(kd->alpha * d[1], hinv, dim + 2);
-    case SPH__DWDR: return sph__hpow(kd->alpha * d[2], hinv, dim + 1);
-    case SPH__D2WDR2: return sph__hpow(kd->alpha * d[3], hinv, dim + 2);
-    default: return -sph__hpow(kd->alpha * ((sph_real)dim * d[0] + q * d[2]), hinv, dim + 1);
+    case SPH__W: return sph__hpow(kd->alpha * (sph_real)sph__shape_at(s, SPH__SW, q), hinv, dim);
+    case SPH__F: return sph__hpow(kd->alpha * (sph_real)sph__shape_at(s, SPH__SG, q), hinv, dim + 2);
+    case SPH__DWDR: return sph__hpow(kd->alpha * (sph_real)sph__shape_at(s, SPH__SW1, q), hinv, dim + 1);
+    case SPH__D2WDR2: return sph__hpow(kd->alpha * (sph_real)sph__shape_at(s, SPH__SW2, q), hinv, dim + 2);
+    default: /* (K7): d w + q w' */
+        return -sph__hpow(kd->alpha * (sph_real)(dim * sph__shape_at(s, SPH__SW, q) + (double)q * sph__shape_at(s, SPH__SW1, q)),
+                          hinv, dim + 1);
     }
 }
 
@@ -801,20 +807,19 @@ SPH_API sph_real sph_kernel_dwdh(sph_kernel k, int dim, sph_real r, sph_real h)
     return sph__scalar(k, dim, r, h, SPH__DWDH);
 }
 
-/* docs/kernels.md eq. (K1), (K2) fused: W and F from one table row (hot loops). */
+/* docs/kernels.md eq. (K1), (K2) together: W and F with one validation. */
 SPH_API void sph_kernel_wf(sph_kernel k, int dim, sph_real r, sph_real h, sph_real *W,
                            sph_real *F)
 {
-    sph_real hinv = 0, q = 0, w, g;
+    sph_real hinv = 0, q = 0;
     const sph__kdim *kd = sph__prep(k, dim, r, h, &hinv, &q);
     if (kd == NULL) {
         *W = 0;
         *F = 0;
         return;
     }
-    sph__shape_wg(&sph__shapes[kd->shape], q, &w, &g);
-    *W = sph__hpow(kd->alpha * w, hinv, dim);
-    *F = sph__hpow(kd->alpha * g, hinv, dim + 2);
+    *W = sph__hpow(kd->alpha * (sph_real)sph__shape_at(&sph__nshapes[kd->shape], SPH__SW, q), hinv, dim);
+    *F = sph__hpow(kd->alpha * (sph_real)sph__shape_at(&sph__nshapes[kd->shape], SPH__SG, q), hinv, dim + 2);
 }
 
 /* docs/kernels.md eq. (K8): grad_i W_ij = F x_ij, dx = x_i - x_j (dim components).
@@ -823,7 +828,7 @@ SPH_API void sph_kernel_wf(sph_kernel k, int dim, sph_real r, sph_real h, sph_re
 SPH_API void sph_kernel_grad(sph_kernel k, int dim, const sph_real *dx, sph_real h,
                              sph_real *grad)
 {
-    sph_real s[3] = {0, 0, 0}, q2 = 0, q, w, g, G;
+    sph_real s[3] = {0, 0, 0}, q2 = 0, G;
     const sph__kdim *kd = sph__kd(k, dim);
     int a;
     if (kd == NULL || dx == NULL || grad == NULL || !sph__h_ok(h, dim)) {
@@ -834,9 +839,7 @@ SPH_API void sph_kernel_grad(sph_kernel k, int dim, const sph_real *dx, sph_real
         s[a] = dx[a] / h;
         q2 += s[a] * s[a];
     }
-    q = sph__sqrt(q2);
-    sph__shape_wg(&sph__shapes[kd->shape], q, &w, &g);
-    G = (q < sph__shapes[kd->shape].kappa) ? sph__hpow(kd->alpha * g, 1 / h, dim + 1) : 0;
+    G = sph__hpow(kd->alpha * (sph_real)sph__shape_at(&sph__nshapes[kd->shape], SPH__SG, sph__sqrt(q2)), 1 / h, dim + 1);
     for (a = 0; a < dim; ++a) grad[a] = G != 0 ? G * s[a] : 0;
 }
 
@@ -975,18 +978,6 @@ SPH_API sph_out sph_out_aos(sph_real *first, int ncomp, size_t stride_bytes)
  * sph_pressure_factor (0), sph_harmonic_k (0) and sph_correction_invert
  * (identity). */
 
-/* Force-inlined helpers: the operator loops rely on them folding into one
- * loop body per kernel and dimension. */
-#if defined(__CUDACC__)
-#define SPH__INLINE static __forceinline__ SPH_HOSTDEV
-#elif defined(__GNUC__) || defined(__clang__)
-#define SPH__INLINE static inline __attribute__((always_inline))
-#elif defined(_MSC_VER)
-#define SPH__INLINE static __forceinline
-#else
-#define SPH__INLINE static inline
-#endif
-
 /* The kernel at one pair: r = |dx|, q = r / h, W = W(r, h), F = (1/r) dW/dr. */
 typedef struct {
     sph_real r, q, W, F;
@@ -1000,7 +991,7 @@ typedef struct {
 SPH_API sph_pair sph_pair_kernel(sph_kernel k, int dim, const sph_real *dx, sph_real h)
 {
     sph_pair p;
-    sph_real r2 = 0, w, g, hinv, r, q;
+    sph_real r2 = 0, hinv, r, q;
     const sph__kdim *kd = sph__kd(k, dim);
     int a;
     p.r = p.q = p.W = p.F = 0;
@@ -1012,9 +1003,8 @@ SPH_API sph_pair sph_pair_kernel(sph_kernel k, int dim, const sph_real *dx, sph_
     if (!(q <= SPH__REAL_MAX)) return p; /* NaN (a NaN in dx) or Inf (Inf in dx, or overflow) */
     p.r = r;
     p.q = q;
-    sph__shape_wg(&sph__shapes[kd->shape], p.q, &w, &g);
-    p.W = sph__hpow(kd->alpha * w, hinv, dim);
-    p.F = sph__hpow(kd->alpha * g, hinv, dim + 2);
+    p.W = sph__hpow(kd->alpha * (sph_real)sph__shape_at(&sph__nshapes[kd->shape], SPH__SW, q), hinv, dim);
+    p.F = sph__hpow(kd->alpha * (sph_real)sph__shape_at(&sph__nshapes[kd->shape], SPH__SG, q), hinv, dim + 2);
     return p;
 }
 
@@ -1319,60 +1309,6 @@ SPH_API int sph_neighbours_check(const sph_neighbours *list)
     for (o = 0; o < list->offset[list->n_targets]; ++o)
         if (list->index[o] < 0 || list->index[o] >= list->n_sources) return SPH_EINDEX;
     return SPH_OK;
-}
-
-/* Complete unrolling of the short constant-count loops of the kernel forms
- * (gcc's default limits leave the quintic's nest rolled, and unvectorised). */
-#if defined(__GNUC__) && !defined(__clang__) && !defined(__CUDACC__) && !defined(__INTEL_COMPILER) && __GNUC__ >= 8
-#define SPH__UNROLL _Pragma("GCC unroll 8")
-#else
-#define SPH__UNROLL
-#endif
-
-/* (b - q)^m P(q - e): one product form of sph__nshapes. */
-SPH__INLINE sph_real sph__pform_eval(const sph__pform *f, sph_real q)
-{
-    const sph_real t = f->b - q, u = q - f->e;
-    sph_real p = f->c[f->degree], tm = 1;
-    int i;
-    SPH__UNROLL
-    for (i = f->degree - 1; i >= 0; --i) p = p * u + f->c[i];
-    SPH__UNROLL
-    for (i = 0; i < f->m; ++i) tm *= t;
-    return tm * p;
-}
-
-/* The form of w (G = 0) or g (G = 1) of the natural piece holding q >= 0:
- * every piece is evaluated and the one holding q selected by comparisons, so
- * a loop over pairs has no branch and no per-pair table gather (the forms are
- * constants of the kernel). */
-SPH__INLINE sph_real sph__nshape_pick(const sph__nshape *s, const int G, sph_real q)
-{
-    sph_real v = sph__pform_eval(G ? &s->piece[0].g : &s->piece[0].w, q);
-    const int np = s->npiece < 3 ? s->npiece : 3; /* at most 3 pieces: no read past the table */
-    int p;
-    SPH__UNROLL
-    for (p = 1; p < np; ++p) {
-        const sph_real x = sph__pform_eval(G ? &s->piece[p].g : &s->piece[p].w, q);
-        v = q >= s->lo[p] ? x : v;
-    }
-    return v;
-}
-
-/* docs/kernels.md eq. (K1): w(q) from the natural pieces; 0 for q >= kappa and NaN. */
-SPH__INLINE sph_real sph__nshape_w(const sph__nshape *s, sph_real q)
-{
-    const sph_real w = sph__nshape_pick(s, 0, q);
-    return q < s->kappa ? w : 0;
-}
-
-/* (K2): g(q) = w'(q)/q the same way; the piece holding 0 has q divided out
- * exactly (finite at q = 0), the others divide by q: one division per pair. */
-SPH__INLINE sph_real sph__nshape_g(const sph__nshape *s, sph_real q)
-{
-    sph_real g = sph__nshape_pick(s, 1, q);
-    if (s->npiece > 1) g /= q >= s->lo[1] ? q : 1;
-    return q < s->kappa ? g : 0;
 }
 
 
@@ -1792,7 +1728,7 @@ SPH__INLINE void sph__shape_run(const sph__nshape *s, const sph_real *q, sph_rea
 }
 
 #define SPH__SHAPE_IDS(X) X(0) X(1) X(2) X(3) X(4) X(5) X(6) X(7) X(8) X(9)
-typedef char sph__shape_ids_cover_every_shape[SPH__SHAPE_COUNT == 10 ? 1 : -1];
+typedef char sph__shape_ids_cover_every_shape[(int)(sizeof sph__nshapes / sizeof sph__nshapes[0]) == 10 ? 1 : -1];
 
 #define SPH__X(S)                                                                          \
     SPH__NOINLINE void sph__shape_run##S(const sph_real *q, sph_real *w, sph_real *g, int n) \

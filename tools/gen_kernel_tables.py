@@ -1,130 +1,120 @@
 #!/usr/bin/env python3
-"""Generate the per-kernel coefficient tables of sph_kernel.h (section 2).
+"""Generate the kernel tables of sph_kernel.h (section 3) from the kernels'
+published forms (needs sympy).
 
-Run: python3 tools/gen_kernel_tables.py > /tmp/tables.h   (needs sympy)
-and paste the output between the GENERATED markers of sph_kernel.h.
+  python3 tools/gen_kernel_tables.py               print the generated block
+  python3 tools/gen_kernel_tables.py --write FILE  rewrite the block of FILE in
+                                                   place (`make tables`)
 
-Every shape w(q) (support [0, kappa)) is cut into pieces of width 1/2. On
-each piece it is written as three exact polynomials in the local variable
-u = q - c (c = the piece's expansion point):
-  w(q), w'(q) (divided by q at run time) or, on the piece that holds q = 0,
-  w'(q)/q expanded so that no division happens there, and w''(q).
-c = 0 on the innermost piece, c = kappa on the outermost (so w = t^m P(t),
-t = kappa - q, keeps its sign and relative accuracy up to the edge), and for
-the middle pieces the end point or mid point with the smallest cancellation
-ratio sum|c_i u^i| / |sum c_i u^i|. All coefficients are exact rationals.
-Normalisation constants alpha_d are computed by exact integration.
+The kernels, their order and their descriptions come from SPH_KERNEL_LIST in
+the header (the one list that also makes the enum, the names and the operator
+dispatch); this file holds each kernel's shape w(q) as published. A kernel in
+the list without a shape here, or a shape here for no kernel of the list, is
+an error. tests/check_tables.sh fails when the header's block differs from
+what this prints.
 
-A second representation (sph__nshapes, used by the operator pair loops, which
-evaluate every piece and select by comparisons) keeps the NATURAL pieces
-(cubic 2, quintic 3, the others 1), each in product form
+Every shape is stored over its NATURAL pieces (cubic 2, quintic 3, new quartic
+2, the others 1), each quantity in product form
+
   value = (b - q)^m P(q - e),
-b = the piece's right end, m = the multiplicity of the root q = b (so the
-value keeps its sign and relative accuracy up to the edge), P expanded about
-the end or mid point e with the smallest cancellation ratio (e = 0 favoured on
-the piece holding 0, so w(0) is exact). For F the piece
-holding q = 0 stores w'(q)/q (q divided out exactly), the others w'(q).
+
+b = the right end of the polynomial's own interval (the support edge, or the
+knot where the next piece takes over), m = the multiplicity of its root there
+(so the value keeps its sign and its relative accuracy up to the edge), P
+expanded about the end or mid point e of the piece with the least
+cancellation, sum |c_i u^i| / |sum c_i u^i| away from P's roots (for w and g,
+e = 0 favoured on the piece holding 0, so the self terms W(0) and F(0) are
+one rounding of an exact constant). The
+quantities are w, w'' and, for F = (1/r) dW/dr without a division by r at
+r = 0, g = w'(q)/q on the piece holding 0 (q divides w' there since
+w'(0) = 0) and w'(q) on the others (divided by q at run time). All
+coefficients are exact rationals; alpha_d and sigma_d/h come from exact
+integration, rounded once.
 """
+import os
+import re
+import sys
+
 import sympy as sp
 
 q, u, r = sp.symbols('q u r')
 R = sp.Rational
-WIDTH = R(1, 2)
 
-# name, C identifier, pieces [(a, b, w(q))], kappa, dims, literature
-SHAPES = [
-    ('cubic spline (M4), Monaghan & Lattanzio 1985', 'cubic',
-     [(0, 1, R(2, 3) - q**2 + q**3 / 2), (1, 2, (2 - q)**3 / 6)], 2, (1, 2, 3)),
-    ('Lucy quartic, Lucy 1977', 'lucy',
-     [(0, 1, (1 + 3 * q) * (1 - q)**3)], 1, (1, 2, 3)),
-    ('new quartic, Liu & Liu 2003', 'new_quartic',
-     [(0, 2, R(2, 3) - R(9, 8) * q**2 + R(19, 24) * q**3 - R(5, 32) * q**4)], 2, (1, 2, 3)),
-    ('quintic spline (M6), Morris 1996', 'quintic',
-     [(0, 1, (3 - q)**5 - 6 * (2 - q)**5 + 15 * (1 - q)**5),
-      (1, 2, (3 - q)**5 - 6 * (2 - q)**5), (2, 3, (3 - q)**5)], 3, (1, 2, 3)),
-    ('Wendland C2 (2-D/3-D), Wendland 1995', 'wendland_c2',
-     [(0, 2, (1 - q / 2)**4 * (1 + 2 * q))], 2, (2, 3)),
-    ('Wendland C4 (2-D/3-D), Wendland 1995', 'wendland_c4',
-     [(0, 2, (1 - q / 2)**6 * (1 + 3 * q + R(35, 12) * q**2))], 2, (2, 3)),
-    ('Wendland C6 (2-D/3-D), Wendland 1995', 'wendland_c6',
-     [(0, 2, (1 - q / 2)**8 * (1 + 4 * q + R(25, 4) * q**2 + 4 * q**3))], 2, (2, 3)),
-    ('Wendland C2 (1-D), Wendland 1995', 'wendland_c2_1d',
-     [(0, 2, (1 - q / 2)**3 * (1 + R(3, 2) * q))], 2, (1,)),
-    ('Wendland C4 (1-D), Wendland 1995', 'wendland_c4_1d',
-     [(0, 2, (1 - q / 2)**5 * (1 + R(5, 2) * q + 2 * q**2))], 2, (1,)),
-    ('Wendland C6 (1-D), Wendland 1995', 'wendland_c6_1d',
-     [(0, 2, (1 - q / 2)**7 * (1 + R(7, 2) * q + R(19, 4) * q**2 + R(21, 8) * q**3))], 2, (1,)),
-]
+# Shapes w(q) as published: name -> (kappa, [(a, b, w on [a, b))]).
+SHAPES = {
+    'cubic': (2, [(0, 1, R(2, 3) - q**2 + q**3 / 2), (1, 2, (2 - q)**3 / 6)]),
+    'lucy': (1, [(0, 1, (1 + 3 * q) * (1 - q)**3)]),
+    'new_quartic': (2, [(0, 2, R(2, 3) - R(9, 8) * q**2 + R(19, 24) * q**3 - R(5, 32) * q**4)]),
+    'quintic': (3, [(0, 1, (3 - q)**5 - 6 * (2 - q)**5 + 15 * (1 - q)**5),
+                    (1, 2, (3 - q)**5 - 6 * (2 - q)**5), (2, 3, (3 - q)**5)]),
+    'wendland_c2': (2, [(0, 2, (1 - q / 2)**4 * (1 + 2 * q))]),
+    'wendland_c4': (2, [(0, 2, (1 - q / 2)**6 * (1 + 3 * q + R(35, 12) * q**2))]),
+    'wendland_c6': (2, [(0, 2, (1 - q / 2)**8 * (1 + 4 * q + R(25, 4) * q**2 + 4 * q**3))]),
+    'wendland_c2_1d': (2, [(0, 2, (1 - q / 2)**3 * (1 + R(3, 2) * q))]),
+    'wendland_c4_1d': (2, [(0, 2, (1 - q / 2)**5 * (1 + R(5, 2) * q + 2 * q**2))]),
+    'wendland_c6_1d': (2, [(0, 2, (1 - q / 2)**7 * (1 + R(7, 2) * q + R(19, 4) * q**2 + R(21, 8) * q**3))]),
+}
+
+# Kernel (name of SPH_KERNEL_LIST) -> shape in 1-, 2- and 3-D: the Wendland
+# functions are positive definite only up to a dimension, so 1-D takes
+# Wendland's 1-D functions (Wendland 1995).
+KERNEL_SHAPES = {
+    'cubic': ('cubic',) * 3,
+    'lucy': ('lucy',) * 3,
+    'new_quartic': ('new_quartic',) * 3,
+    'quintic': ('quintic',) * 3,
+    'wendland_c2': ('wendland_c2_1d', 'wendland_c2', 'wendland_c2'),
+    'wendland_c4': ('wendland_c4_1d', 'wendland_c4', 'wendland_c4'),
+    'wendland_c6': ('wendland_c6_1d', 'wendland_c6', 'wendland_c6'),
+}
+
+# The new quartic is one polynomial, but (2 - q)^2 P(q - e) cannot be both
+# exact at q = 0 (e = 0) and accurate in its small negative lobe near q = 1.8
+# (where P about 0 cancels): two pieces, split at 1, both with the root q = 2
+# of the whole polynomial.
+SPLIT = {'new_quartic': [(0, 1), (1, 2)]}
+
+NPMAX = 6  # coefficients per polynomial P (the quintic's inner piece: degree 5)
+BEGIN = '/* ---- GENERATED by tools/gen_kernel_tables.py (make tables): do not edit by hand ---- */'
+END = '/* ---- end of GENERATED tables ---- */'
 
 
-def piece_at(pieces, x):
-    for a, b, p in pieces:
-        if a <= x < b:
-            return p
-    raise ValueError(x)
-
-
-def polys(p, c, inner):
-    w = sp.expand(p.subs(q, u + c))
-    d1 = sp.cancel(sp.diff(p, q) / q) if inner else sp.diff(p, q)
-    g = sp.expand(d1.subs(q, u + c))
-    d2 = sp.expand(sp.diff(p, q, 2).subs(q, u + c))
-    return [sp.Poly(x, u).all_coeffs()[::-1] for x in (w, g, d2)]
+def read_kernel_list(path):
+    """[(ID, name, description)] of SPH_KERNEL_LIST in the header at path."""
+    text = open(path).read()
+    m = re.search(r'#define SPH_KERNEL_LIST\(X, C\)((?:.*\\\n)+.*)', text)
+    if not m:
+        sys.exit('%s: no "#define SPH_KERNEL_LIST(X, C)"' % path)
+    items = re.findall(r'X\((\w+),\s*(\w+),\s*"([^"]*)",\s*C\)', m.group(1))
+    names = [n for _, n, _ in items]
+    missing = [n for n in names if n not in KERNEL_SHAPES]
+    unused = [n for n in KERNEL_SHAPES if n not in names]
+    if missing or unused or not items:
+        sys.exit('SPH_KERNEL_LIST and tools/gen_kernel_tables.py disagree: no shape here for %s; '
+                 'no kernel in the list for %s' % (missing or '-', unused or '-'))
+    return items
 
 
 def cond(coeffs, a, b, c):
+    """Worst cancellation ratio sum |c_i u^i| / |sum c_i u^i| of the
+    polynomial about c on [a, b], left out within 1/16 of its real roots
+    (where no expansion keeps the relative error bounded)."""
+    poly = sum(ci * u**i for i, ci in enumerate(coeffs))
+    roots = [float(x) + float(c) for x in sp.Poly(poly, u).real_roots()] if poly.free_symbols else []
     worst = 0.0
-    vals = []
     for j in range(201):
         x = float(a) + (float(b) - float(a)) * j / 200
+        if any(abs(x - z) < 1 / 16 for z in roots):
+            continue
         uu = x - float(c)
         v = sum(float(ci) * uu**i for i, ci in enumerate(coeffs))
-        s = sum(abs(float(ci) * uu**i) for i, ci in enumerate(coeffs))
-        vals.append((v, s))
-    mx = max(abs(v) for v, _ in vals)
-    for v, s in vals:
-        if abs(v) > 0.02 * mx:
-            worst = max(worst, s / abs(v))
+        worst = max(worst, sum(abs(float(ci) * uu**i) for i, ci in enumerate(coeffs)) / abs(v))
     return worst
 
 
-def cfrac(x):
-    x = sp.Rational(x)
-    if x == 0:
-        return '0'
-    if x.q == 1:
-        return 'SPH__Q(%d, 1)' % x.p
-    return 'SPH__Q(%d, %d)' % (x.p, x.q)
-
-
-def shape_table(pieces, kappa):
-    n = int(sp.Rational(kappa) / WIDTH)
-    rows = []
-    for k in range(n):
-        a, b = WIDTH * k, WIDTH * (k + 1)
-        p = piece_at(pieces, a)
-        if a == 0:
-            cands = [0]
-        elif b == kappa:
-            cands = [sp.Rational(kappa)]
-        else:
-            cands = [b, a, (a + b) / 2]
-        best = None
-        for c in cands:
-            cs = polys(p, c, a == 0)
-            score = max(cond(cs[0], a, b, c), cond(cs[1], a, b, c))
-            if best is None or score < best[0] - 1e-9:
-                best = (score, c, cs)
-        rows.append((a, b, best[1], a == 0, best[2]))
-    deg = max(len(x) for row in rows for x in row[4]) - 1
-    return rows, deg
-
-
-NPMAX = 6  # coefficients per product-form polynomial (quintic: degree 5)
-
-
-def product_form(expr, a, b, root):
-    """expr = (root - q)^m P(q - e) on [a, b): returns m, e, coefficients of P."""
+def product_form(expr, a, b, root, favour0):
+    """expr = (root - q)^m P(q - e) on [a, b): m, e and the coefficients of P;
+    favour0: prefer e = 0 on the piece holding 0."""
     m, rest = 0, sp.expand(expr)
     while rest != 0 and rest.subs(q, root) == 0:
         rest = sp.cancel(rest / (root - q))
@@ -133,129 +123,134 @@ def product_form(expr, a, b, root):
     for e in (a, b, (a + b) / 2):
         cs = sp.Poly(sp.expand(rest.subs(q, u + e)), u).all_coeffs()[::-1]
         score = cond(cs, a, b, e) if any(c != 0 for c in cs[1:]) else 1.0
-        if a == 0 and e == 0:
-            score /= 4  # favoured: w(0) is then b^m P(0), exact, as in the table rows
+        if favour0 and a == 0 and e == 0:
+            score /= 4  # favoured: w(0) = b^m P(0), one rounding
         if best is None or score < best[0] - 1e-9:
             best = (score, e, cs)
     assert len(best[2]) <= NPMAX
     return m, best[1], best[2]
 
 
-# The new quartic is one polynomial, but (2 - q)^2 P(q - e) cannot be both
-# exact at q = 0 (e = 0: the self term equals that of the table rows) and
-# accurate in its small negative lobe near q = 2 (e = 2): split at 1.
-SPLIT = {'new_quartic': [(0, 1), (1, 2)]}  # the root q = b stays that of the whole piece
-
-
-def natural_table(ident, pieces):
-    whole = [(sp.Rational(a), sp.Rational(b), sp.Rational(b), p) for a, b, p in pieces]
+def natural_pieces(ident):
+    """[(a, b, root, w)] of the shape: its own pieces, or SPLIT's."""
+    _, pieces = SHAPES[ident]
     if ident in SPLIT:
-        whole = [(sp.Rational(a), sp.Rational(b), sp.Rational(pieces[0][1]), piece_at(pieces, a))
-                 for a, b in SPLIT[ident]]
-    rows = []
-    for a, b, root, p in whole:
-        g = sp.diff(p, q)
-        if a == 0:
-            g = sp.cancel(g / q)
-        rows.append((a, root, product_form(p, a, b, root), product_form(g, a, b, root)))
-    return rows
+        return [(R(a), R(b), R(pieces[0][1]), pieces[0][2]) for a, b in SPLIT[ident]]
+    return [(R(a), R(b), R(b), p) for a, b, p in pieces]
 
 
-def pform(b, form):
+def quantities(a, p):
+    """w, g (w'/q on the piece holding 0, else w') and w'' of piece [a, b)."""
+    w1 = sp.diff(p, q)
+    return [p, (sp.cancel(w1 / q) if a == 0 else w1), sp.diff(p, q, 2)]
+
+
+def c_rational(x):
+    x = R(x)
+    return '0' if x == 0 else 'SPH__Q(%d, %d)' % (x.p, x.q)
+
+
+def c_form(b, form):
     m, e, cs = form
-    vals = [cfrac(x) for x in cs] + ['0'] * (NPMAX - len(cs))
-    return '{ %s, %s, %d, %d, { %s } }' % (cfrac(b), cfrac(e), m, len(cs) - 1, ', '.join(vals))
+    vals = [c_rational(x) for x in cs] + ['0'] * (NPMAX - len(cs))
+    return '{ %s, %s, %d, %d, { %s } }' % (c_rational(b), c_rational(e), m, len(cs) - 1, ', '.join(vals))
 
 
-def alpha(pieces, d):
+def text(expr, root):
+    """A polynomial for a comment: (root - q)^m times the rest factored, ^ for powers."""
+    m, rest = 0, sp.expand(expr)
+    while rest != 0 and rest.subs(q, root) == 0:
+        rest = sp.cancel(rest / (root - q))
+        m += 1
+    t = sp.Symbol('(%s - q)' % root)
+    return sp.sstr(t**m * sp.factor(rest)).replace('**', '^').replace('*', ' ')
+
+
+def normalisation(ident, d):
+    """alpha_d = 1 / int w dV and sigma_d / h, sigma^2 = (1/d) int |x|^2 W dV."""
+    _, pieces = SHAPES[ident]
     vol = {1: 2, 2: 2 * sp.pi * r, 3: 4 * sp.pi * r**2}[d]
     tot = sum(sp.integrate(p.subs(q, r) * vol, (r, a, b)) for a, b, p in pieces)
     m2 = sum(sp.integrate(p.subs(q, r) * r**2 * vol, (r, a, b)) for a, b, p in pieces)
     return sp.nsimplify(1 / tot), sp.sqrt(sp.simplify(m2 / tot / d))
 
 
-KERNELS = [  # enum order of sph_kernel: shape per dimension 1, 2, 3
-    ('cubic', ('cubic', 'cubic', 'cubic')),
-    ('lucy', ('lucy', 'lucy', 'lucy')),
-    ('new_quartic', ('new_quartic', 'new_quartic', 'new_quartic')),
-    ('quintic', ('quintic', 'quintic', 'quintic')),
-    ('wendland_c2', ('wendland_c2_1d', 'wendland_c2', 'wendland_c2')),
-    ('wendland_c4', ('wendland_c4_1d', 'wendland_c4', 'wendland_c4')),
-    ('wendland_c6', ('wendland_c6_1d', 'wendland_c6', 'wendland_c6')),
-]
+def shape_entry(ident, index, last):
+    kappa, _ = SHAPES[ident]
+    rows = natural_pieces(ident)
+    out = ['    /* %d %s, kappa = %s */' % (index, ident, kappa)]
+    lo = [c_rational(a) for a, _, _, _ in rows] + ['0'] * (3 - len(rows))
+    out.append('    { %d, %s, { %s }, {' % (len(rows), c_rational(kappa), ', '.join(lo)))
+    for i, (a, b, root, p) in enumerate(rows):
+        qs = quantities(a, p)
+        labels = ['w', "w'/q" if a == 0 else "w'", "w''"]
+        head = '        /* [%s, %s): ' % (a, b)
+        for k, (lab, x) in enumerate(zip(labels, qs)):
+            out.append((head if k == 0 else ' ' * len(head)) + '%-10s = %s%s'
+                       % (lab, text(x, root), ' */' if k + 1 == len(qs) else ''))
+        forms = [c_form(root, product_form(x, a, b, root, k < 2)) for k, x in enumerate(qs)]
+        out.append('        { %s,' % forms[0])
+        out.append('          %s,' % forms[1])
+        out.append('          %s }%s' % (forms[2], ',' if i + 1 < len(rows) else ''))
+    out.append('    } }%s' % ('' if last else ','))
+    return out
 
 
-def main():
-    out = []
-    meta = {}
-    off = 0
-    out.append('/* ---- GENERATED by tools/gen_kernel_tables.py: do not edit by hand ---- */')
-    out.append('/* Per piece [a, b): c, den0, den1, then w, g, w2 as deg+1 coefficients each')
-    out.append('   (lowest power first) in u = q - c; F = alpha h^-(d+2) g(u) / (den0 + den1 q),')
-    out.append('   W = alpha h^-d w(u), d2W/dr2 = alpha h^-(d+2) w2(u). The last row of each')
-    out.append('   shape is the zero row used for q >= kappa (and for NaN q).            */')
-    out.append('SPH__TABLE sph_real sph__coef[] = {')
-    for title, ident, pieces, kappa, dims in SHAPES:
-        rows, deg = shape_table(pieces, kappa)
-        stride = 3 + 3 * (deg + 1)
-        out.append('    /* %s, kappa = %s, degree %d */' % (title, kappa, deg))
-        for a, b, p in pieces:
-            out.append('    /*   w = %s  on [%s, %s) */' % (sp.sstr(sp.factor(p)), a, b))
-        for a, b, c, inner, cs in rows:
-            head = [cfrac(c), '1' if inner else '0', '0' if inner else '1']
-            out.append('    /* [%s, %s) c = %s */ %s,' % (a, b, c, ', '.join(head)))
-            for lab, poly in zip(('w  ', 'g  ', 'w2 '), cs):
-                vals = [cfrac(x) for x in poly] + ['0'] * (deg + 1 - len(poly))
-                out.append('        /* %s */ %s,' % (lab, ', '.join(vals)))
-        out.append('    /* zero row */ 0, 1, 0, ' + ', '.join(['0'] * (3 * (deg + 1))) + ',')
-        meta[ident] = (kappa, len(rows), deg, off, {d: alpha(pieces, d) for d in dims})
-        off += stride * (len(rows) + 1)
-    out[-1] = out[-1].rstrip(',')
-    out.append('};')
-    out.append('')
-    out.append('SPH__TABLE sph__shape sph__shapes[] = {')
-    out.append('    /* kappa, 1/width, pieces, degree, offset into sph__coef */')
-    names = [x[1] for x in SHAPES]
-    for i, ident in enumerate(names):
-        kappa, n, deg, o, al = meta[ident]
-        out.append('    { SPH__Q(%s, 1), SPH__Q(%d, 1), %d, %d, %d }%s /* %d %s */'
-                   % (kappa, int(1 / WIDTH), n, deg, o, ',' if i + 1 < len(names) else ' ', i, ident))
-    out.append('};')
-    out.append('')
-    out.append('/* Per kernel and dimension 1..3: shape index, alpha_d (exact integration of')
-    out.append('   the shape, correctly rounded) and sigma_d / h, sigma_d^2 = int |x|^2 W d^dx / d. */')
-    out.append('SPH__TABLE sph__kdim sph__kdims[SPH_KERNEL_COUNT][3] = {')
-    for ki, (kname, sh) in enumerate(KERNELS):
-        cells = []
-        for d in (1, 2, 3):
-            kappa, n, deg, o, al = meta[sh[d - 1]]
-            a, s = al[d]
-            cells.append('        { %d, SPH__C(%s), SPH__C(%s) }%s /* %dD: alpha = %s, sigma/h = %s */'
-                         % (names.index(sh[d - 1]), sp.N(a, 21), sp.N(s, 21), ',' if d < 3 else ' ',
-                            d, sp.sstr(a), sp.sstr(s)))
-        out.append('    { /* %s */' % kname)
-        out += cells
-        out.append('    }%s' % (',' if ki + 1 < len(KERNELS) else ''))
-    out.append('};')
-    out.append('')
-    out.append('/* The natural pieces in product form, per shape (same order as sph__shapes):')
-    out.append('   pieces, kappa, left ends, then per piece the forms of w and g,')
-    out.append('   { b, e, m, degree, P } means (b - q)^m P(q - e); W = w, F from g, where g')
-    out.append('   is w\'(q)/q on the piece holding 0 and w\'(q) (to divide by q) elsewhere. */')
+def block(kernels):
+    shapes = []  # per kernel: its 2-/3-D shape, then its 1-D shape if different
+    for _, name, _ in kernels:
+        for s in (KERNEL_SHAPES[name][2], KERNEL_SHAPES[name][1], KERNEL_SHAPES[name][0]):
+            if s not in shapes:
+                shapes.append(s)
+    out = [BEGIN]
+    out.append('/* Every shape over its natural pieces: pieces, kappa, left ends, then per')
+    out.append("   piece the forms of w, g and w'': { b, e, m, degree, P } is")
+    out.append("   (b - q)^m P(q - e), P's coefficients lowest power first. g is w'(q)/q on")
+    out.append("   the piece holding 0 and w'(q) (divided by q at run time) on the others. */")
     out.append('SPH__TABLE sph__nshape sph__nshapes[] = {')
-    for i, (title, ident, pieces, kappa, dims) in enumerate(SHAPES):
-        rows = natural_table(ident, pieces)
-        lo = [cfrac(a) for a, _, _, _ in rows] + ['0'] * (3 - len(rows))
-        out.append('    { %d, SPH__Q(%s, 1), { %s }, { /* %s */' % (len(rows), kappa, ', '.join(lo), ident))
-        for a, b, fw, fg in rows:
-            out.append('        { %s,' % pform(b, fw))
-            out.append('          %s },' % pform(b, fg))
-        out[-1] = out[-1].rstrip(',')
-        out.append('    } }%s' % (',' if i + 1 < len(SHAPES) else ''))
+    for i, s in enumerate(shapes):
+        out += shape_entry(s, i, i + 1 == len(shapes))
     out.append('};')
-    out.append('/* ---- end of GENERATED tables ---- */')
-    print('\n'.join(out))
+    out.append('')
+    out.append('/* Per kernel (SPH_KERNEL_LIST order) and dimension 1..3: shape, alpha_d and')
+    out.append('   sigma_d / h (exact integration, rounded once). */')
+    out.append('SPH__TABLE sph__kdim sph__kdims[][3] = {')
+    for ki, (_, name, desc) in enumerate(kernels):
+        out.append('    { /* %s: %s */' % (name, desc))
+        for d in (1, 2, 3):
+            s = KERNEL_SHAPES[name][d - 1]
+            a, sig = normalisation(s, d)
+            out.append('        { %d, SPH__C(%s), SPH__C(%s) }%s /* %dD: alpha = %s, sigma/h = %s */'
+                       % (shapes.index(s), sp.N(a, 21), sp.N(sig, 21), ',' if d < 3 else ' ', d,
+                          sp.sstr(a), sp.sstr(sig)))
+        out.append('    }%s' % (',' if ki + 1 < len(kernels) else ''))
+    out.append('};')
+    out.append(END)
+    return '\n'.join(out) + '\n'
+
+
+def main(argv):
+    here = os.path.dirname(os.path.abspath(__file__))
+    if len(argv) == 3 and argv[1] == '--write':
+        path = argv[2]
+    elif len(argv) == 1:
+        path = os.path.join(here, '..', 'sph_kernel.h')
+    else:
+        sys.exit(__doc__)
+    new = block(read_kernel_list(path))
+    if len(argv) == 1:
+        sys.stdout.write(new)
+        return
+    lines = open(path).read().split('\n')
+    if lines.count(BEGIN) != 1 or lines.count(END) != 1:
+        sys.exit('%s: the markers of the generated block must each occur once' % path)
+    i, j = lines.index(BEGIN), lines.index(END)
+    text_out = '\n'.join(lines[:i]) + '\n' + new + '\n'.join(lines[j + 1:])
+    tmp = path + '.tmp'
+    with open(tmp, 'w') as f:
+        f.write(text_out)
+    os.replace(tmp, path)
 
 
 if __name__ == '__main__':
-    main()
+    main(sys.argv)
