@@ -50,7 +50,8 @@ gcc-float-native | gcc   | float  | -O2 +native                  |              
 gcc-omp          | gcc   | double | -O1 +omp -DSPH_NO_INTRINSICS | OMP_NUM_THREADS=2 | test_*                     | -
 clang-double     | clang | double | -O0 +san +native             |                   | test_* test_neighbours:-O1 | test_kernel_* test_neighbours test_op_* !test_op_fused !test_op_convergence test_neighbours:-O1
 clang-float      | clang | float  | -O0 +san                     |                   | test_* test_neighbours:-O1 | -
-clang-omp        | clang | double | -O2 +omp                     | OMP_NUM_THREADS=2 | test_extremes test_op_dispatch test_op_fused test_op_omp | -
+clang-omp        | clang | double | -O2 +omp                     | OMP_NUM_THREADS=2 | test_extremes test_op_dispatch test_op_fused test_op_omp test_op_reference | -
+gcc-reference    | gcc   | double | -O1 -DSPH_OP_REFERENCE       |                   | test_op_* !test_op_reference | -
 '
 # make check: the kernel, neighbour and operator tests, sanitised, for the
 # host CPU, but the fused pass (built by gcc -O2 instead: 45 s of CPU against
@@ -69,9 +70,10 @@ clang-omp        | clang | double | -O2 +omp                     | OMP_NUM_THREA
 #   clang-float       float under clang's sanitizers
 #   clang-omp         clang -fopenmp -O2, where clang reports omp simd loops it could
 #                     not vectorise (-Wpass-failed, an error under -Werror): the units
-#                     that instantiate every operator loop (test_extremes: each
-#                     operator at SPH_OP_SPECIALISE 0; test_op_dispatch and
-#                     test_op_fused: the specialised ones), and the OpenMP test
+#                     that instantiate every operator loop (test_extremes,
+#                     test_op_dispatch, test_op_fused, test_op_reference), and
+#                     the OpenMP test
+#   gcc-reference     the operator tests on the reference loops alone (SPH_OP_REFERENCE)
 # Where the time goes: the operator tests are minutes of compiling and seconds
 # of running, and the sanitizers' instrumentation of the always-inlined
 # operator loops is most of it (gcc -O1, tests/test_op_dispatch.c, CPU seconds:
@@ -90,7 +92,7 @@ clang-omp        | clang | double | -O2 +omp                     | OMP_NUM_THREA
 # here, on a unit with nothing but the header: the C front end checks every
 # function body of the header whether or not it is called, and the tests
 # compute their references in double from float values on purpose.
-HEADER_VARIANTS=("" -march=native -DSPH_NO_INTRINSICS "-DSPH_OP_SPECIALISE=0 -DSPH_DIM=3 -DSPH_KERNEL=SPH_KERNEL_CUBIC")
+HEADER_VARIANTS=("" -march=native -DSPH_NO_INTRINSICS -DSPH_OP_REFERENCE "-DSPH_DIM=3 -DSPH_KERNEL=SPH_KERNEL_CUBIC")
 FLOAT_WARN="-Wdouble-promotion -Wfloat-conversion"
 
 trim() { # trim "text": without leading and trailing blanks

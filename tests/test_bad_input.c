@@ -18,7 +18,6 @@
  * past a caller's array (offset[] beyond the counts, periodic[] beyond
  * axis 2) stops the program there.
  */
-#define SPH_OP_SPECIALISE 0 /* the checks are under test, not the loops: a quick build */
 #include <limits.h>
 
 #include "op_scene.h"
