@@ -34,7 +34,7 @@
  *               SPH_EKERNEL. The scalar kernel functions take any kernel.
  *               Pinning changes code size and compile time, not speed: the
  *               run-time choice is made once per call, outside the pair loop
- *               (examples/benchmark.c measures both).
+ *               (bench/benchmark.c measures both).
  *   SPH_OP_REFERENCE  compile only the plain reference loops of the array
  *               operators (one pair at a time through the section-5 pair
  *               terms): the smallest and simplest code, several times slower.
@@ -48,13 +48,28 @@
  *               sum either way, tested; the order of the sum over j
  *               differs) and no AVX-512 compress in the neighbour fill
  *               (same lists); slower.
+ *   SPH_ONLY_KERNELS   sections 1-3 only: the scalar kernel functions.
+ *   SPH_ONLY_PAIRS     sections 1-5: kernels, views and pair terms, for a
+ *               solver with its own neighbour loop (no operators, no search).
+ *   SPH_NO_OPERATORS   everything but section 6 (the array operators).
+ *   SPH_NO_NSEARCH     everything but section 7 (the neighbour search).
+ *               Each saves the compile time of what it leaves out
+ *               (`make compile-cost`) and is compiled warning-free by make test.
  *
  * The version is SPH_KERNEL_VERSION (major*10000 + minor*100 + patch) and
  * SPH_KERNEL_VERSION_STRING.
  *
  * ==== SECTIONS =============================================================
- *   1. configuration   2. status codes   3. kernels   4. particle data (views,
- *   neighbour lists, box)   5. pair terms   6. array operators   7. neighbour search
+ * Each needs only the sections before it that it names; a vendor may delete
+ * a section that nothing after it needs (or leave it out with the switches
+ * above):
+ *   1. configuration        macros, sph_real, libm wrappers: every section
+ *   2. status codes         SPH_OK and the errors: every section
+ *   3. kernels              1, 2: W, F and their derivatives, the kernel tables
+ *   4. particle data        1, 2: views, CSR neighbour lists, periodic box
+ *   5. pair terms           1-4: one neighbour's contribution to each operator
+ *   6. array operators      1-5: the operators over a CSR list (deletable)
+ *   7. neighbour search     1-4: builds the CSR lists (deletable)
  *
  * ==== API AT A GLANCE (every public function; k kernel, dim 1..3) ==========
  * Names with a double underscore (sph__, SPH__) are internal.
@@ -843,6 +858,8 @@ SPH_API void sph_kernel_grad(sph_kernel k, int dim, const sph_real *dx, sph_real
     for (a = 0; a < dim; ++a) grad[a] = G != 0 ? G * s[a] : 0;
 }
 
+#if !defined(SPH_ONLY_KERNELS) /* sections 4-7 */
+
 /* ======================================================================== */
 /* 4. Particle data: strided views, neighbour lists, periodic box            */
 /* ======================================================================== */
@@ -1206,6 +1223,8 @@ SPH_API int sph_correction_invert(int dim, const sph_real *M, sph_real rcond_min
     return ok;
 }
 
+
+#if !defined(SPH_ONLY_PAIRS) && !defined(SPH_NO_OPERATORS) /* section 6 */
 
 /* ======================================================================== */
 /* 6. Array operators                                                        */
@@ -2531,6 +2550,10 @@ SPH_API int sph_check_field(sph_view f, int ncomp, sph_idx n, sph_idx *first_bad
 }
 
 
+#endif /* section 6 */
+
+#if !defined(SPH_ONLY_PAIRS) && !defined(SPH_NO_NSEARCH) /* section 7 */
+
 /* ======================================================================== */
 /* 7. Neighbour search                                                       */
 /* ======================================================================== */
@@ -3682,6 +3705,9 @@ SPH_API int sph_permute(sph_view in, int ncomp, sph_idx n, const sph_idx *perm, 
     return SPH_OK;
 }
 
+
+#endif /* section 7 */
+#endif /* sections 4-7 */
 
 #ifdef __cplusplus
 }

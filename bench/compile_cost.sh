@@ -31,7 +31,9 @@ row() { # row "label" "options" source...
         '{printf "| %s | %s | %.1f | %.0f | %.0f |\n", l, o, $1 + $2, $3 / 1024, t / 1024}' "$OUT/time"
 }
 row "scalar kernels only" "-DCOST_UNIT=1" bench/compile_units.c
+row "scalar kernels only" "-DCOST_UNIT=1 -DSPH_ONLY_KERNELS" bench/compile_units.c
 row "pair terms only (own loop)" "-DCOST_UNIT=2" bench/compile_units.c
+row "pair terms only (own loop)" "-DCOST_UNIT=2 -DSPH_ONLY_PAIRS" bench/compile_units.c
 row "3-D solver step: search + 3 operators" "-DCOST_UNIT=3" bench/compile_units.c
 row "3-D solver step: search + 3 operators" "-DCOST_UNIT=3 -march=native" bench/compile_units.c
 row "3-D solver step: search + 3 operators" "-DCOST_UNIT=3 $PIN" bench/compile_units.c
