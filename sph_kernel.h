@@ -527,6 +527,7 @@ SPH__TABLE sph__kdim sph__kdims[][3] = {
     }
 };
 /* ---- end of GENERATED tables ---- */
+
 /* A kernel of SPH_KERNEL_LIST without its row (a stale block: run make tables)
  * does not compile. */
 typedef char sph__kdims_cover_the_list[(int)(sizeof sph__kdims / sizeof sph__kdims[0]) == (int)SPH_KERNEL_COUNT ? 1 : -1];
