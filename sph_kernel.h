@@ -39,12 +39,13 @@
  *               the kernel's natural pieces and their coefficients folded at
  *               compile time, so the pair loop vectorises. 0: one loop per
  *               dimension, the kernel read at run time (scalar pair loop).
- *               Measured (`make tiny-size`, `make bench`, README
- *               "Performance"): 0 compiles a unit calling sph_gradient about
- *               3.5x faster into an object about 3x smaller, and its pair loop
- *               is about 2x slower. 1 for production builds, 0 while
- *               developing. Pinning SPH_KERNEL makes the choice moot: one
- *               kernel, one loop either way.
+ *               On the 2-core Intel Xeon (AVX-512) of docs/benchmark.md, 0
+ *               compiled a unit calling sph_gradient 3.7x faster into an
+ *               object 3.1x smaller (`make tiny-size`), and the fused density
+ *               + gradient pass took 1.19x the time in double, 1.25x in float
+ *               (`make bench`; docs/benchmark.md has the current figures). 1
+ *               for production builds, 0 while developing. Pinning SPH_KERNEL
+ *               makes the choice moot: one kernel, one loop either way.
  *   SPH_NO_INTRINSICS  use only portable C: no SSE/AVX square-root helper in
  *               the operator loops, no AVX-512 one-pass loop for the density
  *               and difference gradient (results within 1e-13 of the pair
