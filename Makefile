@@ -236,7 +236,8 @@ $(BUILD)/bench/benchmark_%: $(BUILD)/bench/main_%.o $(BUILD)/bench/pinned_%.o $(
 # machine's CPU model and load average: these are shared-machine timings).
 bench: $(BUILD)/bench/benchmark_double $(BUILD)/bench/benchmark_float tiny-size
 	@{ echo "# Benchmark (written by make bench, bench/benchmark.c)"; echo; \
-	   echo "$(CC) -O3 -march=native -fopenmp; CPU: $$(grep -m1 'model name' /proc/cpuinfo 2> /dev/null | sed 's/.*: //'),"; \
+	   echo "$(CC) -O3 -march=native -fopenmp; CPU: $$(grep -m1 'model name' /proc/cpuinfo 2> /dev/null | sed 's/.*: //')"; \
+	   echo "($$(grep -m1 vendor_id /proc/cpuinfo 2> /dev/null | sed 's/.*: //'), $$(grep -qw avx512f /proc/cpuinfo 2> /dev/null || echo 'no ')AVX-512),"; \
 	   echo "$$(nproc 2> /dev/null) cores; load average at the start: $$(cut -d' ' -f1-3 /proc/loadavg 2> /dev/null)."; \
 	   echo "Ratios within one run are the numbers to read: absolute times move with other jobs on the machine."; \
 	 } > $(RESULTS)/benchmark.md

@@ -17,7 +17,9 @@ int main(void)
     /* one pair i = 12 (the centre), j = 18 (diagonal): W, F = (1/r) dW/dr, grad_i W_ij */
     const sph_real xij[2] = {x[12][0] - x[18][0], x[12][1] - x[18][1]};
     sph_kernel_wf(k, 2, sqrt(xij[0] * xij[0] + xij[1] * xij[1]), h, &W, &F);
-    sph_kernel_grad(k, 2, xij, h, grad); /* = F * xij, x_ij = x_i - x_j: points from i to j */
+    /* x_ij = x_i - x_j points from j to i; F < 0 inside the support, so
+     * grad_i W_ij = F x_ij points from i towards j (W grows as i nears j) */
+    sph_kernel_grad(k, 2, xij, h, grad);
     printf("W = %.6f  grad_i W = (%.4f, %.4f)  F x_ij = (%.4f, %.4f)\n",
            W, grad[0], grad[1], F * xij[0], F * xij[1]);
 
