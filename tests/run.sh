@@ -28,8 +28,8 @@ test | check) ;;
 esac
 OUT=build/test
 RES=$OUT/results
-rm -rf "$RES"
-mkdir -p "$OUT" "$RES"
+rm -rf "$RES" "$OUT/units"
+mkdir -p "$OUT" "$RES" "$OUT/units"
 JOBS=${JOBS:-$(nproc 2> /dev/null || echo 2)}
 WARN="-std=c99 -Wall -Wextra -pedantic -Werror -I."
 # threads that wait sleep instead of spinning: the jobs share the cores
@@ -48,14 +48,13 @@ gcc-native       | gcc   | double | -O2 +native                  |              
 gcc-float        | gcc   | float  | -O1 +san                     |                   | test_*                     | -
 gcc-float-native | gcc   | float  | -O2 +native                  |                   | test_op_* test_neighbours  | -
 gcc-omp          | gcc   | double | -O1 +omp -DSPH_NO_INTRINSICS | OMP_NUM_THREADS=2 | test_*                     | -
-clang-double     | clang | double | -O0 +san +native             |                   | test_* test_neighbours:-O1 | test_kernel_* test_neighbours test_op_* !test_op_fused !test_op_convergence test_neighbours:-O1
+clang-double     | clang | double | -O0 +san +native             |                   | test_* test_neighbours:-O1 | test_* !test_op_fused test_neighbours:-O1
 clang-float      | clang | float  | -O0 +san                     |                   | test_* test_neighbours:-O1 | -
 clang-omp        | clang | double | -O2 +omp                     | OMP_NUM_THREADS=2 | test_extremes test_op_dispatch test_op_fused test_op_omp test_op_reference | -
 gcc-reference    | gcc   | double | -O1 -DSPH_OP_REFERENCE       |                   | test_op_* !test_op_reference | -
 '
-# make check: the kernel, neighbour and operator tests, sanitised, for the
-# host CPU, but the fused pass (built by gcc -O2 instead: 45 s of CPU against
-# 106 s) and the convergence orders; the header checks.
+# make check: every test, sanitised, for the host CPU, but the fused pass
+# (built by gcc -O2 instead: 39 s of CPU against 106 s); the header checks.
 # What each is for:
 #   gcc-double        the reference build, AddressSanitizer + UBSan; gcc -O1 for the
 #                     warnings that need its flow analysis (-Wmaybe-uninitialized)
@@ -77,7 +76,10 @@ gcc-reference    | gcc   | double | -O1 -DSPH_OP_REFERENCE       |              
 # Where the time goes: the operator tests are minutes of compiling and seconds
 # of running, and the sanitizers' instrumentation of the always-inlined
 # operator loops is most of it (gcc -O1, tests/test_op_dispatch.c, CPU seconds:
-# 3.0 plain, 6.1 ASan, 13.0 UBSan, 25.9 both). Hence: ASan checks through calls
+# 3.0 plain, 6.1 ASan, 13.0 UBSan, 25.9 both). Hence: the programs of one
+# header configuration compiled as one unit (see "units" below: the nine
+# SPH_OP_SPECIALISE 0 programs, gcc -O1 ASan/UBSan, 39 s instead of about 175
+# s one by one); ASan checks through calls
 # (the same checks, 15 % less for gcc, 30 % less for clang); clang's sanitised
 # builds at -O0, where the sanitizers check the same accesses and the
 # intrinsics paths are the same code (at -O1 they cost 4-5 times as much:
@@ -180,7 +182,7 @@ timed() {
     shift
     { time "$@" > "$out" 2>&1; } 2> "$out.time"
     status=$?
-    awk '{printf "%.1f %.1f\n", $1, $2 + $3}' "$out.time" > "$out.t" && mv "$out.t" "$out.time"
+    awk 'END {printf "%.1f %.1f\n", $1, $2 + $3}' "$out.time" > "$out.t" && mv "$out.t" "$out.time"
     return $status
 }
 
@@ -191,53 +193,91 @@ summary() {
     [ -n "$line" ] && echo "${line%% passed*} $(echo "${line#*passed, }" | cut -d' ' -f1)"
 }
 
-# build_run id group label how bin "compile command" "env words" args...: build
-# a program, run it with the environment and arguments. how: "cases" (the
-# program's closing line N passed, N failed) or "one" (one case, its exit status)
-build_run() {
-    local id=$1 group=$2 label=$3 how=$4 bin=$5 cmd=$6 envs=$7 status p f
-    shift 7
-    echo "$cmd" > "$bin.cmd"
+# build bin "command": compiles (output into bin.build, seconds into
+# bin.build.time, the command into bin.cmd); returns the compiler's status
+build() {
+    echo "$2" > "$1.cmd"
     # shellcheck disable=SC2086 # the command is words
-    if ! timed "$bin.build" $cmd; then
-        {
-            echo "  $label: BUILD FAILED"
-            sed 's/^/    | /' "$bin.build" | head -n 30
-            echo "    built by: $cmd"
-        } > "$RES/$id.txt"
-        echo "$group|$label|0|1|$(cat "$bin.build.time")|0 0" > "$RES/$id.res"
-        return
-    fi
+    timed "$1.build" $2
+}
+
+# build_failed id group label bin: report a failed build (one failed case)
+build_failed() {
+    {
+        echo "  $3: BUILD FAILED"
+        sed 's/^/    | /' "$4.build" | head -n 30
+        echo "    built by: $(cat "$4.cmd")"
+    } > "$RES/$1.txt"
+    echo "$2|$3|0|1|$(cat "$4.build.time")|0 0" > "$RES/$1.res"
+}
+
+# run_report id group label how bin "build seconds" "env words" args...: run a
+# built program with the environment and arguments (its output into
+# RES/<id>.out) and report it. how: "cases" (the program's closing line N
+# passed, N failed) or "one" (one case, its exit status)
+run_report() {
+    local id=$1 group=$2 label=$3 how=$4 bin=$5 btime=$6 envs=$7 status p f out=$RES/$1.out
+    shift 7
     # shellcheck disable=SC2086 # envs are NAME=value words
-    timed "$bin.out" env $envs timeout 900 "$bin" "$@"
+    timed "$out" env $envs timeout 900 "$bin" "$@"
     status=$?
     {
         if [ "$how" = one ]; then
             p=$((status == 0)) f=$((status != 0))
             if [ "$f" -eq 0 ]; then echo "  $label: ok"; else echo "  $label: FAILED (exit $status)"; fi
-            [ "$f" -eq 0 ] || sed 's/^/    | /' "$bin.out" | tail -n 30
-        elif read -r p f < <(summary "$bin.out"); then
+            [ "$f" -eq 0 ] || sed 's/^/    | /' "$out" | tail -n 30
+        elif read -r p f < <(summary "$out"); then
             if [ "$status" -ne 0 ] && [ "$f" -eq 0 ]; then f=1; fi
-            grep -E '^(FAIL|    )' "$bin.out" | head -n 40
+            grep -E '^(FAIL|    )' "$out" | head -n 40
             echo "  $label: $p passed, $f failed"
         else
             p=0 f=1
             echo "  $label: no summary line (exit $status) - counted as 1 failed"
-            sed 's/^/    | /' "$bin.out" | tail -n 20
+            sed 's/^/    | /' "$out" | tail -n 20
         fi
-        # a failure says how to rebuild it (add -g for the sanitizers' line numbers)
-        [ "$f" -eq 0 ] || echo "    built by: $cmd${envs:+; run with $envs}"
-        echo "$group|$label|$p|$f|$(cat "$bin.build.time")|$(cat "$bin.out.time")" > "$RES/$id.res"
+        # a failure says how to rebuild and rerun it (add -g for the sanitizers' line numbers)
+        [ "$f" -eq 0 ] || echo "    built by: $(cat "$bin.cmd"); run: ${envs:+$envs }$bin $*"
+        echo "$group|$label|$p|$f|$btime|$(cat "$out.time")" > "$RES/$id.res"
     } > "$RES/$id.txt"
 }
 
 # test_job id config cc real "flags" "env" source: one test program
 test_job() {
-    local id=$1 cfg=$2 cc=$3 real=$4 flags=$5 envs=$6 src=$7 bin
+    local id=$1 cfg=$2 cc=$3 real=$4 flags=$5 envs=$6 src=$7 bin name
+    name=$(basename "$src" .c)
+    mkdir -p "$OUT/$cfg"
+    bin=$OUT/$cfg/$name
+    if build "$bin" "$cc $WARN $flags -DSPH_REAL=$real $src -o $bin -lm"; then
+        run_report "$id" "$cfg" "$cfg $name" cases "$bin" "$(cat "$bin.build.time")" "$envs"
+    else
+        build_failed "$id" "$cfg" "$cfg $name" "$bin"
+    fi
+}
+
+# unit_job id config cc real "flags" "env" unit-source programs...: the test
+# programs of one unit (see "Units" below) built once and run one by one; when
+# the shared build fails, each program is built alone (the note says why)
+unit_job() {
+    local id=$1 cfg=$2 cc=$3 real=$4 flags=$5 envs=$6 src=$7 bin t
+    shift 7
     mkdir -p "$OUT/$cfg"
     bin=$OUT/$cfg/$(basename "$src" .c)
-    build_run "$id" "$cfg" "$cfg $(basename "$src" .c)" cases "$bin" \
-        "$cc $WARN $flags -DSPH_REAL=$real $src -o $bin -lm" "$envs"
+    if build "$bin" "$cc $WARN $flags -DSPH_REAL=$real $src -o $bin -lm"; then
+        : > "$RES/$id.txt"
+        echo "$cfg|$cfg $*|0|0|$(cat "$bin.build.time")|0 0" > "$RES/$id.res"
+        for t in "$@"; do
+            run_report "${cfg}_$t" "$cfg" "$cfg $t" cases "$bin" "0 0" "$envs" "$t"
+        done
+    else
+        {
+            echo "  note: the shared build of $* failed (a file-scope name in two of them?); each is built alone:"
+            grep -m 3 -E 'error|warning' "$bin.build" | sed 's/^/    | /'
+        } > "$RES/$id.txt"
+        echo "$cfg|$cfg $*|0|0|$(cat "$bin.build.time")|0 0" > "$RES/$id.res"
+        for t in "$@"; do
+            test_job "${cfg}_$t" "$cfg" "$cc" "$real" "$flags" "$envs" "tests/$t.c"
+        done
+    fi
 }
 
 # example_job id source args...: an example or study in its --check mode, built
@@ -248,8 +288,11 @@ example_job() {
     mkdir -p "$OUT/examples"
     bin=$OUT/examples/$(basename "$src" .c)
     if probe "gcc omp" openmp_runs gcc; then omp=-fopenmp; fi
-    build_run "$id" examples "$src $*" one "$bin" \
-        "gcc -O2 -std=c99 -Wall -Wextra -pedantic -Werror $omp -I. $src -o $bin -lm" "" "$@"
+    if build "$bin" "gcc -O2 -std=c99 -Wall -Wextra -pedantic -Werror $omp -I. $src -o $bin -lm"; then
+        run_report "$id" examples "$src $*" one "$bin" "$(cat "$bin.build.time")" "" "$@"
+    else
+        build_failed "$id" examples "$src $*" "$bin"
+    fi
 }
 
 # check_job id label command...: a compile check or a script, one case
@@ -297,7 +340,9 @@ cxx_check() { # cxx_check real: tests/compile_check.cpp with g++ -std=c++11
 # QUEUE lines: estimate, id, group, kind, args..., separated by SEP (not a
 # blank: read keeps the empty fields)
 QUEUE=$OUT/queue
+IDS=$OUT/ids # group and id of every result, in the order they are printed
 : > "$QUEUE"
+: > "$IDS"
 GROUPS_ORDER=""
 SEP=$'\x1f'
 declare -A PREV
@@ -319,13 +364,102 @@ test_guess() { # test_guess source flags
     echo "$g"
 }
 
-enqueue() { # enqueue estimate id group kind args...
+enqueue() { # enqueue estimate id group kind args...: one job with one result
     local est=$1 id=$2 group=$3 kind=$4 args=""
     shift 4
     local a
     for a in "$@"; do args="$args$SEP$a"; done
     printf '%s\n' "$est$SEP$id$SEP$group$SEP$kind$args" >> "$QUEUE"
+    [ "$kind" = unit ] || printf '%s\n' "$group$SEP$id" >> "$IDS"
     case " $GROUPS_ORDER " in *" $group "*) ;; *) GROUPS_ORDER="$GROUPS_ORDER $group" ;; esac
+}
+
+# ---- units ------------------------------------------------------------------------
+# The test programs of a configuration that configure the header alike (the
+# same #define lines before their first #include "...") are compiled as one
+# unit: the header's operators, most of a build, are compiled once instead
+# of once per program. Each program's main becomes <program>_main, each of
+# its macros is #undef'd after it, and the unit runs one program per process,
+# by name. File-scope names must therefore differ between the test programs
+# (a clash only costs time: the programs are then built one by one, with a note).
+
+signature() { # signature source: the #define lines before the first #include "..."
+    awk '/^[ \t]*#[ \t]*include[ \t]*"/ {exit} /^[ \t]*#[ \t]*define/ {sub(/\/\*.*$/, ""); gsub(/[ \t]+/, " "); sub(/ $/, ""); print}' "$1"
+}
+
+# write_unit file programs...: the source of a unit of test programs
+write_unit() {
+    local file=$1 t
+    shift
+    {
+        echo "/* Written by tests/run.sh: the test programs $* in one unit."
+        echo " * Run as: <unit> <program> [arguments]. */"
+        for t in "$@"; do
+            echo "#define main ${t}_main"
+            echo "#include \"tests/$t.c\""
+            echo "#undef main"
+            sed -n 's/^[ \t]*#[ \t]*define[ \t]\{1,\}\([A-Za-z_][A-Za-z0-9_]*\).*/#undef \1/p' "tests/$t.c" | sort -u
+        done
+        echo "#include <stdio.h>"
+        echo "#include <string.h>"
+        echo "int main(int argc, char **argv)"
+        echo "{"
+        for t in "$@"; do
+            if grep -qE 'int main\((void)?\)' "tests/$t.c"; then
+                echo "    if (argc == 2 && strcmp(argv[1], \"$t\") == 0) return ${t}_main();"
+            else
+                echo "    if (argc >= 2 && strcmp(argv[1], \"$t\") == 0) return ${t}_main(argc - 1, argv + 1);"
+            fi
+        done
+        printf '    fprintf(stderr, "usage: %%s program [arguments]: %s\\n", argv[0]);\n' "$*"
+        echo "    return 2;"
+        echo "}"
+    } > "$file"
+}
+
+# enqueue_programs config cc real flags envs programs...: the jobs of one
+# configuration; programs are source[:extra flags] (extra flags: built alone)
+enqueue_programs() {
+    local cfg=$1 cc=$2 real=$3 flags=$4 envs=$5 p t src slug key est guess
+    shift 5
+    local -A members=()
+    local order=""
+    for p in "$@"; do
+        src=${p%%:*}
+        t=$(basename "$src" .c)
+        if [ "$p" != "$src" ]; then
+            enqueue "$(estimate "$cfg/$t" "$(test_guess "$src" "$flags")")" "$cfg/$t" "$cfg" test \
+                "$cfg" "$cc" "$real" "$flags ${p#*:}" "$envs" "$src"
+            continue
+        fi
+        key=k$(signature "$src" | sed 's/^#define //' | tr -c 'A-Za-z0-9\n' _ | tr '\n' _)
+        [ -n "${members[$key]:-}" ] || order="$order $key"
+        members[$key]="${members[$key]:-} $t"
+    done
+    for key in $order; do
+        # shellcheck disable=SC2086 # the member list is words
+        set -- ${members[$key]}
+        key=${key#k}
+        if [ $# -eq 1 ]; then
+            enqueue "$(estimate "$cfg/$1" "$(test_guess "tests/$1.c" "$flags")")" "$cfg/$1" "$cfg" test \
+                "$cfg" "$cc" "$real" "$flags" "$envs" "tests/$1.c"
+            continue
+        fi
+        slug=unit_${key%_}
+        [ -n "$key" ] || slug=unit_default
+        [ -f "$OUT/units/$slug.c" ] || write_unit "$OUT/units/$slug.c" "$@"
+        # estimate: the last run's build and runs, else the largest program's guess
+        est=$(estimate "$cfg/$slug" 0) guess=0
+        for t in "$@"; do
+            est=$((est + $(estimate "$cfg/$t" 0)))
+            g=$(test_guess "tests/$t.c" "$flags")
+            [ "$g" -gt "$guess" ] && guess=$g
+        done
+        [ "$est" -gt 0 ] || est=$((guess * 3 / 2))
+        printf '%s\n' "$cfg$SEP$cfg/$slug" >> "$IDS"
+        for t in "$@"; do printf '%s\n' "$cfg$SEP$cfg/$t" >> "$IDS"; done
+        enqueue "$est" "$cfg/$slug" "$cfg" unit "$cfg" "$cc" "$real" "$flags" "$envs" "$OUT/units/$slug.c" "$@"
+    done
 }
 
 declare -A TITLE
@@ -363,6 +497,7 @@ while IFS='|' read -r name cc real flags envs test_progs check_progs; do
         *:*) extra[${w%%:*}]="${extra[${w%%:*}]:-} ${w#*:}" ;;
         esac
     done
+    list=()
     for w in $progs; do
         case $w in !* | *:*) continue ;; esac
         for src in tests/$w.c; do
@@ -371,12 +506,11 @@ while IFS='|' read -r name cc real flags envs test_progs check_progs; do
             case $skip in *" $t "*) continue ;; esac
             skip="$skip$t " # once, however many globs match it
             wanted "$t" "${TESTS:-}" || continue
-            f=$EXPANDED${extra[$t]:-}
-            enqueue "$(estimate "$name/$t" "$(test_guess "$src" "$f")")" "$name/$t" "$name" test \
-                "$name" "$cc" "$real" "$f" "$envs" "$src"
+            list+=("$src${extra[$t]:+:${extra[$t]# }}")
         done
     done
     unset extra
+    [ ${#list[@]} -gt 0 ] && enqueue_programs "$name" "$cc" "$real" "$EXPANDED" "$envs" "${list[@]}"
 done <<< "$CONFIG_TABLE"
 
 if [ "${EXTRAS:-1}" != 0 ]; then
@@ -436,6 +570,7 @@ run_job() { # run_job id kind args...
     shift 2
     case $kind in
     test) test_job "$id" "$@" ;;
+    unit) unit_job "$id" "$@" ;;
     example) example_job "$id" "$@" ;;
     check) check_job "$id" "$@" ;;
     esac
@@ -468,7 +603,7 @@ TOTAL_FAIL=0
 : > "$OUT/times.new"
 for group in $GROUPS_ORDER; do
     echo "${TITLE[$group]}"
-    while IFS=$SEP read -r _ id g _; do
+    while IFS=$SEP read -r g id; do
         [ "$g" = "$group" ] || continue
         f=$RES/${id//\//_}
         if [ ! -f "$f.res" ]; then
@@ -481,7 +616,7 @@ for group in $GROUPS_ORDER; do
         TOTAL_PASS=$((TOTAL_PASS + p))
         TOTAL_FAIL=$((TOTAL_FAIL + fl))
         printf '%s\t%s\t%s\t%s\t%s\n' "$id" "${b% *}" "${b#* }" "${r% *}" "${r#* }" >> "$OUT/times.new"
-    done < "$QUEUE"
+    done < "$IDS"
 done
 mv "$OUT/times.new" "$OUT/times.tsv"
 
@@ -490,10 +625,10 @@ mv "$OUT/times.new" "$OUT/times.tsv"
 # (user + system) hardly move with other load on the machine; wall seconds do.
 echo "== time: $(secs "$START" "$END") s wall, $JOBS jobs at a time; load average $LOAD0 at the start, $(cut -d' ' -f1-3 /proc/loadavg 2> /dev/null) at the end"
 awk -F'\t' '
-    { split($1, k, "/"); g = k[1]; n[g]++; bw[g] += $2; bc[g] += $3; rw[g] += $4; rc[g] += $5
+    { split($1, k, "/"); g = k[1]; n[g] += (k[2] !~ /^unit_/); bw[g] += $2; bc[g] += $3; rw[g] += $4; rc[g] += $5
       if (!(g in seen)) { seen[g] = 1; order[++m] = g } }
     END {
-        printf "  %-18s %4s %11s %9s %12s %10s\n", "configuration", "jobs", "build cpu s", "run cpu s", "build wall s", "run wall s"
+        printf "  %-18s %4s %11s %9s %12s %10s\n", "configuration", "runs", "build cpu s", "run cpu s", "build wall s", "run wall s"
         for (i = 1; i <= m; ++i) {
             g = order[i]
             printf "  %-18s %4d %11.1f %9.1f %12.1f %10.1f\n", g, n[g], bc[g], rc[g], bw[g], rw[g]

@@ -38,7 +38,7 @@ typedef struct {
     sph_real h;
 } conv_ctx;
 
-static ref_real integrand(ref_real q, void *p)
+static ref_real conv_integrand(ref_real q, void *p)
 {
     const conv_ctx *c = (const conv_ctx *)p;
     const ref_real r = q * c->h;
@@ -53,7 +53,7 @@ static double error_at(sph_kernel k, int dim, double h)
     c.k = k;
     c.dim = dim;
     c.h = (sph_real)h;
-    return (double)(ref_integrate(integrand, &c, 0, ref_kappa(k), 12) - 1);
+    return (double)(ref_integrate(conv_integrand, &c, 0, ref_kappa(k), 12) - 1);
 }
 
 static void test_convergence(sph_kernel k, int dim)

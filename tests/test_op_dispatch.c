@@ -11,7 +11,7 @@
  */
 #include "op_scene.h"
 
-static void check(sph_kernel k, int dim, int mode)
+static void check_case(sph_kernel k, int dim, int mode)
 {
     ts_scene s;
     sph_box box;
@@ -67,6 +67,6 @@ int main(void)
     int k, dim, mode;
     for (k = 0; k < SPH_KERNEL_COUNT; ++k)
         for (dim = 1; dim <= 3; ++dim)
-            for (mode = 0; mode < 4; ++mode) check((sph_kernel)k, dim, mode);
+            for (mode = 0; mode < 4; ++mode) check_case((sph_kernel)k, dim, mode);
     return th_summary();
 }

@@ -48,8 +48,8 @@ static void nl_free(nl *L)
 }
 
 /* Density and difference gradient of f into rho[n] and grad[3 n]. */
-static int run(const nl *L, int dim, const sph_real *x, const sph_real *V, const sph_real *f, sph_real h,
-               const sph_box *box, sph_real *rho, sph_real *grad)
+static int run_ops(const nl *L, int dim, const sph_real *x, const sph_real *V, const sph_real *f, sph_real h,
+                   const sph_box *box, sph_real *rho, sph_real *grad)
 {
     sph_ctx c = sph_ctx_init(SPH_KERNEL_CUBIC, dim, h, &L->list, sph_view_interleaved(x, 3));
     c.box = box;
@@ -87,7 +87,7 @@ static void test_sorted(int dim, int periodic)
     }
     st = build(&A, dim, x, n, h, bp);
     TH_CHECK(st == SPH_OK, "unsorted list: %s", sph_strerror(st));
-    st = run(&A, dim, x, V, f, h, bp, rho, g);
+    st = run_ops(&A, dim, x, V, f, h, bp, rho, g);
     TH_CHECK(st == SPH_OK, "unsorted operators: %s", sph_strerror(st));
     /* sort by cell: perm[new] = old */
     st = sph_nsearch_permutation(&A.g, perm);
@@ -98,7 +98,7 @@ static void test_sorted(int dim, int periodic)
     for (i = 0; i < n; ++i) moved += perm[i] != i;
     TH_CHECK(moved > n / 2, "sorting moved only %d of %d particles: the test would not test", moved, n);
     st = build(&B, dim, xs, n, h, bp);
-    st |= run(&B, dim, xs, Vs, fs, h, bp, rhos, gs);
+    st |= run_ops(&B, dim, xs, Vs, fs, h, bp, rhos, gs);
     TH_CHECK(st == SPH_OK, "sorted list and operators: %s", sph_strerror(st));
     for (i = 0; i < n && st == SPH_OK; ++i) {
         const int o = perm[i]; /* sorted particle i is original particle o */
