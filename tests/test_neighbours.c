@@ -348,7 +348,7 @@ static void test_mixed_h(void)
 
 /* Targets that are not the sources: probe points inside and far outside
  * the sources' bounds, fewer and more targets than sources. */
-static void test_probes(void)
+static void test_probe_points(void)
 {
     int dim, periodic;
     for (dim = 1; dim <= 3; ++dim)
@@ -382,7 +382,7 @@ static void test_probes(void)
 
 /* Degenerate clouds: one cell holding everything, coincident particles,
  * N = 0 and N = 1, a cloud flat in one axis, a cloud far from the origin. */
-static void test_degenerate(void)
+static void test_degenerate_clouds(void)
 {
     int dim;
     for (dim = 1; dim <= 3; ++dim) {
@@ -1047,8 +1047,8 @@ int main(void)
     test_periodic();
     test_variable_h();
     test_mixed_h();
-    test_probes();
-    test_degenerate();
+    test_probe_points();
+    test_degenerate_clouds();
     test_soa();
     test_permutation();
     test_errors();

@@ -18,8 +18,8 @@
 static const double ORDER_LO = 1.8, ORDER_HI = 2.3;
 
 enum { Q_GRAD_STD, Q_GRAD_DIFF, Q_GRAD_SYM, Q_GRAD_CORR, Q_GRAD_PRES, Q_DIV_STD, Q_DIV_DIFF, Q_DIV_CORR,
-       Q_CURL_STD, Q_CURL_DIFF, Q_LAP, Q_COUNT };
-static const char *q_name[Q_COUNT] = {"grad standard", "grad difference", "grad symmetric", "grad corrected",
+       Q_CURL_STD, Q_CURL_DIFF, Q_LAP, Q_OP_COUNT };
+static const char *q_name[Q_OP_COUNT] = {"grad standard", "grad difference", "grad symmetric", "grad corrected",
                                       "grad pressure", "div standard", "div difference", "div corrected",
                                       "curl standard", "curl difference", "Laplacian"};
 
@@ -29,7 +29,7 @@ static void errors(sph_kernel k, int dim, int n, double *e)
     ts_scene s;
     sph_box box;
     sph_real *f, *v, *w, *one, *out[3];
-    double *g, *lap, *curl, mu, num[Q_COUNT], den[Q_COUNT];
+    double *g, *lap, *curl, mu, num[Q_OP_COUNT], den[Q_OP_COUNT];
     int i, a, q, st = 0, nc = dim == 2 ? 1 : 3;
     sph_idx nfb = 0;
     for (a = 0; a < 3; ++a) {
@@ -69,7 +69,7 @@ static void errors(sph_kernel k, int dim, int n, double *e)
     }
     s.c.m = s.c.V; /* rho = 1: the pressure form is sum V_j (p_i + p_j) grad W */
     s.c.rho = sph_view_soa(one, NULL, NULL);
-    for (q = 0; q < Q_COUNT; ++q) {
+    for (q = 0; q < Q_OP_COUNT; ++q) {
         const double c = (q == Q_GRAD_CORR || q == Q_DIV_CORR) ? 1 : mu;
         const sph_out o = sph_out_soa(out[0], out[1], out[2]);
         num[q] = den[q] = 0;
@@ -111,9 +111,9 @@ int main(void)
     } cases[] = {{SPH_KERNEL_CUBIC, 2, 16, 3}, {SPH_KERNEL_WENDLAND_C4, 2, 16, 3}, {SPH_KERNEL_QUINTIC, 3, 10, 2}};
     int c, q, l;
     for (c = 0; c < 3; ++c) {
-        double e[3][Q_COUNT];
+        double e[3][Q_OP_COUNT];
         for (l = 0; l < cases[c].levels; ++l) errors(cases[c].k, cases[c].dim, cases[c].n0 << l, e[l]);
-        for (q = 0; q < Q_COUNT; ++q) {
+        for (q = 0; q < Q_OP_COUNT; ++q) {
             th_begin("convergence %s %dD %s", sph_kernel_name(cases[c].k), cases[c].dim, q_name[q]);
             for (l = 0; l + 1 < cases[c].levels; ++l) {
                 const double order = log(e[l][q] / e[l + 1][q]) / log(2.0);

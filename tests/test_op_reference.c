@@ -25,7 +25,7 @@ static sph_real (*tr_out)[TR_OUT];
 static sph_out tr_o(int off, int ncomp) { return sph_out_aos(&tr_out[0][0] + off, ncomp, sizeof tr_out[0]); }
 
 /* Every vector and scalar operator with ctx.loops = loops into out. */
-static int run_all(sph_ctx *c, int dim, int loops, const sph_real *f, const sph_real *v, const sph_real *kk,
+static int run_every_operator(sph_ctx *c, int dim, int loops, const sph_real *f, const sph_real *v, const sph_real *kk,
                    sph_real (*out)[TR_OUT])
 {
     const sph_view fv = sph_view_soa(f, NULL, NULL), vv = sph_view_interleaved(v, 3), kv = sph_view_soa(kk, NULL, NULL);
@@ -69,7 +69,7 @@ static int run_tensors(sph_ctx *c, int loops, const sph_real *v, sph_real *T)
     return st;
 }
 
-static void check(sph_kernel k, int dim, int mode)
+static void check_twins(sph_kernel k, int dim, int mode)
 {
     ts_scene s;
     sph_box box;
@@ -103,8 +103,8 @@ static void check(sph_kernel k, int dim, int mode)
     }
     s.c.m = s.c.V;
     s.c.rho = sph_view_soa(rho, NULL, NULL);
-    st = run_all(&s.c, dim, SPH_LOOPS_FAST, f, v, kk, o1);
-    st |= run_all(&s.c, dim, SPH_LOOPS_REFERENCE, f, v, kk, o2);
+    st = run_every_operator(&s.c, dim, SPH_LOOPS_FAST, f, v, kk, o1);
+    st |= run_every_operator(&s.c, dim, SPH_LOOPS_REFERENCE, f, v, kk, o2);
     st |= run_tensors(&s.c, SPH_LOOPS_FAST, v, T1);
     st |= run_tensors(&s.c, SPH_LOOPS_REFERENCE, v, T2);
     TH_CHECK(st == SPH_OK, "status %d", st);
@@ -125,7 +125,7 @@ int main(void)
     int k, dim, mode;
     for (k = 0; k < SPH_KERNEL_COUNT; ++k)
         for (dim = 1; dim <= 3; ++dim)
-            for (mode = 0; mode < 3; ++mode) check((sph_kernel)k, dim, mode);
+            for (mode = 0; mode < 3; ++mode) check_twins((sph_kernel)k, dim, mode);
     th_begin("an unknown ctx.loops is SPH_EINVAL");
     {
         ts_scene s;
