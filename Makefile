@@ -74,7 +74,7 @@ plots: $(BUILD)/kernel_plots plots-dambreak plots-report plots-flows
 
 # Dam break example (examples/dam_break.c): run-dam-break, plots-dambreak.
 # Built with OpenMP when the compiler has it; the measurements are read from
-# ../shared/data/dam_break (or shared/data/dam_break; DAM_BREAK_DATA=dir overrides).
+# data/dam_break (DAM_BREAK_DATA=dir overrides).
 DAM_BREAK_DATA ?=
 # plots-dambreak runs on one thread: the run times it reports stay comparable on a
 # shared machine (results are the same for any thread count).
@@ -109,7 +109,7 @@ plots-dambreak: $(BUILD)/dam_break
 	for v in "--stokes 0 --noslip 1" "--c0 20" "--alpha 0.05" "--hfac 1.6"; do \
 	    ./$(BUILD)/dam_break $(DAM_BREAK_ARGS) --threads $(DAM_BREAK_THREADS) --res 30 --column 2 $$v --vtk-every 0 --out $(BUILD)/dam_break_out/variants --summary $(RESULTS)/dam_break_resolution.md || exit 1; \
 	done
-	gnuplot -e "datadir='$(or $(DAM_BREAK_DATA),$(firstword $(wildcard ../shared/data/dam_break shared/data/dam_break ../../shared/data/dam_break)))'; simdir='$(BUILD)/dam_break_out'; outdir='$(RESULTS)/plots'; res1=30; res2=60" studies/dam_break.gp
+	gnuplot -e "datadir='$(or $(DAM_BREAK_DATA),$(firstword $(wildcard data/dam_break)))'; simdir='$(BUILD)/dam_break_out'; outdir='$(RESULTS)/plots'; res1=30; res2=60" studies/dam_break.gp
 
 # Accuracy/cost report (report, report-full, plots-report): studies/error_vs_runtime.c
 # writes $(RESULTS)/report.md and the CSVs of $(RESULTS)/report/ (one OpenMP thread,

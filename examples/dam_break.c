@@ -816,8 +816,8 @@ static void describe_variant(const params *pm, const params *def, char *out, siz
 
 static const char *find_data(const char *given)
 {
-    static const char *candidates[] = {"../shared/data/dam_break", "shared/data/dam_break",
-                                       "../../shared/data/dam_break"};
+    /* the repository's data/dam_break, from the top of the tree or one or two levels below */
+    static const char *candidates[] = {"data/dam_break", "../data/dam_break", "../../data/dam_break"};
     char path[1200];
     size_t k;
     if (given != NULL) return given;
@@ -856,7 +856,7 @@ int main(int argc, char **argv)
         {"out", "output directory (VTK files and time-series CSVs)", NULL, NULL, &pm.out, NULL},
         {"vtk-every", "write particles every N steps (0: never)", NULL, &pm.vtk_every, NULL, NULL},
         {"threads", "OpenMP threads (0: the OpenMP default)", NULL, &threads, NULL, NULL},
-        {"data", "directory of the measurements (tries ../shared/data/dam_break, shared/data/dam_break)", NULL, NULL,
+        {"data", "directory of the measurements (tries data/dam_break, ../data/dam_break)", NULL, NULL,
          &data, NULL},
         {"report", "write the comparison tables as markdown to this file", NULL, NULL, &report, NULL},
         {"summary", "append one line of largest deviations (markdown table row) to this file", NULL, NULL, &summary,
@@ -915,7 +915,7 @@ int main(int argc, char **argv)
         ex[c].have = 0;
         if (data == NULL || load_experiment(data, c == 0 ? 2 : 1, &ex[c]) != 0) {
             fprintf(stderr, "dam_break: measurements of Martin & Moyce (n^2 = %d) not found in %s (--data DIR)\n",
-                    c == 0 ? 2 : 1, data ? data : "../shared/data/dam_break or shared/data/dam_break");
+                    c == 0 ? 2 : 1, data ? data : "data/dam_break, ../data/dam_break or ../../data/dam_break");
             if (check) {
                 fprintf(stderr, "dam_break --check: FAILED, nothing to validate against\n");
                 return 1;
