@@ -1366,11 +1366,13 @@ typedef struct {
 } sph__args;
 
 /* The dimension and kernel of a loop: compile-time constants where SPH_DIM
- * and SPH_KERNEL pin them (the compiler then folds the kernel's pieces). */
+ * and SPH_KERNEL pin them (the compiler then folds the kernel's pieces). The
+ * run-time dimension, checked to be 1..3 before any loop, is masked so that
+ * the compiler also knows the per-axis arrays of length 3 are not overrun. */
 #if defined(SPH_DIM)
 #define SPH__DIM(A) (SPH_DIM)
 #else
-#define SPH__DIM(A) ((A)->dim)
+#define SPH__DIM(A) ((A)->dim & 3)
 #endif
 #if defined(SPH_KERNEL)
 #define SPH__KERN(A) ((int)(SPH_KERNEL))
@@ -1658,9 +1660,10 @@ SPH_API sph_idx sph__run_reference(const sph__args *A)
  * OpenMP the results are bitwise theirs; with OpenMP the sums over a chunk
  * are SIMD reductions (the same for any thread count). The kernel is
  * evaluated by one function per shape (its pieces folded to constants there)
- * called once per chunk, so the operators need no copy per kernel. With
- * AVX-512 the density and difference gradient take a one-pass loop in
- * registers instead (sph__dg8). */
+ * called once per chunk, so the operators need no copy per kernel. The
+ * density and the difference gradient, the hot loops of most solvers, have
+ * a loop per shape of their own instead: one pass in AVX-512 registers
+ * (sph__dg8), or elsewhere two passes per chunk (sph__dgc). */
 #if !defined(SPH_OP_REFERENCE)
 
 #ifndef SPH__CHUNK
@@ -1732,6 +1735,32 @@ SPH__INLINE void sph__sqrt_chunk(sph_real *r, int n)
 #endif
 }
 
+/* e[0..n) -= L floor(e[0..n) / L + 1/2) with 1/L given: sph__pair's minimum
+ * image, bit for bit, in vector registers where AVX has a vector floor (the
+ * compilers leave floor() in a loop scalar). */
+SPH__INLINE void sph__image_chunk(sph_real *e, int n, sph_real L, sph_real iL)
+{
+    int k = 0;
+#if SPH__SQRT_SIMD == 2
+    if (sizeof(sph_real) == sizeof(double)) {
+        const __m256d vL = _mm256_set1_pd((double)L), viL = _mm256_set1_pd((double)iL), h = _mm256_set1_pd(0.5);
+        for (; k + 4 <= n; k += 4) {
+            const __m256d v = _mm256_loadu_pd((const double *)e + k);
+            const __m256d f = _mm256_floor_pd(_mm256_add_pd(_mm256_mul_pd(v, viL), h));
+            _mm256_storeu_pd((double *)e + k, _mm256_sub_pd(v, _mm256_mul_pd(vL, f)));
+        }
+    } else {
+        const __m256 vL = _mm256_set1_ps((float)L), viL = _mm256_set1_ps((float)iL), h = _mm256_set1_ps(0.5f);
+        for (; k + 8 <= n; k += 8) {
+            const __m256 v = _mm256_loadu_ps((const float *)e + k);
+            const __m256 f = _mm256_floor_ps(_mm256_add_ps(_mm256_mul_ps(v, viL), h));
+            _mm256_storeu_ps((float *)e + k, _mm256_sub_ps(v, _mm256_mul_ps(vL, f)));
+        }
+    }
+#endif
+    for (; k < n; ++k) e[k] -= L * sph__floor(e[k] * iL + (sph_real)0.5);
+}
+
 /* w(q) into w and g(q) = w'(q)/q into g (either may be NULL) for n values of
  * q: (K1), (K2) from the natural pieces, instantiated once per shape below. */
 SPH__INLINE void sph__shape_run(const sph__nshape *s, const sph_real *q, sph_real *w, sph_real *g, int n)
@@ -1786,12 +1815,10 @@ SPH__INLINE void sph__chunk_eval(const sph__args *A, const sph__tgt *t, sph_off 
          * the vectoriser would evaluate both sides per pair */
         if (L != 0) {
             SPH__SIMD
-            for (k = 0; k < n; ++k) {
-                sph_real e = xi - x[(ptrdiff_t)P->j[k] * s];
-                e -= L * sph__floor(e * iL + (sph_real)0.5);
-                d[k] = e;
-                P->r[k] += e * e;
-            }
+            for (k = 0; k < n; ++k) d[k] = xi - x[(ptrdiff_t)P->j[k] * s];
+            sph__image_chunk(d, n, L, iL);
+            SPH__SIMD
+            for (k = 0; k < n; ++k) P->r[k] += d[k] * d[k];
         } else {
             SPH__SIMD
             for (k = 0; k < n; ++k) {
@@ -1904,65 +1931,72 @@ SPH__INLINE __m512d sph__at8(__m512d src, __mmask8 km, const sph_real *p, const 
                                             (double)p[o[3]], (double)p[o[2]], (double)p[o[1]], (double)p[o[0]]));
 }
 
-/* x_i - x_j on axis a for 8 lanes, with the minimum image where periodic. */
-SPH__INLINE __m512d sph__dx8(const sph__args *A, const sph__tgt *t, int a, __mmask8 km, const ptrdiff_t *ox)
+/* x_i - x_j on one axis for 8 lanes (positions p, x_i in xi), minus L times
+ * the image floor(x_ij / L + 1/2): with L = 1/L = 0 on an axis without a
+ * period that is x_ij exactly, so the loop has no branch per axis. */
+SPH__INLINE __m512d sph__dx8(__m512d xi, const sph_real *p, __m512d L, __m512d iL, __mmask8 km, const ptrdiff_t *ox)
 {
-    const __m512d xi = _mm512_set1_pd((double)t->xi[a]);
-    __m512d d = _mm512_sub_pd(xi, sph__at8(xi, km, A->x.p[a], ox));
-    if (A->L[a] != 0) {
-        const __m512d img = _mm512_roundscale_pd(
-            _mm512_fmadd_pd(d, _mm512_set1_pd((double)A->invL[a]), _mm512_set1_pd(0.5)),
-            _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC);
-        d = _mm512_fnmadd_pd(_mm512_set1_pd((double)A->L[a]), img, d);
-    }
-    return d;
+    const __m512d d = _mm512_sub_pd(xi, sph__at8(xi, km, p, ox));
+    const __m512d img = _mm512_roundscale_pd(_mm512_fmadd_pd(d, iL, _mm512_set1_pd(0.5)),
+                                             _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC);
+    return _mm512_fnmadd_pd(L, img, d);
 }
 
 /* (O2) rho = sum_j m_j W_ij (dens) and/or (O5) g = sum_j V_j (f_j - f_i) F_ij x_ij
  * (grad) of target t, 8 pairs per step: the chunked loops' arithmetic (IEEE
  * square root, the natural pieces, the division of g by q) in registers, in
- * double for either sph_real; only the order of the sum over j differs. */
-SPH__INLINE void sph__dg8_body(const sph__args *A, const sph__nshape *sh, const sph__tgt *t, sph_idx i, int dens,
-                               int grad, sph_real fi, sph_real *g, sph_real *rho)
+ * double for either sph_real; only the order of the sum over j differs.
+ * Everything the loop reads of A and t is copied to locals first: the store
+ * of the indices through a vector type may alias any memory, and would
+ * otherwise reload them every step. */
+SPH__INLINE void sph__dg8_body(const sph__args *A, const sph__nshape *sh, const sph__tgt *t, sph_idx i, const int D,
+                               int dens, int grad, const int one, sph_real fi, sph_real *g, sph_real *rho)
 {
-    const int D = SPH__DIM(A);
     const ptrdiff_t sx = A->x.stride, sm = A->m.stride, sV = A->V.stride, sf = A->f.stride;
-    /* views sharing the stride of x (SoA, or one array of structs) share its offsets */
-    const int one = (!dens || sm == sx) && (!grad || (sV == sx && sf == sx));
+    const sph_real *const pm = A->m.p[0], *const pV = A->V.p[0], *const pf = A->f.p[0];
+    const sph_idx *const idx = A->idx;
+    const sph_off end = A->off[i + 1];
     const __m512d hinv = _mm512_set1_pd((double)t->hinv), kap = _mm512_set1_pd((double)sh->kappa);
+    const __m512d cW = _mm512_set1_pd((double)t->cW), cF = _mm512_set1_pd((double)t->cF);
+    const __m512d lo1 = _mm512_set1_pd((double)sh->lo[sh->npiece > 1 ? 1 : 0]), one8 = _mm512_set1_pd(1);
     const __m512d zero = _mm512_setzero_pd(), vfi = _mm512_set1_pd((double)fi);
-    __m512d s0 = zero, s1 = zero, s2 = zero, sr = zero;
+    __m512d xi[3], L[3], iL[3], s0 = zero, s1 = zero, s2 = zero, sr = zero;
+    const sph_real *px[3];
     sph_off o;
-    int k;
-    for (o = A->off[i]; o < A->off[i + 1]; o += 8) {
-        const sph_off left = A->off[i + 1] - o;
+    int k, a;
+    for (a = 0; a < 3; ++a) {
+        const int in = a < D;
+        px[a] = in ? A->x.p[a] : NULL;
+        xi[a] = _mm512_set1_pd(in ? (double)t->xi[a] : 0);
+        L[a] = _mm512_set1_pd(in ? (double)A->L[a] : 0);
+        iL[a] = _mm512_set1_pd(in ? (double)A->invL[a] : 0);
+    }
+    for (o = A->off[i]; o < end; o += 8) {
+        const sph_off left = end - o;
         const __mmask8 km = (__mmask8)(left >= 8 ? 0xff : (1u << left) - 1);
         sph_idx j[8];
         ptrdiff_t ox[8], om[8], oV[8], of[8];
         __m512d d0, d1 = zero, d2 = zero, r2, q;
         __mmask8 in;
-        _mm256_storeu_si256((__m256i *)j, _mm256_maskz_loadu_epi32(km, A->idx + o));
+        _mm256_storeu_si256((__m256i *)j, _mm256_maskz_loadu_epi32(km, idx + o));
         for (k = 0; k < 8; ++k) ox[k] = (ptrdiff_t)j[k] * sx;
         if (!one)
             for (k = 0; k < 8; ++k) om[k] = (ptrdiff_t)j[k] * sm, oV[k] = (ptrdiff_t)j[k] * sV, of[k] = (ptrdiff_t)j[k] * sf;
-        d0 = sph__dx8(A, t, 0, km, ox);
+        d0 = sph__dx8(xi[0], px[0], L[0], iL[0], km, ox);
         r2 = _mm512_mul_pd(d0, d0);
-        if (D > 1) d1 = sph__dx8(A, t, 1, km, ox), r2 = _mm512_fmadd_pd(d1, d1, r2);
-        if (D > 2) d2 = sph__dx8(A, t, 2, km, ox), r2 = _mm512_fmadd_pd(d2, d2, r2);
+        if (D > 1) d1 = sph__dx8(xi[1], px[1], L[1], iL[1], km, ox), r2 = _mm512_fmadd_pd(d1, d1, r2);
+        if (D > 2) d2 = sph__dx8(xi[2], px[2], L[2], iL[2], km, ox), r2 = _mm512_fmadd_pd(d2, d2, r2);
         q = _mm512_mul_pd(_mm512_sqrt_pd(r2), hinv);
         in = _mm512_cmp_pd_mask(q, kap, _CMP_LT_OQ) & km;
         if (dens) {
-            const __m512d W = _mm512_maskz_mul_pd(in, _mm512_set1_pd((double)t->cW), sph__nshape_pick8(sh, 0, q));
-            sr = _mm512_fmadd_pd(sph__at8(zero, in, A->m.p[0], one ? ox : om), W, sr);
+            const __m512d W = _mm512_maskz_mul_pd(in, cW, sph__nshape_pick8(sh, 0, q));
+            sr = _mm512_fmadd_pd(sph__at8(zero, in, pm, one ? ox : om), W, sr);
         }
         if (grad) {
             __m512d gq = sph__nshape_pick8(sh, 1, q), c;
-            if (sh->npiece > 1)
-                gq = _mm512_div_pd(gq, _mm512_mask_mov_pd(_mm512_set1_pd(1),
-                                                          _mm512_cmp_pd_mask(q, _mm512_set1_pd((double)sh->lo[1]), _CMP_GE_OQ), q));
-            c = _mm512_mul_pd(sph__at8(zero, in, A->V.p[0], one ? ox : oV),
-                              _mm512_sub_pd(sph__at8(vfi, in, A->f.p[0], one ? ox : of), vfi));
-            c = _mm512_mul_pd(c, _mm512_maskz_mul_pd(in, _mm512_set1_pd((double)t->cF), gq));
+            if (sh->npiece > 1) gq = _mm512_div_pd(gq, _mm512_mask_mov_pd(one8, _mm512_cmp_pd_mask(q, lo1, _CMP_GE_OQ), q));
+            c = _mm512_mul_pd(sph__at8(zero, in, pV, one ? ox : oV), _mm512_sub_pd(sph__at8(vfi, in, pf, one ? ox : of), vfi));
+            c = _mm512_mul_pd(c, _mm512_maskz_mul_pd(in, cF, gq));
             s0 = _mm512_fmadd_pd(c, d0, s0);
             if (D > 1) s1 = _mm512_fmadd_pd(c, d1, s1);
             if (D > 2) s2 = _mm512_fmadd_pd(c, d2, s2);
@@ -1976,35 +2010,142 @@ SPH__INLINE void sph__dg8_body(const sph__args *A, const sph__nshape *sh, const 
     if (dens) *rho = (sph_real)_mm512_reduce_add_pd(sr);
 }
 
+/* One instance per shape, holding each use (density, gradient, both) in
+ * each dimension as a loop of its own: a flag or a dimension tested per
+ * step costs 15-25 % there. */
+#define SPH__DG8_USES(S, D)                                                           \
+    if (dens && grad)                                                                 \
+        one ? sph__dg8_body(A, &sph__nshapes[S], t, i, D, 1, 1, 1, fi, g, rho)          \
+            : sph__dg8_body(A, &sph__nshapes[S], t, i, D, 1, 1, 0, fi, g, rho);         \
+    else if (dens)                                                                    \
+        one ? sph__dg8_body(A, &sph__nshapes[S], t, i, D, 1, 0, 1, fi, g, rho)          \
+            : sph__dg8_body(A, &sph__nshapes[S], t, i, D, 1, 0, 0, fi, g, rho);         \
+    else                                                                              \
+        one ? sph__dg8_body(A, &sph__nshapes[S], t, i, D, 0, 1, 1, fi, g, rho)          \
+            : sph__dg8_body(A, &sph__nshapes[S], t, i, D, 0, 1, 0, fi, g, rho);
 #define SPH__X(S)                                                                                  \
     SPH__NOINLINE void sph__dg8_##S(const sph__args *A, const sph__tgt *t, sph_idx i, int dens, int grad, \
                                     sph_real fi, sph_real *g, sph_real *rho)                        \
     {                                                                                              \
-        sph__dg8_body(A, &sph__nshapes[S], t, i, dens, grad, fi, g, rho);                          \
+        /* views sharing the stride of x (SoA, or one array of structs) share its offsets */       \
+        const ptrdiff_t sx = A->x.stride;                                                          \
+        const int one = (!dens || A->m.stride == sx) && (!grad || (A->V.stride == sx && A->f.stride == sx)); \
+        switch (SPH__DIM(A)) {                                                                     \
+        case 1: SPH__DG8_USES(S, 1) break;                                                         \
+        case 2: SPH__DG8_USES(S, 2) break;                                                         \
+        default: SPH__DG8_USES(S, 3) break;                                                        \
+        }                                                                                          \
     }
 SPH__SHAPE_IDS(SPH__X)
 #undef SPH__X
+#undef SPH__DG8_USES
 #endif /* SPH__OP_AVX512 */
+
+/* ---- without AVX-512: density and difference gradient in two passes ---- */
+#if !SPH__OP_AVX512
+#if defined(_OPENMP) && _OPENMP >= 201307 && !defined(__clang__)
+#define SPH__SIMD_SUM4 _Pragma("omp simd reduction(+ : s0, s1, s2, s3)")
+#else
+#define SPH__SIMD_SUM4 /* clang: as SPH__SIMD_KERNEL */
+#endif
+/* (O2) rho = sum_j m_j W_ij (dens) and/or (O5) g = sum_j V_j (f_j - f_i) F_ij x_ij
+ * (grad) of target t, a chunk at a time in two passes: x_ij and r (axis by
+ * axis, then the square roots), then the kernel and every sum in one vector
+ * loop, the shape's pieces constants of the instance. The reference loop's
+ * arithmetic pair by pair; without OpenMP its sums in list order too. */
+SPH__INLINE void sph__dgc_body(const sph__args *A, const sph__nshape *sh, const sph__tgt *t, sph_idx i, int dens,
+                               int grad, sph_real fi, sph_real *g, sph_real *rho)
+{
+    const int D = SPH__DIM(A);
+    const sph_real hinv = t->hinv, cW = t->cW, cF = t->cF;
+    sph_real s0 = 0, s1 = 0, s2 = 0, s3 = 0, d[3][SPH__CHUNK], r[SPH__CHUNK];
+    sph_off o;
+    int n, k, a;
+    for (o = A->off[i]; o < A->off[i + 1]; o += n) {
+        const sph_idx *j = A->idx + o;
+        n = (A->off[i + 1] - o) < SPH__CHUNK ? (int)(A->off[i + 1] - o) : SPH__CHUNK;
+        for (k = 0; k < SPH__CHUNK; ++k) r[k] = 0;
+        for (a = 0; a < 3; ++a) {
+            const sph_real *x = A->x.p[a], xi = t->xi[a], L = A->L[a], iL = A->invL[a];
+            const ptrdiff_t sx = A->x.stride;
+            sph_real *e = d[a];
+            if (a >= D) {
+                for (k = 0; k < n; ++k) e[k] = 0;
+            } else if (L != 0) {
+                SPH__SIMD
+                for (k = 0; k < n; ++k) e[k] = xi - x[(ptrdiff_t)j[k] * sx];
+                sph__image_chunk(e, n, L, iL);
+                SPH__SIMD
+                for (k = 0; k < n; ++k) r[k] += e[k] * e[k];
+            } else {
+                SPH__SIMD
+                for (k = 0; k < n; ++k) {
+                    const sph_real v = xi - x[(ptrdiff_t)j[k] * sx];
+                    e[k] = v;
+                    r[k] += v * v;
+                }
+            }
+        }
+        sph__sqrt_chunk(r, (n + 7) & ~7);
+        if (dens && !grad) {
+            SPH__SIMD_SUM4
+            for (k = 0; k < n; ++k) s3 += sph_pair_density(SPH__AT(A->m, 0, j[k]), cW * sph__nshape_w(sh, r[k] * hinv));
+        } else {
+            SPH__SIMD_SUM4
+            for (k = 0; k < n; ++k) {
+                const sph_real q = r[k] * hinv;
+                const sph_real c = SPH__AT(A->V, 0, j[k]) * (SPH__AT(A->f, 0, j[k]) - fi) * (cF * sph__nshape_g(sh, q));
+                if (dens) s3 += sph_pair_density(SPH__AT(A->m, 0, j[k]), cW * sph__nshape_w(sh, q));
+                s0 += c * d[0][k];
+                s1 += c * d[1][k];
+                s2 += c * d[2][k];
+            }
+        }
+    }
+    if (grad) {
+        g[0] = s0;
+        g[1] = D > 1 ? s1 : 0;
+        g[2] = D > 2 ? s2 : 0;
+    }
+    if (dens) *rho = s3;
+}
+#undef SPH__SIMD_SUM4
+
+#define SPH__X(S)                                                                                  \
+    SPH__NOINLINE void sph__dgc_##S(const sph__args *A, const sph__tgt *t, sph_idx i, int dens, int grad, \
+                                    sph_real fi, sph_real *g, sph_real *rho)                        \
+    {                                                                                              \
+        if (dens && grad)                                                                          \
+            sph__dgc_body(A, &sph__nshapes[S], t, i, 1, 1, fi, g, rho);                            \
+        else if (dens)                                                                             \
+            sph__dgc_body(A, &sph__nshapes[S], t, i, 1, 0, fi, g, rho);                            \
+        else                                                                                       \
+            sph__dgc_body(A, &sph__nshapes[S], t, i, 0, 1, fi, g, rho);                            \
+    }
+SPH__SHAPE_IDS(SPH__X)
+#undef SPH__X
+#endif /* !SPH__OP_AVX512 */
 
 /* The one-pass loop for target i where it serves (F at the uniform h; the
  * gradient with per-particle h stays with the chunks): returns 1 with g
- * and/or rho written, else 0. */
-SPH__INLINE int sph__dg8(const sph__args *A, const sph__tgt *t, sph_idx i, int dens, int grad, sph_real fi,
-                         sph_real *g, sph_real *rho)
-{
+ * and/or rho written, else 0. sph__dg8 with AVX-512, sph__dgc otherwise. */
 #if SPH__OP_AVX512
+#define SPH__DG(S) sph__dg8_##S
+#else
+#define SPH__DG(S) sph__dgc_##S
+#endif
+SPH__INLINE int sph__dg(const sph__args *A, const sph__tgt *t, sph_idx i, int dens, int grad, sph_real fi,
+                        sph_real *g, sph_real *rho)
+{
     if (grad && A->hv) return 0;
     switch (t->shape) {
-#define SPH__X(S) case S: sph__dg8_##S(A, t, i, dens, grad, fi, g, rho); return 1;
+#define SPH__X(S) case S: SPH__DG(S)(A, t, i, dens, grad, fi, g, rho); return 1;
         SPH__SHAPE_IDS(SPH__X)
 #undef SPH__X
     default: return 0;
     }
-#else
-    (void)A, (void)t, (void)i, (void)dens, (void)grad, (void)fi, (void)g, (void)rho;
-    return 0;
-#endif
 }
+#undef SPH__DG
 
 /* ---- the fast twin of each reference loop; OP is a constant of the instance ---- */
 
@@ -2016,7 +2157,7 @@ SPH__INLINE int sph__fast_sum(const sph__args *A, const int OP, sph_idx i)
     sph_off o;
     int n, k;
     sph__tinit(A, i, &t);
-    if (OP == SPH__OP_DENSITY && sph__dg8(A, &t, i, 1, 0, 0, NULL, &s0)) return sph__end_sum(A, i, s0, 0);
+    if (OP == SPH__OP_DENSITY && sph__dg(A, &t, i, 1, 0, 0, NULL, &s0)) return sph__end_sum(A, i, s0, 0);
     for (o = A->off[i]; o < A->off[i + 1]; o += n) {
         n = sph__chunk_next(A, &t, i, o, SPH__WANT_W, &P);
         if (OP == SPH__OP_DENSITY) {
@@ -2045,7 +2186,7 @@ SPH__INLINE int sph__fast_grad(const sph__args *A, const int OP, sph_idx i)
     sph_off o;
     int n, k, a, fb = 0;
     sph__tinit(A, i, &t);
-    if ((OP == SPH__OP_GRAD_DIFF || OP == SPH__OP_DENS_GRAD) && sph__dg8(A, &t, i, OP == SPH__OP_DENS_GRAD, 1, fi, g, &s0))
+    if ((OP == SPH__OP_GRAD_DIFF || OP == SPH__OP_DENS_GRAD) && sph__dg(A, &t, i, OP == SPH__OP_DENS_GRAD, 1, fi, g, &s0))
         return sph__end_grad(A, i, rhoi, g, 0, B, s0);
     for (o = A->off[i]; o < A->off[i + 1]; o += n) {
         n = sph__chunk_next(A, &t, i, o, OP == SPH__OP_DENS_GRAD ? SPH__WANT_W | SPH__WANT_F : SPH__WANT_F, &P);
@@ -2073,7 +2214,7 @@ SPH__INLINE int sph__fast_grad(const sph__args *A, const int OP, sph_idx i)
     if (OP == SPH__OP_GRAD_CORR) {
         fb = !sph_correction_invert(D, M, A->rcond_min, B);
         /* a fallback is the difference scheme bit for bit, one-pass loop included */
-        if (fb) (void)sph__dg8(A, &t, i, 0, 1, fi, g, NULL);
+        if (fb) (void)sph__dg(A, &t, i, 0, 1, fi, g, NULL);
     }
     return sph__end_grad(A, i, rhoi, g, fb, B, s0);
 }
