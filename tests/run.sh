@@ -560,6 +560,14 @@ if [ "${EXTRAS:-1}" != 0 ]; then
         else
             echo "SKIPPED: nvcc compile check (nvcc is not on the PATH)"
         fi
+        # the timed build of make bench (-O3, where gcc's flow warnings differ from -O2's)
+        if probe "gcc omp" openmp_runs gcc; then
+            enqueue "$(estimate checks/bench 200)" checks/bench checks check \
+                "make bench's build (gcc -O3 -march=native -fopenmp $WARN bench/benchmark.c)" \
+                gcc -O3 -march=native -fopenmp $WARN -DBENCH_LINK_PARTS -c bench/benchmark.c -o "$OUT/bench_check.o"
+        else
+            echo "SKIPPED: make bench's build (gcc -fopenmp does not build here)"
+        fi
         if command -v cmake > /dev/null 2>&1; then
             enqueue "$(estimate checks/cmake 200)" checks/cmake checks check \
                 "CMake target sph_kernel::sph_kernel (add_subdirectory and installed find_package)" sh tests/cmake_check.sh
