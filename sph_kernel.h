@@ -1798,8 +1798,10 @@ SPH__INLINE void sph__shape_chunk(int shape, const sph_real *q, sph_real *w, sph
 }
 
 /* (O0), (O1) the n pairs of list positions o..o+n-1 of target t: sph__pair's
- * arithmetic, axis by axis and pass by pass over the chunk. */
-SPH__INLINE void sph__chunk_eval(const sph__args *A, const sph__tgt *t, sph_off o, int n, int want, sph__chunk *P)
+ * arithmetic, axis by axis and pass by pass over the chunk. One instance for
+ * every operator (a call per chunk costs nothing measurable; inlined into
+ * each it was half the compile time of a pinned build's fast loops). */
+SPH__NOINLINE void sph__chunk_eval(const sph__args *A, const sph__tgt *t, sph_off o, int n, int want, sph__chunk *P)
 {
     const int D = SPH__DIM(A);
     int k, a, m;
