@@ -1761,6 +1761,31 @@ SPH__INLINE void sph__image_chunk(sph_real *e, int n, sph_real L, sph_real iL)
     for (; k < n; ++k) e[k] -= L * sph__floor(e[k] * iL + (sph_real)0.5);
 }
 
+/* One axis of a chunk: d[k] = x_i - x_j of the n sources j[k] (positions x,
+ * stride s), with the minimum image where the axis has a period L, and
+ * r[k] += d[k]^2: sph__pair's arithmetic, bit for bit. The image is tested
+ * once per axis, outside the pair loops: inside, the vectoriser would
+ * evaluate both sides per pair. */
+SPH__INLINE void sph__axis_chunk(const sph_real *x, ptrdiff_t s, const sph_idx *j, int n, sph_real xi, sph_real L,
+                                 sph_real iL, sph_real *d, sph_real *r)
+{
+    int k;
+    if (L != 0) {
+        SPH__SIMD
+        for (k = 0; k < n; ++k) d[k] = xi - x[(ptrdiff_t)j[k] * s];
+        sph__image_chunk(d, n, L, iL);
+        SPH__SIMD
+        for (k = 0; k < n; ++k) r[k] += d[k] * d[k];
+    } else {
+        SPH__SIMD
+        for (k = 0; k < n; ++k) {
+            const sph_real e = xi - x[(ptrdiff_t)j[k] * s];
+            d[k] = e;
+            r[k] += e * e;
+        }
+    }
+}
+
 /* w(q) into w and g(q) = w'(q)/q into g (either may be NULL) for n values of
  * q: (K1), (K2) from the natural pieces, instantiated once per shape below. */
 SPH__INLINE void sph__shape_run(const sph__nshape *s, const sph_real *q, sph_real *w, sph_real *g, int n)
@@ -1809,27 +1834,8 @@ SPH__NOINLINE void sph__chunk_eval(const sph__args *A, const sph__tgt *t, sph_of
         P->j[k] = A->idx[o + k];
         P->r[k] = 0;
     }
-    for (a = 0; a < D; ++a) {
-        const sph_real *x = A->x.p[a], xi = t->xi[a], L = A->L[a], iL = A->invL[a];
-        const ptrdiff_t s = A->x.stride;
-        sph_real *d = P->dx[a];
-        /* the image is tested once per axis, outside the pair loops: inside,
-         * the vectoriser would evaluate both sides per pair */
-        if (L != 0) {
-            SPH__SIMD
-            for (k = 0; k < n; ++k) d[k] = xi - x[(ptrdiff_t)P->j[k] * s];
-            sph__image_chunk(d, n, L, iL);
-            SPH__SIMD
-            for (k = 0; k < n; ++k) P->r[k] += d[k] * d[k];
-        } else {
-            SPH__SIMD
-            for (k = 0; k < n; ++k) {
-                const sph_real e = xi - x[(ptrdiff_t)P->j[k] * s];
-                d[k] = e;
-                P->r[k] += e * e;
-            }
-        }
-    }
+    for (a = 0; a < D; ++a)
+        sph__axis_chunk(A->x.p[a], A->x.stride, P->j, n, t->xi[a], A->L[a], A->invL[a], P->dx[a], P->r);
     for (m = n; (m & 7) != 0; ++m) P->r[m] = 0;
     sph__sqrt_chunk(P->r, m);
     if ((want & SPH__WANT_W) || !A->hv)
@@ -2068,25 +2074,10 @@ SPH__INLINE void sph__dgc_body(const sph__args *A, const sph__nshape *sh, const 
         n = (A->off[i + 1] - o) < SPH__CHUNK ? (int)(A->off[i + 1] - o) : SPH__CHUNK;
         for (k = 0; k < SPH__CHUNK; ++k) r[k] = 0;
         for (a = 0; a < 3; ++a) {
-            const sph_real *x = A->x.p[a], xi = t->xi[a], L = A->L[a], iL = A->invL[a];
-            const ptrdiff_t sx = A->x.stride;
-            sph_real *e = d[a];
-            if (a >= D) {
-                for (k = 0; k < n; ++k) e[k] = 0;
-            } else if (L != 0) {
-                SPH__SIMD
-                for (k = 0; k < n; ++k) e[k] = xi - x[(ptrdiff_t)j[k] * sx];
-                sph__image_chunk(e, n, L, iL);
-                SPH__SIMD
-                for (k = 0; k < n; ++k) r[k] += e[k] * e[k];
-            } else {
-                SPH__SIMD
-                for (k = 0; k < n; ++k) {
-                    const sph_real v = xi - x[(ptrdiff_t)j[k] * sx];
-                    e[k] = v;
-                    r[k] += v * v;
-                }
-            }
+            if (a < D)
+                sph__axis_chunk(A->x.p[a], A->x.stride, j, n, t->xi[a], A->L[a], A->invL[a], d[a], r);
+            else
+                for (k = 0; k < n; ++k) d[a][k] = 0;
         }
         sph__sqrt_chunk(r, (n + 7) & ~7);
         if (dens && !grad) {
@@ -2159,19 +2150,19 @@ SPH__INLINE int sph__fast_sum(const sph__args *A, const int OP, sph_idx i)
     sph_off o;
     int n, k;
     sph__tinit(A, i, &t);
-    if (OP == SPH__OP_DENSITY && sph__dg(A, &t, i, 1, 0, 0, NULL, &s0)) return sph__end_sum(A, i, s0, 0);
+    /* the density always takes its shape's own loop (sph__dg serves it for
+     * every shape, uniform or per-particle h) */
+    if (OP == SPH__OP_DENSITY) {
+        (void)sph__dg(A, &t, i, 1, 0, 0, NULL, &s0);
+        return sph__end_sum(A, i, s0, 0);
+    }
     for (o = A->off[i]; o < A->off[i + 1]; o += n) {
         n = sph__chunk_next(A, &t, i, o, SPH__WANT_W, &P);
-        if (OP == SPH__OP_DENSITY) {
-            SPH__SIMD_SUM1
-            for (k = 0; k < n; ++k) s0 += sph_pair_density(SPH__AT(A->m, 0, P.j[k]), P.W[k]);
-        } else {
-            SPH__SIMD_SUM2
-            for (k = 0; k < n; ++k) {
-                const sph_real Vj = SPH__AT(A->V, 0, P.j[k]);
-                s0 += sph_pair_interpolate(Vj, SPH__AT(A->f, 0, P.j[k]), P.W[k]);
-                s1 += Vj * P.W[k];
-            }
+        SPH__SIMD_SUM2
+        for (k = 0; k < n; ++k) {
+            const sph_real Vj = SPH__AT(A->V, 0, P.j[k]);
+            s0 += sph_pair_interpolate(Vj, SPH__AT(A->f, 0, P.j[k]), P.W[k]);
+            s1 += Vj * P.W[k];
         }
     }
     return sph__end_sum(A, i, s0, s1);
