@@ -672,6 +672,7 @@ static void run(const params *pm, double n2, history *hist, int quiet)
         if (!quiet) ex_progress_update(&prog, label, t / (pm->end_tau * tscale));
     }
     if (!quiet) ex_progress_done(&prog, label);
+    if (frame > 0) printf("wrote %d particle frames %s/dam_break_n2-%g_*.vtk\n", frame, pm->out, n2);
     hist->steps = step;
     hist->searches = s.searches;
     hist->seconds = ex_now() - prog.start;
@@ -840,9 +841,11 @@ static double compare(FILE *md, const char *what, double n, double a, const seri
     return count > 0 ? worst : NAN;
 }
 
-/* Time series CSV of one column: tau, T, simulated Z and H, and the
- * measurements interpolated at tau (empty outside their range). */
-static void write_csv(const char *dir, const experiment *e, const history *h)
+/* Time series CSV of one column: tau, T, simulated Z and H, the
+ * measurements interpolated at tau (empty outside their range), the front of
+ * the furthest particle and T of the simulation delayed by the protocol's
+ * fitted delay shift (in tau). */
+static void write_csv(const char *dir, const experiment *e, const history *h, double shift)
 {
     char path[1200];
     FILE *f;
@@ -854,7 +857,9 @@ static void write_csv(const char *dir, const experiment *e, const history *h)
         return;
     }
     fprintf(f, "# dam break n^2 = %g: tau = t sqrt(g/a), T = n tau, Z = front/a, H = height/(n^2 a); *_exp: "
-               "Martin & Moyce 1952 interpolated; Z_sim_furthest: furthest particle\ntau,T,Z_sim,H_sim,Z_exp,H_exp,Z_sim_furthest\n", e->n2);
+               "Martin & Moyce 1952 interpolated; Z_sim_furthest: furthest particle; T_delayed: T of the simulation "
+               "delayed by the fitted %.4f in T\ntau,T,Z_sim,H_sim,Z_exp,H_exp,Z_sim_furthest,T_delayed\n",
+            e->n2, sqrt(e->n2) * shift);
     for (k = 0; k < h->n; ++k) {
         double ze, he;
         if (h->tau[k] < next && k != h->n - 1) continue;
@@ -865,9 +870,10 @@ static void write_csv(const char *dir, const experiment *e, const history *h)
         if (ze == ze) fprintf(f, "%.5f", ze);
         fputc(',', f);
         if (he == he) fprintf(f, "%.5f", he);
-        fprintf(f, ",%.5f\n", h->Zraw[k]);
+        fprintf(f, ",%.5f,%.5f\n", h->Zraw[k], sqrt(e->n2) * (h->tau[k] + shift));
     }
     fclose(f);
+    printf("wrote %s\n", path);
 }
 
 /* The model options of pm that differ from the defaults def, as text
@@ -1413,7 +1419,7 @@ int main(int argc, char **argv)
         {"data", "directory of the measurements (tries data/dam_break, ../data/dam_break, ../../data/dam_break)",
          NULL, NULL, &data, NULL},
         {"report", "write the protocol and comparison tables as markdown to this file", NULL, NULL, &report, NULL},
-        {"summary", "append one row of protocol figures (markdown table row) to this file", NULL, NULL, &summary,
+        {"summary", "append one row of protocol figures per run (markdown table rows) to this file", NULL, NULL, &summary,
          NULL},
         {"nu", "laminar kinematic viscosity in m^2/s (water 1e-6; 0: none)", &pm.nu, NULL, NULL, NULL},
         {"noslip", "walls: 1 no-slip (viscous term over wall particles), 0 free slip", &noslip, NULL, NULL, NULL},
@@ -1591,7 +1597,6 @@ int main(int argc, char **argv)
             seconds += u->hist[c].seconds;
             printf("\n%s, column a x %ga: %d particles (%d fluid), %ld steps, %ld neighbour searches, %.1f s\n", u->tag,
                    n2, u->hist[c].particles, u->hist[c].fluid, u->hist[c].steps, u->hist[c].searches, u->hist[c].seconds);
-            if (u->pm.out) write_csv(u->pm.out, &ex[c], &u->hist[c]);
             if (r > 0 && !check) continue; /* the tables of the first run; the protocol of every run */
             if (md) fprintf(md, "\n## Column a x %ga (n^2 = %g): %d particles (%d fluid), %ld steps, %.1f s on %d thread(s)\n",
                             n2, n2, u->hist[c].particles, u->hist[c].fluid, u->hist[c].steps, u->hist[c].seconds, (int)threads);
@@ -1601,8 +1606,12 @@ int main(int argc, char **argv)
         }
         u->pr = evaluate(&ex[0], &u->hist[0], &ex[1], &u->hist[1], pm.a);
         pr[r] = u->pr;
+        for (c = 0; c < 2 && u->pm.out; ++c) /* delays in tau: a x 2a from T, a x a from ms */
+            if (u->hist[c].n > 0)
+                write_csv(u->pm.out, &ex[c], &u->hist[c],
+                          c == 0 ? u->pr.shift_T / sqrt(2.0) : u->pr.sq_shift_ms / (1e3 * sqrt(pm.a / GRAV)));
         snprintf(label[r], sizeof label[r], "%d across a%s", u->pm.res, u->pm.stokes ? "" : ", no friction");
-        if (summary && r == 0) {
+        if (summary) {
             FILE *f = fopen(summary, "r");
             const int fresh = f == NULL;
             if (f) fclose(f);
