@@ -65,8 +65,8 @@ set ylabel "p / (rho g H)"
 set key top left
 set xrange [0:7.2]
 set yrange [-0.5:1.5]
-exp(s) = datadir."/buchner2002_P1_pressure_digitised.csv"
-plot exp(0) using 2:(strcol(1) eq "pysph" ? $3 : NaN) with points pt 7 ps 0.6 lc rgb "#2ca02c" title "measured (PySPH digitisation)", \
-     exp(0) using 2:(strcol(1) eq "trixi_P1" ? $3 : NaN) with points pt 5 ps 0.6 lc rgb "#9467bd" title "measured (TrixiParticles.jl digitisation)", \
-     exp(0) using 2:(strcol(1) eq "jaxsph" ? $3 : NaN) with points pt 9 ps 0.6 lc rgb "#8c564b" title "measured (JAX-SPH digitisation)", \
+pfile(s) = datadir."/buchner2002_P1_pressure_digitised.csv"
+plot pfile(0) using 2:(strcol(1) eq "pysph" ? $3 : NaN) with points pt 7 ps 0.6 lc rgb "#2ca02c" title "measured (PySPH digitisation)", \
+     pfile(0) using 2:(strcol(1) eq "trixi_P1" ? $3 : NaN) with points pt 5 ps 0.6 lc rgb "#9467bd" title "measured (TrixiParticles.jl digitisation)", \
+     pfile(0) using 2:(strcol(1) eq "jaxsph" ? $3 : NaN) with points pt 9 ps 0.6 lc rgb "#8c564b" title "measured (JAX-SPH digitisation)", \
      simdir."/".probe."/buchner_P1.csv" using 1:2 with lines lw 1.5 lc rgb "#1f77b4" title "SPH (bins of 0.02)"
