@@ -284,7 +284,7 @@ int main(int argc, char **argv)
         {"frames", "VTK frames per case: the start and this many more to the end (0: none)", NULL, &P.frames, NULL,
          NULL, 0, 10000, 0, NULL},
         {"ascii", "VTK frames in ASCII (default: binary)", NULL, NULL, NULL, &ascii, 0, 0, 0, NULL},
-        {"threads", "OpenMP threads (0: the runtime's default; a few hundred particles do not pay for more than 1)",
+        {"threads", "OpenMP threads (0: the runtime's default; 1 by default: a few hundred particles lose more to thread synchronisation than they gain)",
          NULL, &threads, NULL, NULL, 0, 1024, 0, NULL},
         {"check", "coarse run; exit 1 if it misses its validation bounds", NULL, NULL, NULL, &check, 0, 0, 0, NULL},
         {"study", "write the error table into this directory (docs/results)", NULL, NULL, &study, NULL, 0, 0, 0, NULL},
