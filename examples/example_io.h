@@ -407,12 +407,13 @@ static inline int ex_fields_finite(const char *prog, const ex_field *f, int nfie
     return SPH_OK;
 }
 
-/* One data array of a .vtu file: Float64 values of ncomp components per
- * particle (ncomp 3 pads 2-D vectors with 0; from view v, or positions
- * when v has dim < 3), or the Int64 / UInt8 vertex cells (kind 1: the
- * connectivity i, 2: the offsets i + 1, 3: the types, 1 = VTK_VERTEX).
- * ASCII: the values inside the element; binary: the 8-byte byte count and
- * the raw values appended. */
+/* One data array of a .vtu file: Float32 values of ncomp components per
+ * particle (kind 0; components vcomp.. of view v padded with 0, so 2-D
+ * vectors and positions get 3), or the Int32 / UInt8 vertex cells (kind 1:
+ * the connectivity i, 2: the offsets i + 1, 3: the types, 1 = VTK_VERTEX).
+ * Float32 and Int32: what a viewer needs, half the bytes of 64-bit values
+ * (sph_idx is 32-bit, so are the indices). ASCII: the values inside the
+ * element; binary: the 8-byte byte count and the raw values appended. */
 typedef struct {
     FILE *out;
     int ascii;
@@ -420,10 +421,10 @@ typedef struct {
 
 static inline int ex__vtu_values(ex__vtu *w, sph_view v, int vcomp, int ncomp, int kind, sph_idx n)
 {
-    double buf[3 * 256];
-    int64_t ibuf[256];
+    float buf[3 * 256];
+    int32_t ibuf[256];
     unsigned char tbuf[256];
-    const size_t esize = kind == 0 ? sizeof(double) : kind == 3 ? 1 : sizeof(int64_t);
+    const size_t esize = kind == 3 ? 1 : 4;
     const uint64_t bytes = (uint64_t)n * (uint64_t)(kind == 0 ? ncomp : 1) * esize;
     sph_idx i0, i;
     int a;
@@ -435,16 +436,16 @@ static inline int ex__vtu_values(ex__vtu *w, sph_view v, int vcomp, int ncomp, i
             const sph_idx p = i0 + i;
             if (kind == 0)
                 for (a = 0; a < ncomp; ++a)
-                    buf[cnt++] = a < vcomp ? (double)v.p[a][(ptrdiff_t)p * v.stride] : 0.0;
+                    buf[cnt++] = a < vcomp ? (float)v.p[a][(ptrdiff_t)p * v.stride] : 0.0f;
             else if (kind == 3)
                 tbuf[cnt++] = 1;
             else
-                ibuf[cnt++] = (int64_t)p + (kind == 2);
+                ibuf[cnt++] = (int32_t)p + (kind == 2);
         }
         if (w->ascii) {
             size_t q;
             for (q = 0; q < cnt; ++q) {
-                if (kind == 0) fprintf(w->out, "%.17g ", buf[q]);
+                if (kind == 0) fprintf(w->out, "%.9g ", (double)buf[q]);
                 else fprintf(w->out, "%ld ", kind == 3 ? 1L : (long)ibuf[q]);
             }
             fputc('\n', w->out);
@@ -469,14 +470,15 @@ static inline void ex__vtu_array(ex__vtu *w, const char *type, const char *name,
         fprintf(w->out, "        </DataArray>\n");
     } else {
         fprintf(w->out, " offset=\"%lu\"/>\n", (unsigned long)*offset);
-        *offset += 8 + (uint64_t)n * (uint64_t)ncomp * (kind == 3 ? 1u : 8u);
+        *offset += 8 + (uint64_t)n * (uint64_t)ncomp * (kind == 3 ? 1u : 4u);
     }
 }
 
 /* Writes n particles (positions x, dim components) and their fields at time
  * t as an XML VTK UnstructuredGrid of vertices (.vtu; VTK 6 and later,
- * ParaView), the time in FieldData TIME; appended raw binary in the host's
- * byte order (named in the header), or ASCII (ascii = 1). 0 on success. */
+ * ParaView), values in single precision, the time (double) in FieldData
+ * TIME; appended raw binary in the host's byte order (named in the header),
+ * or ASCII (ascii = 1). 0 on success. */
 static inline int ex_write_vtu(const char *path, double t, sph_idx n, int dim, sph_view x, const ex_field *f,
                                int nfields, int ascii)
 {
@@ -497,15 +499,15 @@ static inline int ex_write_vtu(const char *path, double t, sph_idx n, int dim, s
         if (pass == 0) fprintf(w.out, "      <PointData>\n");
         for (k = 0; k < nfields; ++k) {
             const int nc = f[k].ncomp == 1 ? 1 : 3;
-            if (pass == 0) ex__vtu_array(&w, "Float64", f[k].name, nc, f[k].v, f[k].ncomp, 0, n, &offset);
+            if (pass == 0) ex__vtu_array(&w, "Float32", f[k].name, nc, f[k].v, f[k].ncomp, 0, n, &offset);
             else err |= ex__vtu_values(&w, f[k].v, f[k].ncomp, nc, 0, n);
         }
         if (pass == 0) {
             fprintf(w.out, "      </PointData>\n      <Points>\n");
-            ex__vtu_array(&w, "Float64", "Points", 3, x, dim, 0, n, &offset);
+            ex__vtu_array(&w, "Float32", "Points", 3, x, dim, 0, n, &offset);
             fprintf(w.out, "      </Points>\n      <Cells>\n");
-            ex__vtu_array(&w, "Int64", "connectivity", 1, x, 0, 1, n, &offset);
-            ex__vtu_array(&w, "Int64", "offsets", 1, x, 0, 2, n, &offset);
+            ex__vtu_array(&w, "Int32", "connectivity", 1, x, 0, 1, n, &offset);
+            ex__vtu_array(&w, "Int32", "offsets", 1, x, 0, 2, n, &offset);
             ex__vtu_array(&w, "UInt8", "types", 1, x, 0, 3, n, &offset);
             fprintf(w.out, "      </Cells>\n    </Piece>\n  </UnstructuredGrid>\n");
         } else {

@@ -3,7 +3,8 @@
  * checked allocations and particle counts, the NaN/Inf stop, and the VTK
  * series: a binary .vtu frame read back value by value with a reader written
  * here from the VTK XML file format (appended raw data: an 8-byte byte count
- * per array, then the values, at the array's offset after the '_' mark), its
+ * per array, then the values, at the array's offset after the '_' mark;
+ * single-precision values, so each must equal the float of the input), its
  * TIME field, the .pvd listing, the ASCII variant, and the removal of an
  * earlier run's frames. */
 #include "examples/example_io.h"
@@ -48,7 +49,7 @@ static const unsigned char *appended(const char *file, long size, const char *na
     return (const unsigned char *)data + 8;
 }
 
-/* Compares the Float64 array name (ncomp per particle) with v (vcomp used). */
+/* Compares the Float32 array name (ncomp per particle) with v (vcomp used). */
 static void check_floats(const char *file, long size, const char *name, int ncomp, sph_view v, int vcomp)
 {
     uint64_t bytes = 0;
@@ -56,12 +57,12 @@ static void check_floats(const char *file, long size, const char *name, int ncom
     int i, a, bad = 0;
     TH_CHECK(d != NULL, "array %s not found", name);
     if (d == NULL) return;
-    TH_CHECK(bytes == (uint64_t)NP * ncomp * 8, "%s: %lu bytes", name, (unsigned long)bytes);
+    TH_CHECK(bytes == (uint64_t)NP * ncomp * 4, "%s: %lu bytes", name, (unsigned long)bytes);
     for (i = 0; i < NP; ++i)
         for (a = 0; a < ncomp; ++a) {
-            double got;
-            const double want = a < vcomp ? (double)v.p[a][i * v.stride] : 0.0;
-            memcpy(&got, d + 8 * (i * ncomp + a), 8);
+            float got;
+            const float want = a < vcomp ? (float)v.p[a][i * v.stride] : 0.0f;
+            memcpy(&got, d + 4 * (i * ncomp + a), 4);
             bad += got != want;
         }
     TH_CHECK(bad == 0, "%s: %d values differ", name, bad);
@@ -176,11 +177,11 @@ static void test_series(void)
         check_floats(file, size, "pressure", 1, sph_view_soa(p, NULL, NULL), 1);
         d = appended(file, size, "offsets", &bytes);
         for (i = 0; d != NULL && i < NP; ++i) {
-            int64_t o;
-            memcpy(&o, d + 8 * i, 8);
+            int32_t o;
+            memcpy(&o, d + 4 * i, 4);
             bad += o != i + 1;
         }
-        TH_CHECK(d != NULL && bytes == 8 * NP && bad == 0, "vertex offsets");
+        TH_CHECK(d != NULL && bytes == 4 * NP && bad == 0, "vertex offsets");
         d = appended(file, size, "types", &bytes);
         for (i = 0, bad = 0; d != NULL && i < NP; ++i) bad += d[i] != 1;
         TH_CHECK(d != NULL && bytes == NP && bad == 0, "cell types not VTK_VERTEX");
@@ -214,7 +215,7 @@ static void test_series(void)
         char *end = NULL;
         int bad = 0;
         a = a ? strchr(a, '>') + 1 : NULL;
-        for (i = 0; a != NULL && i < NP; ++i, a = end) bad += strtod(a, &end) != (double)p[i];
+        for (i = 0; a != NULL && i < NP; ++i, a = end) bad += (float)strtod(a, &end) != (float)p[i];
         TH_CHECK(a != NULL && bad == 0, "ASCII pressure differs");
         TH_CHECK(strstr(file, "AppendedData") == NULL, "ASCII frame has appended data");
         free(file);
