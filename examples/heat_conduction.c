@@ -268,8 +268,8 @@ int main(int argc, char **argv)
     int threads = 1, check = 0, ascii = 0, st, two, nl;
     ex_series frames[2];
     /* Ranges: n to 1000 (the two-layer steps grow as n^2 k-ratio); h from dx
-     * (fewer neighbours leave the operator without its second moment) to 3 dx;
-     * k-ratio within 1e-3 .. 1e3 (the step is set by the larger k). */
+     * (below, a particle has hardly any neighbours) to 3 dx; k-ratio within
+     * 1e-3 .. 1e3 (the step is set by the larger k, the run time by the ratio). */
     const ex_arg opt[] = {
         {"n", "particles across the slab (dx = 1/n)", NULL, &P.n, NULL, NULL, 8, 1000, 0, NULL},
         {"kernel", "smoothing kernel", NULL, NULL, &P.kernel, NULL, 0, 0, 0, ex_kernel_choices()},
