@@ -34,6 +34,7 @@ plot datadir.'/tg_24_wendland_c2_pressure_lattice_tvf.csv' using 1:4 with lines 
 unset logscale y
 
 set terminal pngcairo size 800,560 font ",11"
+set key default
 set output outdir.'/heat_two_layer.png'
 set title "Two layers, k = 1 | 100: steady temperature (Wendland C2, mirror walls)"
 set xlabel "x"
