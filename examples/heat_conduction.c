@@ -220,7 +220,7 @@ static int hc_study(const hc_param *base, const char *docdir, const char *outdir
     FILE *md;
     int q, two, bad = 0;
     snprintf(path, sizeof path, "%s/heat_results.md", docdir);
-    if ((md = fopen(path, "w")) == NULL) return -1;
+    if ((md = fopen(path, "w")) == NULL) return fprintf(stderr, "heat_conduction: cannot write %s\n", path), -1;
     fprintf(md, "Written by `heat_conduction --study` (h = %g dx, rho c = 1, T = 0 at t = 0). Errors are "
                 "absolute (T runs from 0 to 1): L2 = root mean square over the particles, max = largest. Single "
                 "layer: k = 1, against the Fourier series at t = %g. Two layers: k = 1 | %g, against the steady "

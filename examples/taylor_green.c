@@ -460,7 +460,7 @@ static int tg_study(const tg_param *base, const char *docdir, const char *outdir
     size_t q;
     int a, s, bad = 0;
     snprintf(path, sizeof path, "%s/taylor_green_results.md", docdir);
-    if ((md = fopen(path, "w")) == NULL) return -1;
+    if ((md = fopen(path, "w")) == NULL) return fprintf(stderr, "taylor_green: cannot write %s\n", path), -1;
     fprintf(md, "Written by `taylor_green --study` (Re = %g, c0 = %g U, t = %g, linear EOS with p_b = %g; "
                 "h = 2 dx for moving particles, 1.3 dx for fixed ones; transport velocity with background "
                 "pressure rho0 c0^2). Decay-rate error: least-squares slope of ln E(t) over [0, t] against "
