@@ -45,7 +45,7 @@
  * --check runs the protocol at the default resolution and exits 1 when a
  * target is missed; without the measurements (data/dam_break) nothing runs
  * and the exit status is 1; a state that stops being finite ends the run
- * with exit status 3. */
+ * (no further frame) with exit status 1. */
 #include "example_io.h"
 
 #include <math.h>
@@ -150,13 +150,12 @@ typedef struct {
     long searches;
 } sim;
 
-static void *xalloc(size_t bytes)
+/* ex_calloc (count x size, overflow checked); a failure ends the program
+ * (exit 1) after ex_calloc's message naming what. */
+static void *xalloc(size_t count, size_t size, const char *what)
 {
-    void *p = calloc(1, bytes ? bytes : 1);
-    if (p == NULL) {
-        fprintf(stderr, "dam_break: out of memory\n");
-        exit(2);
-    }
+    void *p = ex_calloc(count, size, what);
+    if (p == NULL) exit(1);
     return p;
 }
 
@@ -179,24 +178,28 @@ static void setup(sim *s, int res, double a, double n2, double tank_len, double 
     s->dx = dx;
     s->h = hfac * dx;
     s->c0 = c0fac * sqrt(GRAV * H);
+    sph_idx count;
+    if (ex_particle_count((double)nx * ny + (double)layers * (nfloor + 2 * layers) + 2.0 * layers * nside, "particles",
+                          &count) != SPH_OK)
+        exit(1);
     s->nf = nx * ny;
-    s->n = s->nf + layers * (nfloor + 2 * layers) + 2 * layers * nside;
-    s->x = (double *)xalloc(2 * sizeof(double) * (size_t)s->n);
-    s->v = (double *)xalloc(2 * sizeof(double) * (size_t)s->n);
-    s->vh = (double *)xalloc(2 * sizeof(double) * (size_t)s->n);
-    s->acc = (double *)xalloc(2 * sizeof(double) * (size_t)s->n);
-    s->rho = (double *)xalloc(sizeof(double) * (size_t)s->n);
-    s->p = (double *)xalloc(sizeof(double) * (size_t)s->n);
-    s->P = (double *)xalloc(sizeof(double) * (size_t)s->n);
-    s->m = (double *)xalloc(sizeof(double) * (size_t)s->n);
-    s->drho = (double *)xalloc(sizeof(double) * (size_t)s->n);
-    s->vw = (double *)xalloc(2 * sizeof(double) * (size_t)s->n);
+    s->n = count;
+    s->x = (double *)xalloc(2 * (size_t)s->n, sizeof(double), "particle vectors");
+    s->v = (double *)xalloc(2 * (size_t)s->n, sizeof(double), "particle vectors");
+    s->vh = (double *)xalloc(2 * (size_t)s->n, sizeof(double), "particle vectors");
+    s->acc = (double *)xalloc(2 * (size_t)s->n, sizeof(double), "particle vectors");
+    s->rho = (double *)xalloc((size_t)s->n, sizeof(double), "particle scalars");
+    s->p = (double *)xalloc((size_t)s->n, sizeof(double), "particle scalars");
+    s->P = (double *)xalloc((size_t)s->n, sizeof(double), "particle scalars");
+    s->m = (double *)xalloc((size_t)s->n, sizeof(double), "particle scalars");
+    s->drho = (double *)xalloc((size_t)s->n, sizeof(double), "particle scalars");
+    s->vw = (double *)xalloc(2 * (size_t)s->n, sizeof(double), "particle vectors");
     s->ncell = nfloor;
     s->xwall = nfloor * dx;
-    s->wet = (double *)xalloc(sizeof(double) * (size_t)nfloor);
+    s->wet = (double *)xalloc((size_t)nfloor, sizeof(double), "floor cells");
     for (i = 0; i < nfloor; ++i) s->wet[i] = i < nx ? 0 : -1; /* under the column: wet from the start */
-    s->offset = (sph_off *)xalloc(sizeof(sph_off) * (size_t)(s->n + 1));
-    s->x0 = (double *)xalloc(2 * sizeof(double) * (size_t)s->n);
+    s->offset = (sph_off *)xalloc((size_t)s->n + 1, sizeof(sph_off), "neighbour-list offsets");
+    s->x0 = (double *)xalloc(2 * (size_t)s->n, sizeof(double), "particle vectors");
     for (j = 0; j < ny; ++j)
         for (i = 0; i < nx; ++i, ++c) {
             s->x[2 * c] = (i + 0.5) * dx;
@@ -247,7 +250,7 @@ static void search(sim *s)
     if (st == SPH_OK && bytes > s->work_bytes) {
         free(s->work);
         s->work_bytes = bytes + bytes / 4;
-        s->work = xalloc(s->work_bytes);
+        s->work = xalloc(s->work_bytes, 1, "the neighbour-search workspace");
     }
     if (st == SPH_OK) st = sph_nsearch_build(&s->g, 2, xs, s->n, sph_view_none(), cell, NULL, s->work, s->work_bytes);
     /* one search into the index of the last step; where it has become too
@@ -259,10 +262,10 @@ static void search(sim *s)
     if (st == SPH_ESIZE) {
         free(s->index);
         s->capacity = pairs + pairs / 4;
-        s->index = (sph_idx *)xalloc(sizeof(sph_idx) * (size_t)s->capacity);
+        s->index = (sph_idx *)xalloc((size_t)s->capacity, sizeof(sph_idx), "neighbour lists");
         free(s->W), free(s->F);
-        s->W = (double *)xalloc(sizeof(double) * (size_t)s->capacity);
-        s->F = (double *)xalloc(sizeof(double) * (size_t)s->capacity);
+        s->W = (double *)xalloc((size_t)s->capacity, sizeof(double), "pair kernels");
+        s->F = (double *)xalloc((size_t)s->capacity, sizeof(double), "pair kernels");
         st = sph_nsearch_fill(&s->g, xs, s->n, sph_view_none(), s->h, kappa, SPH_NSEARCH_GATHER, s->offset, s->index,
                               s->capacity);
     }
@@ -509,38 +512,28 @@ static double probe_pressure(const sim *s, double y0, double y1)
     return sum / PROBE_POINTS;
 }
 
-/* 1 when every fluid position, velocity and density is finite. */
-static int state_finite(const sim *s)
+/* Position, velocity, pressure and density of every particle as VTK fields
+ * (f[0] the positions, which ex_series_write takes apart). */
+static void particle_fields(const sim *s, ex_field f[4])
 {
-    double sum = 0;
-    sph_idx i;
-    for (i = 0; i < s->nf; ++i)
-        sum += s->x[2 * i] + s->x[2 * i + 1] + s->v[2 * i] + s->v[2 * i + 1] + s->rho[i];
-    return isfinite(sum);
+    f[0].name = "position", f[0].v = sph_view_interleaved(s->x, 2), f[0].ncomp = 2;
+    f[1].name = "velocity", f[1].v = sph_view_interleaved(s->v, 2), f[1].ncomp = 2;
+    f[2].name = "pressure", f[2].v = sph_view_soa(s->p, NULL, NULL), f[2].ncomp = 1;
+    f[3].name = "density", f[3].v = sph_view_soa(s->rho, NULL, NULL), f[3].ncomp = 1;
 }
 
-static void write_vtk(const sim *s, const char *dir, int frame)
+/* One particle frame (time t) of the run's series; exits when it cannot be written. */
+static void write_frame(const sim *s, ex_series *ser, double t)
 {
-    char path[1200];
-    ex_field f[3];
-    f[0].name = "velocity";
-    f[0].v = sph_view_interleaved(s->v, 2);
-    f[0].ncomp = 2;
-    f[1].name = "pressure";
-    f[1].v = sph_view_soa(s->p, NULL, NULL);
-    f[1].ncomp = 1;
-    f[2].name = "density";
-    f[2].v = sph_view_soa(s->rho, NULL, NULL);
-    f[2].ncomp = 1;
-    snprintf(path, sizeof path, "%s/dam_break_n2-%g_%04d.vtk", dir, s->n2, frame);
-    if (ex_write_vtk(path, s->n, 2, sph_view_interleaved(s->x, 2), f, 3) != 0)
-        fprintf(stderr, "dam_break: cannot write %s\n", path);
+    ex_field f[4];
+    particle_fields(s, f);
+    if (ex_series_write(ser, t, s->n, 2, f[0].v, f + 1, 3) != 0) exit(1);
 }
 
 /* ---- one simulation ---- */
 
 typedef struct {
-    int res, vtk_every, noslip, front_k, stokes;
+    int res, vtk_every, noslip, front_k, stokes, ascii;
     double end_tau, tank, hfac, alpha, delta, a, skin, nu, c0fac;
     double wall_h;           /* side walls: height / column height */
     double probe_y0, probe_y1; /* far-wall pressure probe between these heights (m); none when equal */
@@ -606,8 +599,10 @@ static void run(const params *pm, double n2, history *hist, int quiet)
     const double tscale = sqrt(pm->a / GRAV); /* tau = t / tscale */
     double t = 0, amax, dt;
     long step = 0;
-    int frame = 0;
     char label[64];
+    ex_series ser;
+    const int frames = pm->out && pm->vtk_every > 0;
+    ex_field fields[4];
     ex_progress prog = ex_progress_start();
     sph_idx i;
     memset(&s, 0, sizeof s);
@@ -630,7 +625,13 @@ static void run(const params *pm, double n2, history *hist, int quiet)
     wall_pressure(&s, s.v);
     amax = momentum(&s, s.v);
     record(&s, pm, 0, hist);
-    if (pm->out && pm->vtk_every > 0) write_vtk(&s, pm->out, frame++);
+    if (frames) {
+        char name[64];
+        snprintf(name, sizeof name, "dam_break_n2-%g", n2);
+        if (ex_series_open(&ser, pm->out, name, pm->ascii) != 0) exit(1);
+        write_frame(&s, &ser, 0);
+    }
+    particle_fields(&s, fields);
     while (t < pm->end_tau * tscale) {
         double vmax = 0;
         for (i = 0; i < s.nf; ++i) {
@@ -662,17 +663,16 @@ static void run(const params *pm, double n2, history *hist, int quiet)
         }
         t += dt;
         ++step;
-        if (!state_finite(&s)) {
-            fprintf(stderr, "dam_break: the state is no longer finite (NaN or Inf) at step %ld, tau = %.4f; "
-                            "stopped, no further output\n", step, t / tscale);
-            exit(3);
+        if (ex_fields_finite("dam_break", fields, 4, s.nf, t) != SPH_OK) {
+            if (frames) ex_series_report(&ser), ex_series_close(&ser);
+            exit(1);
         }
         record(&s, pm, t / tscale, hist);
-        if (pm->out && pm->vtk_every > 0 && step % pm->vtk_every == 0) write_vtk(&s, pm->out, frame++);
+        if (frames && step % pm->vtk_every == 0) write_frame(&s, &ser, t);
         if (!quiet) ex_progress_update(&prog, label, t / (pm->end_tau * tscale));
     }
     if (!quiet) ex_progress_done(&prog, label);
-    if (frame > 0) printf("wrote %d particle frames %s/dam_break_n2-%g_*.vtk\n", frame, pm->out, n2);
+    if (frames) ex_series_report(&ser), ex_series_close(&ser);
     hist->steps = step;
     hist->searches = s.searches;
     hist->seconds = ex_now() - prog.start;
@@ -1350,28 +1350,6 @@ static void probe_csv(const char *dir, const pseries *sim)
     printf("wrote %s\n", path);
 }
 
-/* Range of one numeric option: the refusal names the option and the range. */
-typedef struct {
-    const char *name;
-    const double *v;
-    double lo, hi;
-    int integer;
-} option_range;
-
-/* 0 when every option lies in its range, else 1 after a message per miss. */
-static int check_ranges(const option_range *r, int n)
-{
-    int k, bad = 0;
-    for (k = 0; k < n; ++k) {
-        const double v = *r[k].v;
-        if (v >= r[k].lo && v <= r[k].hi && (!r[k].integer || v == floor(v))) continue;
-        fprintf(stderr, "dam_break: --%s %g is outside its range: %s %g .. %g\n", r[k].name, v,
-                r[k].integer ? "an integer in" : "a number in", r[k].lo, r[k].hi);
-        bad = 1;
-    }
-    return bad;
-}
-
 /* Output directory of one run: <out>/<tag>, created; exits on failure. */
 static void run_dir(const char *out, const char *tag, char *dir, size_t size)
 {
@@ -1394,57 +1372,61 @@ int main(int argc, char **argv)
 {
     params pm, def;
     char variant[256], label[4][64], path[1200];
-    int check = 0, columns = 0, c, r, fail = 0, side = 0, refine = 0, probe = 0, nrun = 0;
-    double res = 30, threads = 0, vtk_every = 500, noslip = 0, front_k = 4, stokes = 1, column = 0, probe_res = 40;
+    int check = 0, columns = 0, c, r, fail = 0, side = 0, refine = 0, probe = 0, nrun = 0, threads = 0, probe_res = 40;
     const char *data = NULL, *report = NULL, *summary = NULL, *walls;
     mm_run runs[4];
     protocol pr[4];
     experiment ex[2];
     FILE *md = NULL;
-    ex_option opt[] = {
-        {"res", "particles across the column width a", &res, NULL, NULL, NULL},
-        {"end", "end time tau = t sqrt(g/a)", &pm.end_tau, NULL, NULL, NULL},
-        {"column", "n^2 of the column a x n^2 a: 2, 1, or 0 for both", &column, NULL, NULL, NULL},
-        {"kernel", "kernel name (cubic, wendland_c2, quintic, ...)", NULL, NULL, &pm.kernel, NULL},
-        {"hfac", "smoothing length h / particle spacing", &pm.hfac, NULL, NULL, NULL},
-        {"alpha", "artificial viscosity coefficient (Monaghan 1992)", &pm.alpha, NULL, NULL, NULL},
-        {"delta", "density diffusion coefficient (Molteni & Colagrossi 2009)", &pm.delta, NULL, NULL, NULL},
-        {"tank", "tank length / a", &pm.tank, NULL, NULL, NULL},
-        {"skin", "neighbour-list skin / h (0: search every step)", &pm.skin, NULL, NULL, NULL},
-        {"a", "column width a in metres (Martin & Moyce: 2.25 in)", &pm.a, NULL, NULL, NULL},
-        {"out", "output directory: one folder per run in it (VTK files and time-series CSVs)", NULL, NULL, &pm.out,
+    /* every option with what it accepts: refused before anything runs (ex_parse_args) */
+    const ex_arg opt[] = {
+        {"res", "particles across the column width a", NULL, &pm.res, NULL, NULL, 4, 400, 0, NULL},
+        {"end", "end time tau = t sqrt(g/a)", &pm.end_tau, NULL, NULL, NULL, 0.01, 20, 0, NULL},
+        {"column", "n^2 of the column a x n^2 a: 2, 1, or 0 for both", NULL, &columns, NULL, NULL, 0, 2, 0, NULL},
+        {"kernel", "kernel name", NULL, NULL, &pm.kernel, NULL, 0, 0, 0, ex_kernel_choices()},
+        {"hfac", "smoothing length h / particle spacing", &pm.hfac, NULL, NULL, NULL, 0.75, 3, 0, NULL},
+        {"alpha", "artificial viscosity coefficient (Monaghan 1992)", &pm.alpha, NULL, NULL, NULL, 0, 1, 0, NULL},
+        {"delta", "density diffusion coefficient (Molteni & Colagrossi 2009)", &pm.delta, NULL, NULL, NULL, 0, 1, 0,
          NULL},
-        {"vtk-every", "write particles every N steps (0: never)", &vtk_every, NULL, NULL, NULL},
-        {"threads", "OpenMP threads (0: the OpenMP default)", &threads, NULL, NULL, NULL},
+        {"tank", "tank length / a", &pm.tank, NULL, NULL, NULL, 2, 100, 0, NULL},
+        {"skin", "neighbour-list skin / h (0: search every step)", &pm.skin, NULL, NULL, NULL, 0, 2, 0, NULL},
+        {"a", "column width a in metres (Martin & Moyce: 2.25 in)", &pm.a, NULL, NULL, NULL, 1e-3, 100, 0, NULL},
+        {"out", "output directory: one folder per run in it (VTK frames, .pvd series, time-series CSVs)", NULL, NULL,
+         &pm.out, NULL, 0, 0, 0, NULL},
+        {"vtk-every", "write particles every N steps (0: never)", NULL, &pm.vtk_every, NULL, NULL, 0, 1e9, 0, NULL},
+        {"ascii", "VTK frames as text instead of binary", NULL, NULL, NULL, &pm.ascii, 0, 0, 0, NULL},
+        {"threads", "OpenMP threads (0: the OpenMP default)", NULL, &threads, NULL, NULL, 0, 1024, 0, NULL},
         {"data", "directory of the measurements (tries data/dam_break, ../data/dam_break, ../../data/dam_break)",
-         NULL, NULL, &data, NULL},
-        {"report", "write the protocol and comparison tables as markdown to this file", NULL, NULL, &report, NULL},
-        {"summary", "append one row of protocol figures per run (markdown table rows) to this file", NULL, NULL, &summary,
+         NULL, NULL, &data, NULL, 0, 0, 0, NULL},
+        {"report", "write the protocol and comparison tables as markdown to this file", NULL, NULL, &report, NULL, 0,
+         0, 0, NULL},
+        {"summary", "append one row of protocol figures per run (markdown table rows) to this file", NULL, NULL,
+         &summary, NULL, 0, 0, 0, NULL},
+        {"nu", "laminar kinematic viscosity in m^2/s (water 1e-6; 0: none)", &pm.nu, NULL, NULL, NULL, 0, 1e-2, 0,
          NULL},
-        {"nu", "laminar kinematic viscosity in m^2/s (water 1e-6; 0: none)", &pm.nu, NULL, NULL, NULL},
-        {"noslip", "walls: 1 no-slip (viscous term over wall particles), 0 free slip", &noslip, NULL, NULL, NULL},
-        {"front-k", "fluid neighbours a floor particle needs to count as the front (0: furthest particle)",
-         &front_k, NULL, NULL, NULL},
-        {"stokes", "1: friction of the unresolved laminar wall layer (Stokes' first problem, needs --nu)", &stokes,
-         NULL, NULL, NULL},
-        {"c0", "speed of sound / sqrt(g n^2 a)", &pm.c0fac, NULL, NULL, NULL},
+        {"noslip", "walls: 1 no-slip (viscous term over wall particles), 0 free slip", NULL, &pm.noslip, NULL, NULL,
+         0, 1, 0, NULL},
+        {"front-k", "fluid neighbours a floor particle needs to count as the front (0: furthest particle)", NULL,
+         &pm.front_k, NULL, NULL, 0, 50, 0, NULL},
+        {"stokes", "1: friction of the unresolved laminar wall layer (Stokes' first problem, needs --nu)", NULL,
+         &pm.stokes, NULL, NULL, 0, 1, 0, NULL},
+        {"c0", "speed of sound / sqrt(g n^2 a)", &pm.c0fac, NULL, NULL, NULL, 2, 100, 0, NULL},
         {"side-by-side", "also run without the wall-friction model and print both in the protocol table", NULL, NULL,
-         NULL, &side},
-        {"refine", "also run the a x 2a column at twice --res (the fitted delay's change)", NULL, NULL, NULL, &refine},
+         NULL, &side, 0, 0, 0, NULL},
+        {"refine", "also run the a x 2a column at twice --res (the fitted delay's change)", NULL, NULL, NULL, &refine,
+         0, 0, 0, NULL},
         {"probe", "instead: the wall-pressure probe of Buchner (2002), column 2H x H in a 5.366 H tank", NULL, NULL,
-         NULL, &probe},
-        {"probe-res", "--probe: particles across the column height H", &probe_res, NULL, NULL, NULL},
+         NULL, &probe, 0, 0, 0, NULL},
+        {"probe-res", "--probe: particles across the column height H", NULL, &probe_res, NULL, NULL, 10, 400, 0, NULL},
         {"check", "the protocol at the default resolution, a x 2a to tau 2.5, a x a to 3.35; exit 1 on a miss", NULL,
-         NULL, NULL, &check},
+         NULL, NULL, &check, 0, 0, 0, NULL},
     };
-    const option_range ranges[] = {
-        {"res", &res, 4, 400, 1},          {"end", &pm.end_tau, 0.01, 20, 0},   {"column", &column, 0, 2, 1},
-        {"hfac", &pm.hfac, 0.75, 3, 0},    {"alpha", &pm.alpha, 0, 1, 0},       {"delta", &pm.delta, 0, 1, 0},
-        {"tank", &pm.tank, 2, 100, 0},     {"skin", &pm.skin, 0, 2, 0},         {"a", &pm.a, 1e-3, 100, 0},
-        {"vtk-every", &vtk_every, 0, 1e9, 1}, {"threads", &threads, 0, 1024, 1}, {"nu", &pm.nu, 0, 1e-2, 0},
-        {"noslip", &noslip, 0, 1, 1},      {"front-k", &front_k, 0, 50, 1},     {"stokes", &stokes, 0, 1, 1},
-        {"c0", &pm.c0fac, 2, 100, 0},      {"probe-res", &probe_res, 10, 400, 1},
-    };
+    pm.res = 30;
+    pm.vtk_every = 500;
+    pm.noslip = 0;
+    pm.front_k = 4;
+    pm.stokes = 1;
+    pm.ascii = 0;
     pm.end_tau = 3.5;
     pm.kernel = "wendland_c2";
     pm.hfac = 1.3;
@@ -1460,28 +1442,18 @@ int main(int argc, char **argv)
     pm.probe_y0 = pm.probe_y1 = 0;
     def = pm; /* the defaults: describe_variant lists what a run changes */
     def.res = 30, def.noslip = 0, def.front_k = 4, def.stokes = 1;
-    c = ex_parse(argc, argv, "2-D SPH dam break against Martin & Moyce (1952) and Buchner (2002)", opt,
-                 (int)(sizeof opt / sizeof opt[0]));
+    c = ex_parse_args(argc, argv, "2-D SPH dam break against Martin & Moyce (1952) and Buchner (2002)", opt,
+                      (int)(sizeof opt / sizeof opt[0]));
     if (c != 0) return c > 0 ? 0 : 2;
-    if (check_ranges(ranges, (int)(sizeof ranges / sizeof ranges[0]))) return 2;
-    if (sph_kernel_from_name(pm.kernel) < 0) {
-        int k;
-        fprintf(stderr, "dam_break: --kernel %s is not one of the kernels:", pm.kernel);
-        for (k = 0; k < (int)SPH_KERNEL_COUNT; ++k) fprintf(stderr, " %s", sph_kernel_name((sph_kernel)k));
-        fprintf(stderr, "\n");
-        return 2;
-    }
-    if ((noslip && stokes) || (side && !stokes) || (stokes && !(pm.nu > 0)) ||
+    if ((pm.noslip && pm.stokes) || (side && !pm.stokes) || (pm.stokes && !(pm.nu > 0)) ||
         (check && (side || refine || probe))) {
         fprintf(stderr, "dam_break: %s\n",
-                noslip && stokes ? "--noslip 1 needs --stokes 0 (the wall-layer friction replaces the no-slip walls)"
-                : side && !stokes ? "--side-by-side runs with and without the wall friction: leave --stokes at 1"
-                : stokes && !(pm.nu > 0) ? "--stokes 1 needs --nu > 0 (the wall-layer friction is that of nu)"
+                pm.noslip && pm.stokes ? "--noslip 1 needs --stokes 0 (the wall-layer friction replaces the no-slip walls)"
+                : side && !pm.stokes ? "--side-by-side runs with and without the wall friction: leave --stokes at 1"
+                : pm.stokes && !(pm.nu > 0) ? "--stokes 1 needs --nu > 0 (the wall-layer friction is that of nu)"
                 : "--check runs the protocol on its own: no --side-by-side, --refine or --probe with it");
         return 2;
     }
-    pm.res = (int)res, pm.vtk_every = (int)vtk_every, pm.noslip = (int)noslip, pm.front_k = (int)front_k;
-    pm.stokes = (int)stokes, columns = (int)column;
     if (check) {
         pm.res = 30; /* the protocol is asserted at the default resolution */
         pm.vtk_every = 0;
@@ -1489,7 +1461,7 @@ int main(int argc, char **argv)
         if (threads == 0) threads = 1; /* the run time stays that of one core; a loaded machine slows OpenMP barriers */
     }
 #ifdef _OPENMP
-    if (threads > 0) omp_set_num_threads((int)threads);
+    if (threads > 0) omp_set_num_threads(threads);
     threads = omp_get_max_threads();
 #else
     threads = 1;
@@ -1511,14 +1483,14 @@ int main(int argc, char **argv)
                     PROBE_SERIES, nm);
             return 1;
         }
-        pm.res = 2 * (int)probe_res; /* across the column width 2H */
+        pm.res = 2 * probe_res; /* across the column width 2H */
         pm.a = 2 * BUCHNER_H;
         pm.tank = BUCHNER_TANK / 2;
         pm.wall_h = BUCHNER_WALL;
         pm.end_tau = BUCHNER_END / sqrt(2.0);
         pm.probe_y0 = BUCHNER_P1_TOP - BUCHNER_P1_SIZE, pm.probe_y1 = BUCHNER_P1_TOP;
         if (pm.out) {
-            snprintf(variant, sizeof variant, "buchner_res%d%s", (int)probe_res, pm.stokes ? "" : "_nofriction");
+            snprintf(variant, sizeof variant, "buchner_res%d%s", probe_res, pm.stokes ? "" : "_nofriction");
             run_dir(pm.out, variant, path, sizeof path);
             pm.out = path;
         }
@@ -1526,8 +1498,8 @@ int main(int argc, char **argv)
                "h = %g dx, c0 = %g sqrt(g H), alpha = %g, delta = %g, nu = %g m^2/s, wall-layer friction %s; probe: "
                "Shepard-interpolated fluid pressure at %d points of the far wall's face, %g .. %g m, averaged; %d "
                "thread(s)\n",
-               BUCHNER_H, BUCHNER_TANK, (int)probe_res, pm.kernel, pm.hfac, pm.c0fac, pm.alpha, pm.delta, pm.nu,
-               pm.stokes ? "on" : "off", PROBE_POINTS, pm.probe_y0, pm.probe_y1, (int)threads);
+               BUCHNER_H, BUCHNER_TANK, probe_res, pm.kernel, pm.hfac, pm.c0fac, pm.alpha, pm.delta, pm.nu,
+               pm.stokes ? "on" : "off", PROBE_POINTS, pm.probe_y0, pm.probe_y1, threads);
         memset(&h, 0, sizeof h);
         run(&pm, 0.5, &h, 0);
         printf("%d particles (%d fluid), %ld steps, %.1f s\n", h.particles, h.fluid, h.steps, h.seconds);
@@ -1539,7 +1511,7 @@ int main(int argc, char **argv)
         if (md)
             fprintf(md, "Written by `dam_break --probe --probe-res %d%s`: %d particles across H, %ld steps, %.1f s on %d "
                         "thread(s).\n",
-                    (int)probe_res, pm.stokes ? "" : " --stokes 0", (int)probe_res, h.steps, h.seconds, (int)threads);
+                    probe_res, pm.stokes ? "" : " --stokes 0", probe_res, h.steps, h.seconds, threads);
         fail = probe_report(md, meas, nm, &sim);
         if (md) fclose(md);
         if (pm.out) probe_csv(pm.out, &sim);
@@ -1572,7 +1544,7 @@ int main(int argc, char **argv)
            "alpha = %g, delta = %g, nu = %g m^2/s, walls: %s, front: >= %d neighbours, tank %g a, end tau = %g, "
            "%d thread(s)\n",
            pm.a, pm.res, pm.kernel, pm.hfac, pm.c0fac, pm.alpha, pm.delta, pm.nu, walls, pm.front_k, pm.tank,
-           check ? 2.5 : pm.end_tau, (int)threads);
+           check ? 2.5 : pm.end_tau, threads);
     if (md)
         fprintf(md, "# Dam break: simulated against measured\n\nWritten by `examples/dam_break.c` (`make plots-dambreak`): "
                     "%d particles across the column width a, kernel %s, h = %g dx, c0 = %g sqrt(g n^2 a), "
@@ -1599,7 +1571,7 @@ int main(int argc, char **argv)
                    n2, u->hist[c].particles, u->hist[c].fluid, u->hist[c].steps, u->hist[c].searches, u->hist[c].seconds);
             if (r > 0 && !check) continue; /* the tables of the first run; the protocol of every run */
             if (md) fprintf(md, "\n## Column a x %ga (n^2 = %g): %d particles (%d fluid), %ld steps, %.1f s on %d thread(s)\n",
-                            n2, n2, u->hist[c].particles, u->hist[c].fluid, u->hist[c].steps, u->hist[c].seconds, (int)threads);
+                            n2, n2, u->hist[c].particles, u->hist[c].fluid, u->hist[c].steps, u->hist[c].seconds, threads);
             compare(md, "surge front Z = z/a", sqrt(n2), pm.a, &ex[c].front, &u->hist[c], u->hist[c].Z, &lag, &speed);
             compare(md, "residual height H = eta/(n^2 a)", sqrt(n2), pm.a, &ex[c].height, &u->hist[c], u->hist[c].H,
                     &lag, &speed);
@@ -1634,7 +1606,7 @@ int main(int argc, char **argv)
                 fprintf(f, "%.1f, %.1f %% |", u->pr.sq_shift_ms, 100 * u->pr.sq_worst);
             else
                 fprintf(f, "- |");
-            fprintf(f, " %.1f, %d |\n", seconds, (int)threads);
+            fprintf(f, " %.1f, %d |\n", seconds, threads);
             fclose(f);
         }
     }
