@@ -93,23 +93,26 @@ $(BUILD)/dam_break: examples/dam_break.c examples/example_io.h sph_kernel.h
 run-dam-break: $(BUILD)/dam_break
 	OMP_WAIT_POLICY=$(DAM_BREAK_WAIT) ./$(BUILD)/dam_break --out $(BUILD)/dam_break_out $(DAM_BREAK_ARGS)
 
-# Runs 20, 30 (default), 40 and 60 (a x 2a only) particles across the column,
-# 30 without the wall-friction model, and variants of the model at 30 (a x 2a
-# only: no-slip walls, c0, alpha, h): comparison tables
-# ($(RESULTS)/dam_break_results.md), resolution table ($(RESULTS)/dam_break_resolution.md),
-# front and height plots ($(RESULTS)/plots/dam_break_*.png).
+# The validation protocol at 30 (default) and 60 (a x 2a only) particles across
+# the column, each with and without the wall-friction model
+# ($(RESULTS)/dam_break_results.md: protocol table and comparison tables), the
+# protocol figures also at 20 and 40 and for variants of the model at 30 (a x 2a
+# only: no-slip walls, c0, alpha, h) ($(RESULTS)/dam_break_resolution.md), the
+# wall-pressure probe of Buchner (2002) ($(RESULTS)/dam_break_probe.md), and the
+# front, height and pressure plots ($(RESULTS)/plots/dam_break_*.png). About 6
+# minutes of one core.
+DAM_BREAK_RUN = ./$(BUILD)/dam_break $(DAM_BREAK_ARGS) --threads $(DAM_BREAK_THREADS) --vtk-every 0
 plots-dambreak: $(BUILD)/dam_break
 	@command -v gnuplot > /dev/null 2>&1 || { echo "make plots-dambreak: gnuplot is not installed"; exit 1; }
 	rm -f $(RESULTS)/dam_break_resolution.md
-	./$(BUILD)/dam_break $(DAM_BREAK_ARGS) --threads $(DAM_BREAK_THREADS) --res 20 --vtk-every 0 --out $(BUILD)/dam_break_out/res20 --summary $(RESULTS)/dam_break_resolution.md
-	./$(BUILD)/dam_break $(DAM_BREAK_ARGS) --threads $(DAM_BREAK_THREADS) --res 30 --vtk-every 0 --out $(BUILD)/dam_break_out/res30 --summary $(RESULTS)/dam_break_resolution.md --report $(RESULTS)/dam_break_results.md
-	./$(BUILD)/dam_break $(DAM_BREAK_ARGS) --threads $(DAM_BREAK_THREADS) --res 40 --vtk-every 0 --out $(BUILD)/dam_break_out/res40 --summary $(RESULTS)/dam_break_resolution.md
-	./$(BUILD)/dam_break $(DAM_BREAK_ARGS) --threads $(DAM_BREAK_THREADS) --res 60 --column 2 --vtk-every 0 --out $(BUILD)/dam_break_out/res60 --summary $(RESULTS)/dam_break_resolution.md
-	./$(BUILD)/dam_break $(DAM_BREAK_ARGS) --threads $(DAM_BREAK_THREADS) --res 30 --stokes 0 --vtk-every 0 --out $(BUILD)/dam_break_out/res30_nofriction --summary $(RESULTS)/dam_break_resolution.md
+	$(DAM_BREAK_RUN) --res 30 --side-by-side --refine --out $(BUILD)/dam_break_out --summary $(RESULTS)/dam_break_resolution.md --report $(RESULTS)/dam_break_results.md
+	$(DAM_BREAK_RUN) --res 20 --out $(BUILD)/dam_break_out --summary $(RESULTS)/dam_break_resolution.md
+	$(DAM_BREAK_RUN) --res 40 --out $(BUILD)/dam_break_out --summary $(RESULTS)/dam_break_resolution.md
 	for v in "--stokes 0 --noslip 1" "--c0 20" "--alpha 0.05" "--hfac 1.6"; do \
-	    ./$(BUILD)/dam_break $(DAM_BREAK_ARGS) --threads $(DAM_BREAK_THREADS) --res 30 --column 2 $$v --vtk-every 0 --out $(BUILD)/dam_break_out/variants --summary $(RESULTS)/dam_break_resolution.md || exit 1; \
+	    $(DAM_BREAK_RUN) --res 30 --column 2 $$v --out $(BUILD)/dam_break_out/variants --summary $(RESULTS)/dam_break_resolution.md || exit 1; \
 	done
-	gnuplot -e "datadir='$(or $(DAM_BREAK_DATA),$(firstword $(wildcard data/dam_break)))'; simdir='$(BUILD)/dam_break_out'; outdir='$(RESULTS)/plots'; res1=30; res2=60" studies/dam_break.gp
+	$(DAM_BREAK_RUN) --probe --out $(BUILD)/dam_break_out --report $(RESULTS)/dam_break_probe.md || [ $$? -eq 1 ] # 1: targets missed, reported
+	gnuplot -e "datadir='$(or $(DAM_BREAK_DATA),$(firstword $(wildcard data/dam_break)))'; simdir='$(BUILD)/dam_break_out'; outdir='$(RESULTS)/plots'; res1=30; res2=60; probe='buchner_res40'" studies/dam_break.gp
 
 # Accuracy/cost report (report, report-full, plots-report): studies/error_vs_runtime.c
 # writes $(RESULTS)/report.md and the CSVs of $(RESULTS)/report/ (one OpenMP thread,

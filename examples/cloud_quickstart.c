@@ -1,6 +1,7 @@
 /* Density and gradient on a particle cloud: neighbour search, then two
  * operators (README "Quickstart: a particle cloud"). With --check it exits
- * non-zero unless the corrected gradient of a linear field is exact. */
+ * non-zero unless the corrected gradient of a linear field is exact; any
+ * other argument is refused (exit 2). */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -21,10 +22,14 @@ int main(int argc, char **argv)
     sph_nsearch grid;
     size_t bytes = 0;
     void *work;
-    sph_off *offset = (sph_off *)malloc((N + 1) * sizeof(sph_off));
+    sph_off *offset;
     sph_idx *index, n_fallback = 0;
     sph_real rho_lo = 0, rho_hi = 0;
-    int i, st;
+    int i, st, check = argc == 2 && strcmp(argv[1], "--check") == 0;
+    if (argc > 1 && !check) {
+        fprintf(stderr, "%s: unknown argument '%s'; usage: %s [--check]\n", argv[0], argv[1], argv[0]);
+        return 2;
+    }
     /* A lattice of spacing dx, each particle moved by up to 0.2 dx, with the
      * mass m = 1000 dx^2 of density 1000 on the lattice. The summation density
      * of the jittered cloud is not 1000 everywhere: a particle whose
@@ -40,10 +45,13 @@ int main(int argc, char **argv)
     /* 1. neighbour lists: size query, build, count, allocate, fill */
     st = sph_nsearch_workspace_size(2, xv, N, sph_view_none(), kappa * h / 2, NULL, &bytes);
     work = malloc(bytes);
+    offset = (sph_off *)malloc((N + 1) * sizeof(sph_off));
+    if (work == NULL || offset == NULL) return fprintf(stderr, "error: out of memory\n"), 1;
     if (st == SPH_OK) st = sph_nsearch_build(&grid, 2, xv, N, sph_view_none(), kappa * h / 2, NULL, work, bytes);
     if (st == SPH_OK) st = sph_nsearch_count(&grid, xv, N, sph_view_none(), h, kappa, SPH_NSEARCH_GATHER, offset);
     if (st != SPH_OK) return fail(st);
     index = (sph_idx *)malloc((size_t)offset[N] * sizeof(sph_idx));
+    if (index == NULL) return fprintf(stderr, "error: out of memory\n"), 1;
     st = sph_nsearch_fill(&grid, xv, N, sph_view_none(), h, kappa, SPH_NSEARCH_GATHER, offset, index, offset[N]);
     if (st != SPH_OK) return fail(st);
     sph_neighbours list = sph_nsearch_list(&grid, N, offset, index);
@@ -67,7 +75,7 @@ int main(int argc, char **argv)
            (long)offset[N], (double)rho[i], (double)rho_lo, (double)rho_hi, (double)grad[2 * i],
            (double)grad[2 * i + 1], (long)n_fallback);
     free(work), free(offset), free(index);
-    if (argc > 1 && strcmp(argv[1], "--check") == 0) { /* exact for a linear field, to round-off */
+    if (check) { /* exact for a linear field, to round-off */
         const double tol = 1000 * (sizeof(sph_real) == sizeof(float) ? FLT_EPSILON : DBL_EPSILON);
         return fabs((double)grad[2 * i] - 3) < 3 * tol && fabs((double)grad[2 * i + 1] + 2) < 2 * tol ? 0 : 1;
     }

@@ -34,11 +34,22 @@
  * barriers of the pair loops made a 2-thread run 5-6 times slower than one
  * thread there (measured; passive: faster than one thread).
  *
- * Usage: dam_break [--res 30] [--end 3.5] [--out build/dam_break] ...; --help
- * lists every option. --check runs a coarse short case against loose bounds. */
+ * Validation (docs/examples.md, "Validation protocol"): the front against
+ * Martin & Moyce after one least-squares delay (the release of the real
+ * column is not instantaneous), its speed, the residual height, and the
+ * square column's delay against the a x 2a one; --probe: the wall pressure of
+ * the dam break of Buchner (2002) against the measured one.
+ *
+ * Usage: dam_break [--res 30] [--end 3.5] [--out build/dam_break_out] ...;
+ * --help lists every option (each is range-checked before anything runs).
+ * --check runs the protocol at the default resolution and exits 1 when a
+ * target is missed; without the measurements (data/dam_break) nothing runs
+ * and the exit status is 1; a state that stops being finite ends the run
+ * (no further frame) with exit status 1. */
 #include "example_io.h"
 
 #include <math.h>
+#include <stddef.h>
 #ifdef _OPENMP
 #include <omp.h>
 #endif
@@ -66,7 +77,10 @@ static int read_series(const char *dir, const char *file, int ct, int cv, double
     int header = 0;
     snprintf(path, sizeof path, "%s/%s", dir, file);
     s->n = 0;
-    if ((f = fopen(path, "r")) == NULL) return -1;
+    if ((f = fopen(path, "r")) == NULL) {
+        fprintf(stderr, "dam_break: cannot open %s\n", path);
+        return -1;
+    }
     while (fgets(line, sizeof line, f) != NULL && s->n < 64) {
         double col[8];
         int nc = 0;
@@ -91,6 +105,7 @@ static int read_series(const char *dir, const char *file, int ct, int cv, double
         ++s->n;
     }
     fclose(f);
+    if (s->n == 0) fprintf(stderr, "dam_break: no measurements in %s\n", path);
     return s->n > 0 ? 0 : -1;
 }
 
@@ -118,6 +133,7 @@ typedef struct {
     int front_k;   /* front: fluid neighbours a floor particle needs to count (measure) */
     double *vw;    /* wall velocity for the viscous term (Adami et al. 2012) */
     int stokes;    /* 1: friction of the unresolved laminar layer on the floor and back wall (wall_friction) */
+    double xwall;  /* face of the far wall (the tank length) */
     int ncell;     /* floor cells of width dx ... */
     double *wet;   /* ... and the time each got wet (-1: still dry) */
     /* neighbour search */
@@ -134,13 +150,12 @@ typedef struct {
     long searches;
 } sim;
 
-static void *xalloc(size_t bytes)
+/* ex_calloc (count x size, overflow checked); a failure ends the program
+ * (exit 1) after ex_calloc's message naming what. */
+static void *xalloc(size_t count, size_t size, const char *what)
 {
-    void *p = calloc(1, bytes ? bytes : 1);
-    if (p == NULL) {
-        fprintf(stderr, "dam_break: out of memory\n");
-        exit(2);
-    }
+    void *p = ex_calloc(count, size, what);
+    if (p == NULL) exit(1);
     return p;
 }
 
@@ -149,12 +164,12 @@ static double tait_p(const sim *s, double rho) { return RHO0 * s->c0 * s->c0 / G
 static double tait_rho(const sim *s, double p) { return RHO0 * pow(1 + GAMMA * p / (RHO0 * s->c0 * s->c0), 1 / GAMMA); }
 
 /* Lays out the column (nx x ny fluid particles, hydrostatic density) and the
- * tank walls (layers thick enough to fill the kernel support kappa h of the
+ * tank walls of height wall_h (layers thick enough to fill the kernel support kappa h of the
  * fluid next to them, under the floor and outside both side walls). */
-static void setup(sim *s, int res, double a, double n2, double tank_len, double hfac, double c0fac)
+static void setup(sim *s, int res, double a, double n2, double tank_len, double wall_h, double hfac, double c0fac)
 {
     const int layers = (int)ceil(s->kappa * hfac - 1e-9);
-    const double dx = a / res, H = n2 * a, wall_h = 1.5 * H;
+    const double dx = a / res, H = n2 * a;
     const int nx = res, ny = (int)floor(n2 * res + 0.5);
     const int nfloor = (int)ceil(tank_len / dx), nside = (int)ceil(wall_h / dx);
     int i, j, l, c = 0;
@@ -163,23 +178,28 @@ static void setup(sim *s, int res, double a, double n2, double tank_len, double 
     s->dx = dx;
     s->h = hfac * dx;
     s->c0 = c0fac * sqrt(GRAV * H);
+    sph_idx count;
+    if (ex_particle_count((double)nx * ny + (double)layers * (nfloor + 2 * layers) + 2.0 * layers * nside, "particles",
+                          &count) != SPH_OK)
+        exit(1);
     s->nf = nx * ny;
-    s->n = s->nf + layers * (nfloor + 2 * layers) + 2 * layers * nside;
-    s->x = (double *)xalloc(2 * sizeof(double) * (size_t)s->n);
-    s->v = (double *)xalloc(2 * sizeof(double) * (size_t)s->n);
-    s->vh = (double *)xalloc(2 * sizeof(double) * (size_t)s->n);
-    s->acc = (double *)xalloc(2 * sizeof(double) * (size_t)s->n);
-    s->rho = (double *)xalloc(sizeof(double) * (size_t)s->n);
-    s->p = (double *)xalloc(sizeof(double) * (size_t)s->n);
-    s->P = (double *)xalloc(sizeof(double) * (size_t)s->n);
-    s->m = (double *)xalloc(sizeof(double) * (size_t)s->n);
-    s->drho = (double *)xalloc(sizeof(double) * (size_t)s->n);
-    s->vw = (double *)xalloc(2 * sizeof(double) * (size_t)s->n);
+    s->n = count;
+    s->x = (double *)xalloc(2 * (size_t)s->n, sizeof(double), "particle vectors");
+    s->v = (double *)xalloc(2 * (size_t)s->n, sizeof(double), "particle vectors");
+    s->vh = (double *)xalloc(2 * (size_t)s->n, sizeof(double), "particle vectors");
+    s->acc = (double *)xalloc(2 * (size_t)s->n, sizeof(double), "particle vectors");
+    s->rho = (double *)xalloc((size_t)s->n, sizeof(double), "particle scalars");
+    s->p = (double *)xalloc((size_t)s->n, sizeof(double), "particle scalars");
+    s->P = (double *)xalloc((size_t)s->n, sizeof(double), "particle scalars");
+    s->m = (double *)xalloc((size_t)s->n, sizeof(double), "particle scalars");
+    s->drho = (double *)xalloc((size_t)s->n, sizeof(double), "particle scalars");
+    s->vw = (double *)xalloc(2 * (size_t)s->n, sizeof(double), "particle vectors");
     s->ncell = nfloor;
-    s->wet = (double *)xalloc(sizeof(double) * (size_t)nfloor);
+    s->xwall = nfloor * dx;
+    s->wet = (double *)xalloc((size_t)nfloor, sizeof(double), "floor cells");
     for (i = 0; i < nfloor; ++i) s->wet[i] = i < nx ? 0 : -1; /* under the column: wet from the start */
-    s->offset = (sph_off *)xalloc(sizeof(sph_off) * (size_t)(s->n + 1));
-    s->x0 = (double *)xalloc(2 * sizeof(double) * (size_t)s->n);
+    s->offset = (sph_off *)xalloc((size_t)s->n + 1, sizeof(sph_off), "neighbour-list offsets");
+    s->x0 = (double *)xalloc(2 * (size_t)s->n, sizeof(double), "particle vectors");
     for (j = 0; j < ny; ++j)
         for (i = 0; i < nx; ++i, ++c) {
             s->x[2 * c] = (i + 0.5) * dx;
@@ -230,7 +250,7 @@ static void search(sim *s)
     if (st == SPH_OK && bytes > s->work_bytes) {
         free(s->work);
         s->work_bytes = bytes + bytes / 4;
-        s->work = xalloc(s->work_bytes);
+        s->work = xalloc(s->work_bytes, 1, "the neighbour-search workspace");
     }
     if (st == SPH_OK) st = sph_nsearch_build(&s->g, 2, xs, s->n, sph_view_none(), cell, NULL, s->work, s->work_bytes);
     /* one search into the index of the last step; where it has become too
@@ -242,10 +262,10 @@ static void search(sim *s)
     if (st == SPH_ESIZE) {
         free(s->index);
         s->capacity = pairs + pairs / 4;
-        s->index = (sph_idx *)xalloc(sizeof(sph_idx) * (size_t)s->capacity);
+        s->index = (sph_idx *)xalloc((size_t)s->capacity, sizeof(sph_idx), "neighbour lists");
         free(s->W), free(s->F);
-        s->W = (double *)xalloc(sizeof(double) * (size_t)s->capacity);
-        s->F = (double *)xalloc(sizeof(double) * (size_t)s->capacity);
+        s->W = (double *)xalloc((size_t)s->capacity, sizeof(double), "pair kernels");
+        s->F = (double *)xalloc((size_t)s->capacity, sizeof(double), "pair kernels");
         st = sph_nsearch_fill(&s->g, xs, s->n, sph_view_none(), s->h, kappa, SPH_NSEARCH_GATHER, s->offset, s->index,
                               s->capacity);
     }
@@ -462,69 +482,127 @@ static void measure(const sim *s, double *Z, double *Zraw, double *H)
     *H = (yh + 0.5 * s->dx) / (s->n2 * s->a);
 }
 
-static void write_vtk(const sim *s, const char *dir, int frame)
+/* Wall-pressure probe: the fluid pressure interpolated at PROBE_POINTS points
+ * of the far wall's face x = xwall, y0 <= y <= y1 (the sensor's face), by
+ * the Shepard sum p(x) = sum_f p_f W(x - x_f) / sum_f W(x - x_f) over the
+ * fluid particles (O3 with V = 1), and averaged over the points; 0 where no
+ * fluid is within reach (dry wall). */
+#define PROBE_POINTS 10
+static double probe_pressure(const sim *s, double y0, double y1)
 {
-    char path[1200];
-    ex_field f[3];
-    f[0].name = "velocity";
-    f[0].v = sph_view_interleaved(s->v, 2);
-    f[0].ncomp = 2;
-    f[1].name = "pressure";
-    f[1].v = sph_view_soa(s->p, NULL, NULL);
-    f[1].ncomp = 1;
-    f[2].name = "density";
-    f[2].v = sph_view_soa(s->rho, NULL, NULL);
-    f[2].ncomp = 1;
-    snprintf(path, sizeof path, "%s/dam_break_n2-%g_%04d.vtk", dir, s->n2, frame);
-    if (ex_write_vtk(path, s->n, 2, sph_view_interleaved(s->x, 2), f, 3) != 0)
-        fprintf(stderr, "dam_break: cannot write %s\n", path);
+    const double reach = s->kappa * s->h;
+    double sum = 0;
+    int q;
+    for (q = 0; q < PROBE_POINTS; ++q) {
+        const double y = y0 + (y1 - y0) * (q + 0.5) / PROBE_POINTS;
+        double sw = 0, sp = 0;
+        sph_idx i;
+        for (i = 0; i < s->nf; ++i) {
+            double dx[2];
+            sph_pair pr;
+            dx[0] = s->xwall - s->x[2 * i];
+            dx[1] = y - s->x[2 * i + 1];
+            if (fabs(dx[0]) >= reach || fabs(dx[1]) >= reach) continue;
+            pr = sph_pair_kernel(s->k, 2, dx, s->h);
+            sw += sph_pair_interpolate(1, 1, pr.W);
+            sp += sph_pair_interpolate(1, s->p[i], pr.W);
+        }
+        sum += sw > 0 ? sp / sw : 0;
+    }
+    return sum / PROBE_POINTS;
+}
+
+/* Position, velocity, pressure and density of every particle as VTK fields
+ * (f[0] the positions, which ex_series_write takes apart). */
+static void particle_fields(const sim *s, ex_field f[4])
+{
+    f[0].name = "position", f[0].v = sph_view_interleaved(s->x, 2), f[0].ncomp = 2;
+    f[1].name = "velocity", f[1].v = sph_view_interleaved(s->v, 2), f[1].ncomp = 2;
+    f[2].name = "pressure", f[2].v = sph_view_soa(s->p, NULL, NULL), f[2].ncomp = 1;
+    f[3].name = "density", f[3].v = sph_view_soa(s->rho, NULL, NULL), f[3].ncomp = 1;
+}
+
+/* One particle frame (time t) of the run's series; exits when it cannot be written. */
+static void write_frame(const sim *s, ex_series *ser, double t)
+{
+    ex_field f[4];
+    particle_fields(s, f);
+    if (ex_series_write(ser, t, s->n, 2, f[0].v, f + 1, 3) != 0) exit(1);
 }
 
 /* ---- one simulation ---- */
 
 typedef struct {
-    int res, vtk_every, noslip, front_k, stokes;
+    int res, vtk_every, noslip, front_k, stokes, ascii;
     double end_tau, tank, hfac, alpha, delta, a, skin, nu, c0fac;
+    double wall_h;           /* side walls: height / column height */
+    double probe_y0, probe_y1; /* far-wall pressure probe between these heights (m); none when equal */
     const char *kernel, *out;
 } params;
 
+/* Per step: tau, front (layer and furthest particle), height, probe pressure. */
+#define HIST_SERIES 5
 typedef struct {
     int n, cap;
-    double *tau, *Z, *Zraw, *H;
+    double *tau, *Z, *Zraw, *H, *P1;
     int particles, fluid;
     long steps, searches;
     double seconds;
 } history;
 
-static void history_push(history *h, double tau, double Z, double Zraw, double H)
+static void history_push(history *h, const double *row)
 {
+    double **col[HIST_SERIES];
+    int c;
+    col[0] = &h->tau, col[1] = &h->Z, col[2] = &h->Zraw, col[3] = &h->H, col[4] = &h->P1;
     if (h->n == h->cap) {
-        h->cap = h->cap ? 2 * h->cap : 1024;
-        h->tau = (double *)realloc(h->tau, sizeof(double) * (size_t)h->cap);
-        h->Z = (double *)realloc(h->Z, sizeof(double) * (size_t)h->cap);
-        h->Zraw = (double *)realloc(h->Zraw, sizeof(double) * (size_t)h->cap);
-        h->H = (double *)realloc(h->H, sizeof(double) * (size_t)h->cap);
-        if (!h->tau || !h->Z || !h->Zraw || !h->H) {
-            fprintf(stderr, "dam_break: out of memory\n");
+        if (h->cap > (1 << 28)) {
+            fprintf(stderr, "dam_break: history longer than %d steps\n", h->cap);
             exit(2);
         }
+        h->cap = h->cap ? 2 * h->cap : 1024;
+        for (c = 0; c < HIST_SERIES; ++c) {
+            double *grown = (double *)realloc(*col[c], sizeof(double) * (size_t)h->cap);
+            if (grown == NULL) {
+                fprintf(stderr, "dam_break: out of memory (history of %d steps)\n", h->cap);
+                exit(2);
+            }
+            *col[c] = grown;
+        }
     }
-    h->tau[h->n] = tau;
-    h->Z[h->n] = Z;
-    h->Zraw[h->n] = Zraw;
-    h->H[h->n] = H;
+    for (c = 0; c < HIST_SERIES; ++c) (*col[c])[h->n] = row[c];
     ++h->n;
 }
 
-/* Runs the column a x n2 a to tau = end_tau, recording front and height every step. */
+static void history_free(history *h)
+{
+    free(h->tau), free(h->Z), free(h->Zraw), free(h->H), free(h->P1);
+    memset(h, 0, sizeof *h);
+}
+
+/* One step's row of the history: tau, front, height, probe pressure. */
+static void record(const sim *s, const params *pm, double tau, history *hist)
+{
+    double row[HIST_SERIES];
+    row[0] = tau;
+    measure(s, &row[1], &row[2], &row[3]);
+    row[4] = pm->probe_y1 > pm->probe_y0 ? probe_pressure(s, pm->probe_y0, pm->probe_y1) : NAN;
+    history_push(hist, row);
+}
+
+/* Runs the column a x n2 a to tau = end_tau, recording front, height and
+ * probe every step. Stops the program (exit 3, no further frames) when the
+ * state stops being finite. */
 static void run(const params *pm, double n2, history *hist, int quiet)
 {
     sim s;
     const double tscale = sqrt(pm->a / GRAV); /* tau = t / tscale */
-    double t = 0, amax, dt, Z, Zraw, H;
+    double t = 0, amax, dt;
     long step = 0;
-    int frame = 0;
     char label[64];
+    ex_series ser;
+    const int frames = pm->out && pm->vtk_every > 0;
+    ex_field fields[4];
     ex_progress prog = ex_progress_start();
     sph_idx i;
     memset(&s, 0, sizeof s);
@@ -537,7 +615,7 @@ static void run(const params *pm, double n2, history *hist, int quiet)
     s.stokes = pm->stokes;
     s.delta = pm->delta;
     s.skin = pm->skin;
-    setup(&s, pm->res, pm->a, n2, pm->tank * pm->a, pm->hfac, pm->c0fac);
+    setup(&s, pm->res, pm->a, n2, pm->tank * pm->a, pm->wall_h * n2 * pm->a, pm->hfac, pm->c0fac);
     hist->particles = s.n;
     hist->fluid = s.nf;
     snprintf(label, sizeof label, "dam_break n^2=%g res %d", n2, pm->res);
@@ -546,9 +624,14 @@ static void run(const params *pm, double n2, history *hist, int quiet)
     fluid_pressure(&s);
     wall_pressure(&s, s.v);
     amax = momentum(&s, s.v);
-    measure(&s, &Z, &Zraw, &H);
-    history_push(hist, 0, Z, Zraw, H);
-    if (pm->out && pm->vtk_every > 0) write_vtk(&s, pm->out, frame++);
+    record(&s, pm, 0, hist);
+    if (frames) {
+        char name[64];
+        snprintf(name, sizeof name, "dam_break_n2-%g", n2);
+        if (ex_series_open(&ser, pm->out, name, pm->ascii) != 0) exit(1);
+        write_frame(&s, &ser, 0);
+    }
+    particle_fields(&s, fields);
     while (t < pm->end_tau * tscale) {
         double vmax = 0;
         for (i = 0; i < s.nf; ++i) {
@@ -580,16 +663,16 @@ static void run(const params *pm, double n2, history *hist, int quiet)
         }
         t += dt;
         ++step;
-        measure(&s, &Z, &Zraw, &H);
-        if (!(Z == Z) || !(H == H)) {
-            fprintf(stderr, "dam_break: non-finite state at step %ld\n", step);
-            exit(2);
+        if (ex_fields_finite("dam_break", fields, 4, s.nf, t) != SPH_OK) {
+            if (frames) ex_series_report(&ser), ex_series_close(&ser);
+            exit(1);
         }
-        history_push(hist, t / tscale, Z, Zraw, H);
-        if (pm->out && pm->vtk_every > 0 && step % pm->vtk_every == 0) write_vtk(&s, pm->out, frame++);
+        record(&s, pm, t / tscale, hist);
+        if (frames && step % pm->vtk_every == 0) write_frame(&s, &ser, t);
         if (!quiet) ex_progress_update(&prog, label, t / (pm->end_tau * tscale));
     }
     if (!quiet) ex_progress_done(&prog, label);
+    if (frames) ex_series_report(&ser), ex_series_close(&ser);
     hist->steps = step;
     hist->searches = s.searches;
     hist->seconds = ex_now() - prog.start;
@@ -758,9 +841,11 @@ static double compare(FILE *md, const char *what, double n, double a, const seri
     return count > 0 ? worst : NAN;
 }
 
-/* Time series CSV of one column: tau, T, simulated Z and H, and the
- * measurements interpolated at tau (empty outside their range). */
-static void write_csv(const char *dir, const experiment *e, const history *h)
+/* Time series CSV of one column: tau, T, simulated Z and H, the
+ * measurements interpolated at tau (empty outside their range), the front of
+ * the furthest particle and T of the simulation delayed by the protocol's
+ * fitted delay shift (in tau). */
+static void write_csv(const char *dir, const experiment *e, const history *h, double shift)
 {
     char path[1200];
     FILE *f;
@@ -772,7 +857,9 @@ static void write_csv(const char *dir, const experiment *e, const history *h)
         return;
     }
     fprintf(f, "# dam break n^2 = %g: tau = t sqrt(g/a), T = n tau, Z = front/a, H = height/(n^2 a); *_exp: "
-               "Martin & Moyce 1952 interpolated; Z_sim_furthest: furthest particle\ntau,T,Z_sim,H_sim,Z_exp,H_exp,Z_sim_furthest\n", e->n2);
+               "Martin & Moyce 1952 interpolated; Z_sim_furthest: furthest particle; T_delayed: T of the simulation "
+               "delayed by the fitted %.4f in T\ntau,T,Z_sim,H_sim,Z_exp,H_exp,Z_sim_furthest,T_delayed\n",
+            e->n2, sqrt(e->n2) * shift);
     for (k = 0; k < h->n; ++k) {
         double ze, he;
         if (h->tau[k] < next && k != h->n - 1) continue;
@@ -783,9 +870,10 @@ static void write_csv(const char *dir, const experiment *e, const history *h)
         if (ze == ze) fprintf(f, "%.5f", ze);
         fputc(',', f);
         if (he == he) fprintf(f, "%.5f", he);
-        fprintf(f, ",%.5f\n", h->Zraw[k]);
+        fprintf(f, ",%.5f,%.5f\n", h->Zraw[k], sqrt(e->n2) * (h->tau[k] + shift));
     }
     fclose(f);
+    printf("wrote %s\n", path);
 }
 
 /* The model options of pm that differ from the defaults def, as text
@@ -832,46 +920,513 @@ static const char *find_data(const char *given)
     return NULL;
 }
 
+/* ---- the validation protocol (docs/examples.md, "Validation protocol") ---- */
+
+/* Targets of the protocol. Martin & Moyce's first point (T = 0.41) and the
+ * early surge are dominated by the removal of the board that held the column
+ * (docs/examples.md): the front is compared from T = 0.84 on, the same
+ * physical time t = 0.594 sqrt(a/g) for the square column. */
+#define PR_T_FROM 0.84   /* a x 2a: first compared point, T */
+#define PR_T_LATE 1.83   /* a x 2a: start of the late front-speed window, T */
+#define PR_TAU_REL 2.45  /* height: relative deviation gated up to this tau */
+
+/* Protocol figures of one run (NAN: not computed). Deviations are relative,
+ * (simulated - measured) / measured, except h_abs (in H). */
+typedef struct {
+    double speed_late, speed_all; /* front speed dZ/dT, T 1.83-3.33 and 0.84-3.33 */
+    double shift_T, shift_ms;     /* least-squares delay of the simulated front, T >= 0.84 */
+    double worst, rms;            /* largest |deviation| and rms after the delay, T >= 0.84 */
+    double worst_raw;             /* largest |deviation| without it, T >= 0.84 */
+    double first_raw, first_sh;   /* the point T = 0.41: without and with the delay */
+    double h_abs, h_rel;          /* height: largest |H - H_m|; largest |relative| for tau <= 2.45 */
+    double sq_shift_ms, sq_gap_ms, sq_worst; /* square: its delay, minus the a x 2a one, largest |dev| after it */
+} protocol;
+
+/* The simulated series delayed by shift (in tau) at time tau: the value at
+ * tau - shift, the initial value before the start, NAN after the end. */
+static double delayed(const history *h, const double *val, double tau, double shift)
+{
+    return tau - shift <= 0 ? val[0] : interp(h->tau, val, h->n, tau - shift);
+}
+
+/* Indices [*ka, *kb] of the measured points with tau_from <= tau <= tau_to
+ * that the run covers; 0 when there are at least two. */
+static int window(const series *m, const history *h, double tau_from, double tau_to, int *ka, int *kb)
+{
+    int k;
+    *ka = *kb = -1;
+    for (k = 0; k < m->n; ++k) {
+        if (m->tau[k] < tau_from - 1e-9 || m->tau[k] > tau_to + 1e-9 || m->tau[k] > h->tau[h->n - 1]) continue;
+        if (*ka < 0) *ka = k;
+        *kb = k;
+    }
+    return *ka >= 0 && *kb > *ka ? 0 : -1;
+}
+
+/* Relative deviation of the delayed simulation at measured point k. */
+static double dev_at(const series *m, int k, const history *h, const double *val, double shift)
+{
+    return (delayed(h, val, m->tau[k], shift) - m->val[k]) / m->val[k];
+}
+
+/* Sum of squared relative deviations over points ka..kb for a delay shift
+ * (tau); HUGE_VAL when the delayed run does not cover them all. */
+static double shift_cost(const series *m, int ka, int kb, const history *h, const double *val, double shift)
+{
+    double sum = 0;
+    int k;
+    for (k = ka; k <= kb; ++k) {
+        const double d = dev_at(m, k, h, val, shift);
+        if (!(d == d)) return HUGE_VAL;
+        sum += d * d;
+    }
+    return sum;
+}
+
+/* Least-squares delay (tau) of the simulated front against points ka..kb:
+ * a scan over -0.5 .. 1 in steps of 0.002, then golden-section search
+ * around the best step (the cost is piecewise smooth in the delay). */
+static double fit_shift(const series *m, int ka, int kb, const history *h, const double *val)
+{
+    const double g = 0.5 * (sqrt(5.0) - 1);
+    double best = 0, cbest = HUGE_VAL, lo, hi, s;
+    int it;
+    for (s = -0.5; s <= 1.0; s += 0.002) {
+        const double c = shift_cost(m, ka, kb, h, val, s);
+        if (c < cbest) cbest = c, best = s;
+    }
+    lo = best - 0.002, hi = best + 0.002;
+    for (it = 0; it < 40; ++it) {
+        const double x1 = hi - g * (hi - lo), x2 = lo + g * (hi - lo);
+        if (shift_cost(m, ka, kb, h, val, x1) < shift_cost(m, ka, kb, h, val, x2)) hi = x2;
+        else lo = x1;
+    }
+    return 0.5 * (lo + hi);
+}
+
+/* Largest |relative deviation| (and, when rms is not NULL, the rms) of the
+ * delayed simulation over points ka..kb. */
+static double worst_dev(const series *m, int ka, int kb, const history *h, const double *val, double shift,
+                        double *rms)
+{
+    double worst = 0, sum = 0;
+    int k;
+    for (k = ka; k <= kb; ++k) {
+        const double d = fabs(dev_at(m, k, h, val, shift));
+        if (d > worst) worst = d;
+        sum += d * d;
+    }
+    if (rms) *rms = sqrt(sum / (kb - ka + 1));
+    return worst;
+}
+
+/* Relative deviation of the simulated front speed: least-squares slopes of
+ * Z against T over the measured points of T from .. to. */
+static double speed_dev(const series *m, const history *h, double n, double T_from, double T_to)
+{
+    int ka, kb;
+    double um, us;
+    if (window(m, h, T_from / n, T_to / n, &ka, &kb) != 0) return NAN;
+    um = slope(m, ka, kb, n, m->val, NULL, 0);
+    us = slope(m, ka, kb, n, h->Z, h->tau, h->n);
+    return (us - um) / um;
+}
+
+/* The protocol figures of the a x 2a column (e2, h2) and, when hs->n > 0,
+ * the square column (es, hs); a: the column width in metres. */
+static protocol evaluate(const experiment *e2, const history *h2, const experiment *es, const history *hs, double a)
+{
+    const double n = sqrt(2.0), ms = 1e3 * sqrt(a / GRAV); /* ms per unit of tau */
+    protocol pr;
+    int ka, kb, k;
+    pr.speed_late = pr.speed_all = pr.shift_T = pr.shift_ms = pr.worst = pr.rms = pr.worst_raw = NAN;
+    pr.first_raw = pr.first_sh = pr.h_abs = pr.h_rel = pr.sq_shift_ms = pr.sq_gap_ms = pr.sq_worst = NAN;
+    if (h2->n > 0 && e2->have) {
+        const series *m = &e2->front;
+        double sh;
+        pr.speed_late = speed_dev(m, h2, n, PR_T_LATE, 1e9);
+        pr.speed_all = speed_dev(m, h2, n, PR_T_FROM, 1e9);
+        if (window(m, h2, PR_T_FROM / n, 1e9, &ka, &kb) == 0) {
+            sh = fit_shift(m, ka, kb, h2, h2->Z);
+            pr.shift_T = n * sh;
+            pr.shift_ms = ms * sh;
+            pr.worst = worst_dev(m, ka, kb, h2, h2->Z, sh, &pr.rms);
+            pr.worst_raw = worst_dev(m, ka, kb, h2, h2->Z, 0, NULL);
+            for (k = 0; k < ka; ++k) /* the last point before the window: T = 0.41 */
+                pr.first_raw = dev_at(m, k, h2, h2->Z, 0), pr.first_sh = dev_at(m, k, h2, h2->Z, sh);
+        }
+        pr.h_abs = pr.h_rel = 0;
+        for (k = 0; k < e2->height.n; ++k) {
+            const double tau = e2->height.tau[k], d = interp(h2->tau, h2->H, h2->n, tau) - e2->height.val[k];
+            if (!(d == d)) continue;
+            if (fabs(d) > pr.h_abs) pr.h_abs = fabs(d);
+            if (tau <= PR_TAU_REL + 1e-9 && fabs(d) / e2->height.val[k] > pr.h_rel) pr.h_rel = fabs(d) / e2->height.val[k];
+        }
+    }
+    if (hs->n > 0 && es->have && window(&es->front, hs, PR_T_FROM / n, 1e9, &ka, &kb) == 0) {
+        const double sh = fit_shift(&es->front, ka, kb, hs, hs->Z);
+        pr.sq_shift_ms = ms * sh;
+        pr.sq_gap_ms = pr.sq_shift_ms - pr.shift_ms;
+        pr.sq_worst = worst_dev(&es->front, ka, kb, hs, hs->Z, sh, NULL);
+    }
+    return pr;
+}
+
+/* One row of the protocol table: a field of protocol, its scale for
+ * printing (100: per cent), the accepted range [lo, hi] (gated rows) or
+ * NAN (reported only). */
+typedef struct {
+    const char *what;
+    size_t field;
+    double scale, lo, hi;
+    const char *unit, *target;
+    int sign; /* printed with its sign (a signed deviation, not a magnitude) */
+} protocol_row;
+
+static const protocol_row protocol_rows[] = {
+    {"front speed dZ/dT, T 1.83-3.33", offsetof(protocol, speed_late), 100, -0.03, 0.03, "%", "within 3 %", 1},
+    {"front speed dZ/dT, T 0.84-3.33", offsetof(protocol, speed_all), 100, -0.05, 0.05, "%", "within 5 %", 1},
+    {"fitted delay of the front (T >= 0.84), in T", offsetof(protocol, shift_T), 1, 0, 0.3, "", "0 .. 0.3", 1},
+    {"fitted delay, ms", offsetof(protocol, shift_ms), 1, NAN, NAN, "ms", "reported", 1},
+    {"front after the delay: largest abs. deviation", offsetof(protocol, worst), 100, 0, 0.05, "%", "within 5 %", 0},
+    {"front after the delay: rms deviation", offsetof(protocol, rms), 100, 0, 0.03, "%", "within 3 %", 0},
+    {"front without delay: largest abs. deviation, T >= 0.84", offsetof(protocol, worst_raw), 100, NAN, NAN, "%",
+     "reported", 0},
+    {"point T = 0.41 without delay", offsetof(protocol, first_raw), 100, NAN, NAN, "%", "reported", 1},
+    {"point T = 0.41 after the delay", offsetof(protocol, first_sh), 100, NAN, NAN, "%", "reported", 1},
+    {"height (Table 6): largest abs. H - H_measured", offsetof(protocol, h_abs), 1, 0, 0.03, "", "within 0.03", 0},
+    {"height: largest abs. deviation, tau <= 2.45", offsetof(protocol, h_rel), 100, 0, 0.04, "%", "within 4 %", 0},
+    {"square column: fitted delay, ms", offsetof(protocol, sq_shift_ms), 1, NAN, NAN, "ms", "reported", 1},
+    {"square column: delay minus the a x 2a delay, ms", offsetof(protocol, sq_gap_ms), 1, -2, 2, "ms", "within 2 ms", 1},
+    {"square column after its delay: largest abs. deviation", offsetof(protocol, sq_worst), 100, 0, 0.06, "%",
+     "within 6 %", 0},
+};
+#define PROTOCOL_ROWS ((int)(sizeof protocol_rows / sizeof protocol_rows[0]))
+
+static double row_value(const protocol *pr, int r) { return *(const double *)((const char *)pr + protocol_rows[r].field); }
+
+/* 1: gated row met (or not gated / not computed), 0: missed. */
+static int row_ok(const protocol *pr, int r)
+{
+    const double v = row_value(pr, r);
+    return !(protocol_rows[r].lo == protocol_rows[r].lo) || !(v == v) ||
+           (v >= protocol_rows[r].lo - 1e-12 && v <= protocol_rows[r].hi + 1e-12);
+}
+
+/* Prints the protocol table, one column per run (label[c], pr[c]), to f:
+ * plain text, or a markdown table when markdown is set. Returns the number
+ * of gated rows missed in column 0. */
+static int print_protocol(FILE *f, int markdown, const protocol *pr, char label[][64], int nrun)
+{
+    int r, c, missed = 0;
+    if (markdown) {
+        fprintf(f, "| protocol | target |");
+        for (c = 0; c < nrun; ++c) fprintf(f, " %s |", label[c]);
+        fprintf(f, "\n|:---|:---|");
+        for (c = 0; c < nrun; ++c) fprintf(f, "---:|");
+        fprintf(f, "\n");
+    } else {
+        fprintf(f, "\nprotocol (Martin & Moyce 1952)                          %-12s", "target");
+        for (c = 0; c < nrun; ++c) fprintf(f, " %22s", label[c]);
+        fprintf(f, "\n");
+    }
+    for (r = 0; r < PROTOCOL_ROWS; ++r) {
+        const protocol_row *w = &protocol_rows[r];
+        fprintf(f, markdown ? "| %s | %s |" : "  %-53s %-12s", w->what, w->target);
+        for (c = 0; c < nrun; ++c) {
+            const double v = row_value(&pr[c], r);
+            char cell[48];
+            if (!(v == v)) snprintf(cell, sizeof cell, "-");
+            else snprintf(cell, sizeof cell, w->scale == 100 ? (w->sign ? "%+.1f %s%s" : "%.1f %s%s")
+                                             : w->unit[0] ? (w->sign ? "%+.1f %s%s" : "%.1f %s%s") : "%.3f%s%s",
+                          w->scale * v, w->unit, !(w->lo == w->lo) ? "" : row_ok(&pr[c], r) ? " ok" : " MISSED");
+            fprintf(f, markdown ? " %s |" : " %22s", cell);
+        }
+        fprintf(f, "\n");
+        missed += !row_ok(&pr[0], r);
+    }
+    return missed;
+}
+
+/* ---- wall-pressure probe: Buchner (2002) ---- */
+
+/* The MARIN experiment (data/dam_break/README.md): a column 2H wide and H
+ * high, H = 0.6 m, in a tank 5.366 H long; sensor P1 on the far wall, 9 mm
+ * high with its top edge 160 mm above the floor (the set-up of the
+ * TrixiParticles.jl validation case, validation/dam_break_2d). Times
+ * t sqrt(g/H), pressures p / (rho g H). */
+#define BUCHNER_H 0.6
+#define BUCHNER_TANK 5.366
+#define BUCHNER_WALL 3.0      /* side walls 3 H high: the run-up on the far wall stays below */
+#define BUCHNER_P1_TOP 0.160
+#define BUCHNER_P1_SIZE 0.009
+#define BUCHNER_END 7.0
+#define PROBE_RISE 0.2        /* impact: first p/(rho g H) >= 0.2, above the +-0.16 scatter of the digitised zero line */
+#define PROBE_BIN 0.02        /* the simulated pressure is averaged over bins of this width in t sqrt(g/H) */
+#define PROBE_SERIES 3
+#define PROBE_POINTS_MAX 400
+
+/* One pressure series: name, n points (T = t sqrt(g/H), p / (rho g H)), sorted in T. */
+typedef struct {
+    char name[32];
+    int n;
+    double T[PROBE_POINTS_MAX], p[PROBE_POINTS_MAX];
+} pseries;
+
+/* Figures of a pressure series: impact (first rise to PROBE_RISE), first
+ * peak (largest p within 0.5 after the impact) and its time, mean p over
+ * T = 3.5 .. 4.5 (of the piecewise-linear series), time of the largest p
+ * over T = 4.5 .. 7 (the second peak: the plunging wave falling back). */
+enum { FIG_RISE, FIG_PEAK1, FIG_PEAK1_T, FIG_MEAN, FIG_PEAK2_T, FIGURES };
+typedef struct {
+    double v[FIGURES];
+} probe_figures;
+
+static void pseries_sort(pseries *s)
+{
+    int i, j;
+    for (i = 1; i < s->n; ++i)
+        for (j = i; j > 0 && s->T[j] < s->T[j - 1]; --j) {
+            double t = s->T[j];
+            s->T[j] = s->T[j - 1], s->T[j - 1] = t;
+            t = s->p[j], s->p[j] = s->p[j - 1], s->p[j - 1] = t;
+        }
+}
+
+/* Reads the digitised series of buchner2002_P1_pressure_digitised.csv
+ * (source,T,p; # comments, one header line) into out[], one per source.
+ * Returns the number of series (0: file missing or empty). */
+static int read_buchner(const char *path, pseries *out)
+{
+    char line[256];
+    int ns = 0, header = 0, k;
+    FILE *f = fopen(path, "r");
+    if (f == NULL) return 0;
+    while (fgets(line, sizeof line, f) != NULL) {
+        char *c1, *c2, *end;
+        double T, p;
+        if (line[0] == '#') continue;
+        if (!header) {
+            header = 1;
+            continue;
+        }
+        if ((c1 = strchr(line, ',')) == NULL || (c2 = strchr(c1 + 1, ',')) == NULL) continue;
+        *c1 = '\0';
+        T = strtod(c1 + 1, &end);
+        if (end == c1 + 1) continue;
+        p = strtod(c2 + 1, &end);
+        if (end == c2 + 1) continue;
+        for (k = 0; k < ns && strcmp(out[k].name, line) != 0; ++k) continue;
+        if (k == ns) {
+            if (ns == PROBE_SERIES) continue;
+            strncpy(out[ns].name, line, sizeof out[ns].name - 1);
+            out[ns].name[sizeof out[ns].name - 1] = '\0';
+            out[ns++].n = 0;
+        }
+        if (out[k].n < PROBE_POINTS_MAX) out[k].T[out[k].n] = T, out[k].p[out[k].n++] = p;
+    }
+    fclose(f);
+    for (k = 0; k < ns; ++k) pseries_sort(&out[k]);
+    return ns;
+}
+
+static probe_figures figures(const pseries *s)
+{
+    probe_figures fg;
+    int k, q;
+    for (q = 0; q < FIGURES; ++q) fg.v[q] = NAN;
+    for (k = 1; k < s->n; ++k)
+        if (s->p[k] >= PROBE_RISE && s->p[k - 1] < PROBE_RISE) {
+            fg.v[FIG_RISE] = s->T[k - 1] + (s->T[k] - s->T[k - 1]) * (PROBE_RISE - s->p[k - 1]) / (s->p[k] - s->p[k - 1]);
+            break;
+        }
+    fg.v[FIG_PEAK1] = -HUGE_VAL;
+    for (k = 0; k < s->n; ++k)
+        if (s->T[k] >= fg.v[FIG_RISE] && s->T[k] <= fg.v[FIG_RISE] + 0.5 && s->p[k] > fg.v[FIG_PEAK1]) fg.v[FIG_PEAK1] = s->p[k], fg.v[FIG_PEAK1_T] = s->T[k];
+    if (!(fg.v[FIG_PEAK1_T] == fg.v[FIG_PEAK1_T])) fg.v[FIG_PEAK1] = NAN;
+    if (s->n > 1 && s->T[0] <= 3.5 && s->T[s->n - 1] >= 4.5) {
+        fg.v[FIG_MEAN] = 0;
+        for (q = 0; q <= 1000; ++q) fg.v[FIG_MEAN] += interp(s->T, s->p, s->n, 3.5 + 1e-3 * q) / 1001;
+    }
+    {
+        double best = -HUGE_VAL;
+        for (k = 0; k < s->n; ++k)
+            if (s->T[k] >= 4.5 && s->T[k] <= 7.0 && s->p[k] > best) best = s->p[k], fg.v[FIG_PEAK2_T] = s->T[k];
+    }
+    return fg;
+}
+
+/* The simulated probe pressure as a series of bin averages (width PROBE_BIN
+ * in T = t sqrt(g/H)); tau of the history is t sqrt(g/a), a = 2H. */
+static void probe_series(const history *h, pseries *s)
+{
+    const double Tscale = sqrt(2.0), pscale = 1 / (RHO0 * GRAV * BUCHNER_H);
+    int k = 0;
+    snprintf(s->name, sizeof s->name, "SPH");
+    s->n = 0;
+    while (k < h->n && s->n < PROBE_POINTS_MAX) {
+        const double bin = floor(Tscale * h->tau[k] / PROBE_BIN);
+        double sum = 0;
+        int c = 0;
+        for (; k < h->n && floor(Tscale * h->tau[k] / PROBE_BIN) == bin; ++k, ++c) sum += h->P1[k];
+        s->T[s->n] = (bin + 0.5) * PROBE_BIN;
+        s->p[s->n++] = pscale * sum / c;
+    }
+}
+
+/* Distance of x from the interval [lo, hi] (0 inside). */
+static double outside(double x, double lo, double hi) { return x < lo ? lo - x : x > hi ? x - hi : 0; }
+
+/* Prints the figures of the measured series and of the simulation, with the
+ * targets against the range of the measured ones; writes the simulated
+ * series to csv (when not NULL). Returns the number of targets missed. */
+static int probe_report(FILE *md, const pseries *meas, int nm, const pseries *sim)
+{
+    probe_figures fm[PROBE_SERIES], fs = figures(sim);
+    double lo[FIGURES], hi[FIGURES];
+    int k, q, missed = 0;
+    static const char *what[FIGURES] = {"impact: first p >= 0.2 rho g H, t sqrt(g/H)", "first peak p / (rho g H)",
+                                  "first peak, t sqrt(g/H)", "mean p / (rho g H), t sqrt(g/H) 3.5-4.5",
+                                  "second peak (largest p, 4.5-7), t sqrt(g/H)"};
+    for (q = 0; q < FIGURES; ++q) lo[q] = HUGE_VAL, hi[q] = -HUGE_VAL;
+    for (k = 0; k < nm; ++k) {
+        const double *v = fm[k].v;
+        fm[k] = figures(&meas[k]);
+        for (q = 0; q < FIGURES; ++q) {
+            if (v[q] < lo[q]) lo[q] = v[q];
+            if (v[q] > hi[q]) hi[q] = v[q];
+        }
+    }
+    printf("\nwall pressure at P1 against Buchner (2002), three digitisations of the measured curve:\n");
+    printf("  %-46s", "");
+    for (k = 0; k < nm; ++k) printf(" %9s", meas[k].name);
+    printf(" %9s  target\n", "SPH");
+    if (md) {
+        fprintf(md, "\n| P1 (Buchner 2002) |");
+        for (k = 0; k < nm; ++k) fprintf(md, " %s |", meas[k].name);
+        fprintf(md, " SPH | target |\n|:---|");
+        for (k = 0; k <= nm; ++k) fprintf(md, "---:|");
+        fprintf(md, ":---|\n");
+    }
+    for (q = 0; q < FIGURES; ++q) {
+        const double v = fs.v[q];
+        char target[96];
+        int ok = 1;
+        if (q == FIG_RISE) ok = outside(v, lo[q], hi[q]) <= 0.1, snprintf(target, sizeof target, "within 0.1 of %.3f .. %.3f", lo[q], hi[q]);
+        else if (q == FIG_MEAN)
+            ok = outside(v, lo[q], hi[q]) <= 0.15 * (v < lo[q] ? lo[q] : hi[q]),
+            snprintf(target, sizeof target, "within 15 %% of %.3f .. %.3f", lo[q], hi[q]);
+        else if (q == FIG_PEAK2_T) ok = outside(v, lo[q], hi[q]) <= 0.3, snprintf(target, sizeof target, "within 0.3 of %.3f .. %.3f", lo[q], hi[q]);
+        else snprintf(target, sizeof target, "reported");
+        ok = ok && v == v;
+        missed += !ok;
+        printf("  %-46s", what[q]);
+        for (k = 0; k < nm; ++k) printf(" %9.3f", fm[k].v[q]);
+        printf(" %9.3f  %s%s\n", v, target, q == FIG_PEAK1 || q == FIG_PEAK1_T ? "" : ok ? " ok" : " MISSED");
+        if (md) {
+            fprintf(md, "| %s |", what[q]);
+            for (k = 0; k < nm; ++k) fprintf(md, " %.3f |", fm[k].v[q]);
+            fprintf(md, " %.3f | %s%s |\n", v, target, q == FIG_PEAK1 || q == FIG_PEAK1_T ? "" : ok ? " ok" : " MISSED");
+        }
+    }
+    return missed;
+}
+
+static void probe_csv(const char *dir, const pseries *sim)
+{
+    char path[1200];
+    FILE *f;
+    int k;
+    snprintf(path, sizeof path, "%s/buchner_P1.csv", dir);
+    if ((f = fopen(path, "w")) == NULL) {
+        fprintf(stderr, "dam_break: cannot write %s\n", path);
+        exit(2);
+    }
+    fprintf(f, "# dam break of Buchner (2002), column 2H x H, H = %g m, tank %g H; pressure at P1 (far wall, %g .. %g m), "
+               "averaged over bins of %g\nT_t_sqrt_g_over_H,p_over_rhogH\n",
+            BUCHNER_H, BUCHNER_TANK, BUCHNER_P1_TOP - BUCHNER_P1_SIZE, BUCHNER_P1_TOP, PROBE_BIN);
+    for (k = 0; k < sim->n; ++k) fprintf(f, "%.4f,%.5f\n", sim->T[k], sim->p[k]);
+    fclose(f);
+    printf("wrote %s\n", path);
+}
+
+/* Output directory of one run: <out>/<tag>, created; exits on failure. */
+static void run_dir(const char *out, const char *tag, char *dir, size_t size)
+{
+    snprintf(dir, size, "%s/%s", out, tag);
+    if (ex_mkdir_p(dir) != 0) {
+        fprintf(stderr, "dam_break: cannot create the output directory %s\n", dir);
+        exit(2);
+    }
+}
+
+/* One Martin & Moyce run: resolution, wall model, both columns' histories. */
+typedef struct {
+    params pm;
+    history hist[2];
+    protocol pr;
+    char tag[64];
+} mm_run;
+
 int main(int argc, char **argv)
 {
     params pm, def;
-    char variant[256];
-    int check = 0, threads = 0, columns = 0, c, fail = 0;
+    char variant[256], label[4][64], path[1200];
+    int check = 0, columns = 0, c, r, fail = 0, side = 0, refine = 0, probe = 0, nrun = 0, threads = 0, probe_res = 40;
     const char *data = NULL, *report = NULL, *summary = NULL, *walls;
-    double dev[2][2] = {{NAN, NAN}, {NAN, NAN}}, lag[2] = {NAN, NAN}, speed[2] = {NAN, NAN}, seconds = 0;
-    history hist[2];
+    mm_run runs[4];
+    protocol pr[4];
     experiment ex[2];
     FILE *md = NULL;
-    ex_option opt[] = {
-        {"res", "particles across the column width a", NULL, &pm.res, NULL, NULL},
-        {"end", "end time tau = t sqrt(g/a)", &pm.end_tau, NULL, NULL, NULL},
-        {"column", "n^2 of the column a x n^2 a: 2, 1, or 0 for both", NULL, &columns, NULL, NULL},
-        {"kernel", "kernel name (cubic, wendland_c2, quintic, ...)", NULL, NULL, &pm.kernel, NULL},
-        {"hfac", "smoothing length h / particle spacing", &pm.hfac, NULL, NULL, NULL},
-        {"alpha", "artificial viscosity coefficient (Monaghan 1992)", &pm.alpha, NULL, NULL, NULL},
-        {"delta", "density diffusion coefficient (Molteni & Colagrossi 2009)", &pm.delta, NULL, NULL, NULL},
-        {"tank", "tank length / a", &pm.tank, NULL, NULL, NULL},
-        {"skin", "neighbour-list skin / h (0: search every step)", &pm.skin, NULL, NULL, NULL},
-        {"a", "column width a in metres (Martin & Moyce: 2.25 in)", &pm.a, NULL, NULL, NULL},
-        {"out", "output directory (VTK files and time-series CSVs)", NULL, NULL, &pm.out, NULL},
-        {"vtk-every", "write particles every N steps (0: never)", NULL, &pm.vtk_every, NULL, NULL},
-        {"threads", "OpenMP threads (0: the OpenMP default)", NULL, &threads, NULL, NULL},
-        {"data", "directory of the measurements (tries data/dam_break, ../data/dam_break)", NULL, NULL,
-         &data, NULL},
-        {"report", "write the comparison tables as markdown to this file", NULL, NULL, &report, NULL},
-        {"summary", "append one line of largest deviations (markdown table row) to this file", NULL, NULL, &summary,
+    /* every option with what it accepts: refused before anything runs (ex_parse_args) */
+    const ex_arg opt[] = {
+        {"res", "particles across the column width a", NULL, &pm.res, NULL, NULL, 4, 400, 0, NULL},
+        {"end", "end time tau = t sqrt(g/a)", &pm.end_tau, NULL, NULL, NULL, 0.01, 20, 0, NULL},
+        {"column", "n^2 of the column a x n^2 a: 2, 1, or 0 for both", NULL, &columns, NULL, NULL, 0, 2, 0, NULL},
+        {"kernel", "kernel name", NULL, NULL, &pm.kernel, NULL, 0, 0, 0, ex_kernel_choices()},
+        {"hfac", "smoothing length h / particle spacing", &pm.hfac, NULL, NULL, NULL, 0.75, 3, 0, NULL},
+        {"alpha", "artificial viscosity coefficient (Monaghan 1992)", &pm.alpha, NULL, NULL, NULL, 0, 1, 0, NULL},
+        {"delta", "density diffusion coefficient (Molteni & Colagrossi 2009)", &pm.delta, NULL, NULL, NULL, 0, 1, 0,
          NULL},
-        {"nu", "laminar kinematic viscosity in m^2/s (water 1e-6; 0: none)", &pm.nu, NULL, NULL, NULL},
-        {"noslip", "walls: 1 no-slip (viscous term over wall particles), 0 free slip", NULL, &pm.noslip, NULL, NULL},
+        {"tank", "tank length / a", &pm.tank, NULL, NULL, NULL, 2, 100, 0, NULL},
+        {"skin", "neighbour-list skin / h (0: search every step)", &pm.skin, NULL, NULL, NULL, 0, 2, 0, NULL},
+        {"a", "column width a in metres (Martin & Moyce: 2.25 in)", &pm.a, NULL, NULL, NULL, 1e-3, 100, 0, NULL},
+        {"out", "output directory: one folder per run in it (VTK frames, .pvd series, time-series CSVs)", NULL, NULL,
+         &pm.out, NULL, 0, 0, 0, NULL},
+        {"vtk-every", "write particles every N steps (0: never)", NULL, &pm.vtk_every, NULL, NULL, 0, 1e9, 0, NULL},
+        {"ascii", "VTK frames as text instead of binary", NULL, NULL, NULL, &pm.ascii, 0, 0, 0, NULL},
+        {"threads", "OpenMP threads (0: the OpenMP default)", NULL, &threads, NULL, NULL, 0, 1024, 0, NULL},
+        {"data", "directory of the measurements (tries data/dam_break, ../data/dam_break, ../../data/dam_break)",
+         NULL, NULL, &data, NULL, 0, 0, 0, NULL},
+        {"report", "write the protocol and comparison tables as markdown to this file", NULL, NULL, &report, NULL, 0,
+         0, 0, NULL},
+        {"summary", "append one row of protocol figures per run (markdown table rows) to this file", NULL, NULL,
+         &summary, NULL, 0, 0, 0, NULL},
+        {"nu", "laminar kinematic viscosity in m^2/s (water 1e-6; 0: none)", &pm.nu, NULL, NULL, NULL, 0, 1e-2, 0,
+         NULL},
+        {"noslip", "walls: 1 no-slip (viscous term over wall particles), 0 free slip", NULL, &pm.noslip, NULL, NULL,
+         0, 1, 0, NULL},
         {"front-k", "fluid neighbours a floor particle needs to count as the front (0: furthest particle)", NULL,
-         &pm.front_k, NULL, NULL},
+         &pm.front_k, NULL, NULL, 0, 50, 0, NULL},
         {"stokes", "1: friction of the unresolved laminar wall layer (Stokes' first problem, needs --nu)", NULL,
-         &pm.stokes, NULL, NULL},
-        {"c0", "speed of sound / sqrt(g n^2 a)", &pm.c0fac, NULL, NULL, NULL},
-        {"check", "coarse short run (res 20, tau <= 2.4) against loose bounds; exit 1 on a miss", NULL, NULL, NULL,
-         &check},
+         &pm.stokes, NULL, NULL, 0, 1, 0, NULL},
+        {"c0", "speed of sound / sqrt(g n^2 a)", &pm.c0fac, NULL, NULL, NULL, 2, 100, 0, NULL},
+        {"side-by-side", "also run without the wall-friction model and print both in the protocol table", NULL, NULL,
+         NULL, &side, 0, 0, 0, NULL},
+        {"refine", "also run the a x 2a column at twice --res (the fitted delay's change)", NULL, NULL, NULL, &refine,
+         0, 0, 0, NULL},
+        {"probe", "instead: the wall-pressure probe of Buchner (2002), column 2H x H in a 5.366 H tank", NULL, NULL,
+         NULL, &probe, 0, 0, 0, NULL},
+        {"probe-res", "--probe: particles across the column height H", NULL, &probe_res, NULL, NULL, 10, 400, 0, NULL},
+        {"check", "the protocol at the default resolution, a x 2a to tau 2.5, a x a to 3.35; exit 1 on a miss", NULL,
+         NULL, NULL, &check, 0, 0, 0, NULL},
     };
     pm.res = 30;
+    pm.vtk_every = 500;
+    pm.noslip = 0;
+    pm.front_k = 4;
+    pm.stokes = 1;
+    pm.ascii = 0;
     pm.end_tau = 3.5;
     pm.kernel = "wendland_c2";
     pm.hfac = 1.3;
@@ -881,28 +1436,29 @@ int main(int argc, char **argv)
     pm.skin = 0.25;
     pm.a = 0.05715;
     pm.out = "build/dam_break_out";
-    pm.vtk_every = 500;
     pm.nu = 1e-6;
-    pm.noslip = 0;
-    pm.front_k = 4;
-    pm.stokes = 1;
     pm.c0fac = 10;
-    def = pm;
-    c = ex_parse(argc, argv, "2-D SPH dam break against Martin & Moyce (1952)", opt,
-                 (int)(sizeof opt / sizeof opt[0]));
+    pm.wall_h = 1.5;
+    pm.probe_y0 = pm.probe_y1 = 0;
+    def = pm; /* the defaults: describe_variant lists what a run changes */
+    def.res = 30, def.noslip = 0, def.front_k = 4, def.stokes = 1;
+    c = ex_parse_args(argc, argv, "2-D SPH dam break against Martin & Moyce (1952) and Buchner (2002)", opt,
+                      (int)(sizeof opt / sizeof opt[0]));
     if (c != 0) return c > 0 ? 0 : 2;
+    if ((pm.noslip && pm.stokes) || (side && !pm.stokes) || (pm.stokes && !(pm.nu > 0)) ||
+        (check && (side || refine || probe))) {
+        fprintf(stderr, "dam_break: %s\n",
+                pm.noslip && pm.stokes ? "--noslip 1 needs --stokes 0 (the wall-layer friction replaces the no-slip walls)"
+                : side && !pm.stokes ? "--side-by-side runs with and without the wall friction: leave --stokes at 1"
+                : pm.stokes && !(pm.nu > 0) ? "--stokes 1 needs --nu > 0 (the wall-layer friction is that of nu)"
+                : "--check runs the protocol on its own: no --side-by-side, --refine or --probe with it");
+        return 2;
+    }
     if (check) {
-        pm.res = 20;
-        pm.end_tau = 2.4;
+        pm.res = 30; /* the protocol is asserted at the default resolution */
         pm.vtk_every = 0;
         pm.out = NULL;
-        if (threads == 0) threads = 1; /* the bound is on one core; a loaded machine slows OpenMP barriers badly */
-    }
-    if (sph_kernel_from_name(pm.kernel) < 0 || pm.res < 4 || !(pm.end_tau > 0) || !(pm.hfac > 0.5) ||
-        !(pm.tank >= 2) || !(pm.skin >= 0) || !(pm.a > 0) || !(pm.nu >= 0) || !(pm.c0fac > 0) || pm.front_k < 0 ||
-        (pm.noslip && pm.stokes) || (columns != 0 && columns != 1 && columns != 2)) {
-        fprintf(stderr, "dam_break: bad parameter (try --help)\n");
-        return 2;
+        if (threads == 0) threads = 1; /* the run time stays that of one core; a loaded machine slows OpenMP barriers */
     }
 #ifdef _OPENMP
     if (threads > 0) omp_set_num_threads(threads);
@@ -910,105 +1466,171 @@ int main(int argc, char **argv)
 #else
     threads = 1;
 #endif
+    /* the measurements first: nothing runs without them */
     data = find_data(data);
-    for (c = 0; c < 2; ++c) {
-        ex[c].have = 0;
-        if (data == NULL || load_experiment(data, c == 0 ? 2 : 1, &ex[c]) != 0) {
-            fprintf(stderr, "dam_break: measurements of Martin & Moyce (n^2 = %d) not found in %s (--data DIR)\n",
-                    c == 0 ? 2 : 1, data ? data : "data/dam_break, ../data/dam_break or ../../data/dam_break");
-            if (check) {
-                fprintf(stderr, "dam_break --check: FAILED, nothing to validate against\n");
-                return 1;
-            }
+    if (data == NULL) {
+        fprintf(stderr, "dam_break: the measurements were not found: no data/dam_break/README.md in ., .. or ../.. "
+                        "(give the directory with --data DIR)\n");
+        return 1;
+    }
+    if (probe) {
+        pseries meas[PROBE_SERIES], sim;
+        history h;
+        int nm;
+        snprintf(path, sizeof path, "%s/buchner2002_P1_pressure_digitised.csv", data);
+        if ((nm = read_buchner(path, meas)) < PROBE_SERIES) {
+            fprintf(stderr, "dam_break: %s: the %d digitised series of Buchner (2002) were not found (%d read)\n", path,
+                    PROBE_SERIES, nm);
+            return 1;
         }
-        ex[c].n2 = c == 0 ? 2 : 1;
+        pm.res = 2 * probe_res; /* across the column width 2H */
+        pm.a = 2 * BUCHNER_H;
+        pm.tank = BUCHNER_TANK / 2;
+        pm.wall_h = BUCHNER_WALL;
+        pm.end_tau = BUCHNER_END / sqrt(2.0);
+        pm.probe_y0 = BUCHNER_P1_TOP - BUCHNER_P1_SIZE, pm.probe_y1 = BUCHNER_P1_TOP;
+        if (pm.out) {
+            snprintf(variant, sizeof variant, "buchner_res%d%s", probe_res, pm.stokes ? "" : "_nofriction");
+            run_dir(pm.out, variant, path, sizeof path);
+            pm.out = path;
+        }
+        printf("dam break of Buchner (2002): column 2H x H, H = %g m, tank %g H, %d particles across H, kernel %s, "
+               "h = %g dx, c0 = %g sqrt(g H), alpha = %g, delta = %g, nu = %g m^2/s, wall-layer friction %s; probe: "
+               "Shepard-interpolated fluid pressure at %d points of the far wall's face, %g .. %g m, averaged; %d "
+               "thread(s)\n",
+               BUCHNER_H, BUCHNER_TANK, probe_res, pm.kernel, pm.hfac, pm.c0fac, pm.alpha, pm.delta, pm.nu,
+               pm.stokes ? "on" : "off", PROBE_POINTS, pm.probe_y0, pm.probe_y1, threads);
+        memset(&h, 0, sizeof h);
+        run(&pm, 0.5, &h, 0);
+        printf("%d particles (%d fluid), %ld steps, %.1f s\n", h.particles, h.fluid, h.steps, h.seconds);
+        probe_series(&h, &sim);
+        if (report && (md = fopen(report, "w")) == NULL) {
+            fprintf(stderr, "dam_break: cannot write %s\n", report);
+            return 2;
+        }
+        if (md)
+            fprintf(md, "Written by `dam_break --probe --probe-res %d%s`: %d particles across H, %ld steps, %.1f s on %d "
+                        "thread(s).\n",
+                    probe_res, pm.stokes ? "" : " --stokes 0", probe_res, h.steps, h.seconds, threads);
+        fail = probe_report(md, meas, nm, &sim);
+        if (md) fclose(md);
+        if (pm.out) probe_csv(pm.out, &sim);
+        history_free(&h);
+        return fail ? 1 : 0;
     }
-    if (pm.out && ex_mkdir_p(pm.out) != 0) {
-        fprintf(stderr, "dam_break: cannot create %s\n", pm.out);
-        return 2;
+    for (c = 0; c < 2; ++c) {
+        if (load_experiment(data, c == 0 ? 2 : 1, &ex[c]) != 0) {
+            fprintf(stderr, "dam_break: the measurements of Martin & Moyce (n^2 = %d) are missing from %s; nothing "
+                            "run (--data DIR)\n", c == 0 ? 2 : 1, data);
+            return 1;
+        }
     }
-    walls = pm.stokes ? "free slip + laminar wall-layer friction" : pm.noslip ? "no-slip" : "free slip";
-    describe_variant(&pm, &def, variant, sizeof variant);
+    /* the runs: the model asked for, without the wall friction (--side-by-side), each at twice --res (--refine) */
+    for (r = 0; r < 1 + refine; ++r)
+        for (c = 0; c < 1 + side; ++c) {
+            mm_run *u = &runs[nrun++];
+            memset(u, 0, sizeof *u);
+            u->pm = pm;
+            u->pm.res = pm.res << r;
+            u->pm.stokes = c ? 0 : pm.stokes;
+            snprintf(u->tag, sizeof u->tag, "res%d%s", u->pm.res, u->pm.stokes ? "" : "_nofriction");
+        }
     if (report && (md = fopen(report, "w")) == NULL) {
         fprintf(stderr, "dam_break: cannot write %s\n", report);
         return 2;
     }
+    walls = pm.stokes ? "free slip + laminar wall-layer friction" : pm.noslip ? "no-slip" : "free slip";
     printf("dam break: column a x n^2 a, a = %g m, %d particles across a, kernel %s, h = %g dx, c0 = %g sqrt(g n^2 a), "
            "alpha = %g, delta = %g, nu = %g m^2/s, walls: %s, front: >= %d neighbours, tank %g a, end tau = %g, "
            "%d thread(s)\n",
            pm.a, pm.res, pm.kernel, pm.hfac, pm.c0fac, pm.alpha, pm.delta, pm.nu, walls, pm.front_k, pm.tank,
-           pm.end_tau, threads);
+           check ? 2.5 : pm.end_tau, threads);
     if (md)
         fprintf(md, "# Dam break: simulated against measured\n\nWritten by `examples/dam_break.c` (`make plots-dambreak`): "
                     "%d particles across the column width a, kernel %s, h = %g dx, c0 = %g sqrt(g n^2 a), "
                     "alpha = %g, delta = %g, nu = %g m^2/s, walls: %s, tank %g a, end tau = %g. Measurements: Martin & Moyce (1952), "
                     "a = 2.25 in. Front: the furthest fluid particle on the floor with at least %d fluid "
-                    "neighbours, plus dx/2. Deviation = (simulated - measured) / measured; the simulated times are "
-                    "not shifted.\n",
+                    "neighbours, plus dx/2. Deviation = (simulated - measured) / measured; the tables below are "
+                    "not shifted in time (the protocol's delay is fitted separately).\n",
                 pm.res, pm.kernel, pm.hfac, pm.c0fac, pm.alpha, pm.delta, pm.nu, walls, pm.tank, pm.end_tau, pm.front_k);
-    for (c = 0; c < 2; ++c) {
-        const double n2 = c == 0 ? 2 : 1;
-        memset(&hist[c], 0, sizeof hist[c]);
-        if (columns != 0 && columns != (int)n2) continue;
-        run(&pm, n2, &hist[c], check);
-        seconds += hist[c].seconds;
-        printf("\ncolumn a x %ga: %d particles (%d fluid), %ld steps, %ld neighbour searches, %.1f s\n", n2,
-               hist[c].particles, hist[c].fluid, hist[c].steps, hist[c].searches, hist[c].seconds);
-        if (md) fprintf(md, "\n## Column a x %ga (n^2 = %g): %d particles (%d fluid), %ld steps, %.1f s on %d thread(s)\n",
-                        n2, n2, hist[c].particles, hist[c].fluid, hist[c].steps, hist[c].seconds, threads);
-        if (pm.out) write_csv(pm.out, &ex[c], &hist[c]);
-        if (!ex[c].have) continue;
-        dev[c][0] = compare(md, "surge front Z = z/a", sqrt(n2), pm.a, &ex[c].front, &hist[c], hist[c].Z, &lag[c],
-                            &speed[c]);
-        dev[c][1] = compare(md, "residual height H = eta/(n^2 a)", sqrt(n2), pm.a, &ex[c].height, &hist[c], hist[c].H,
-                            &lag[c], &speed[c]);
-    }
-    if (md) fclose(md);
-    if (summary) {
-        FILE *f = fopen(summary, "r");
-        const int fresh = f == NULL;
-        if (f) fclose(f);
-        if ((f = fopen(summary, "a")) != NULL) {
-            char cell[8][32];
-            int q;
-            for (q = 0; q < 8; ++q) {
-                const double d = q < 4 ? 100 * dev[q / 2][q % 2] : q < 6 ? lag[q - 4] : 100 * speed[q - 6];
-                if (d == d) snprintf(cell[q], sizeof cell[q], q < 4 ? "%.1f %%" : q < 6 ? "%.1f" : "%+.1f %%", d);
-                else snprintf(cell[q], sizeof cell[q], "-");
+    for (r = 0; r < nrun; ++r) {
+        mm_run *u = &runs[r];
+        double lag = NAN, speed = NAN, seconds = 0;
+        char dir[1200];
+        if (u->pm.out) {
+            run_dir(pm.out, u->tag, dir, sizeof dir);
+            u->pm.out = dir;
+        }
+        for (c = 0; c < 2; ++c) {
+            const double n2 = c == 0 ? 2 : 1;
+            if ((columns != 0 && columns != (int)n2) || (u->pm.res != pm.res && c == 1)) continue;
+            u->pm.end_tau = check ? (c == 0 ? 2.5 : 3.35) : pm.end_tau;
+            run(&u->pm, n2, &u->hist[c], check);
+            seconds += u->hist[c].seconds;
+            printf("\n%s, column a x %ga: %d particles (%d fluid), %ld steps, %ld neighbour searches, %.1f s\n", u->tag,
+                   n2, u->hist[c].particles, u->hist[c].fluid, u->hist[c].steps, u->hist[c].searches, u->hist[c].seconds);
+            if (r > 0 && !check) continue; /* the tables of the first run; the protocol of every run */
+            if (md) fprintf(md, "\n## Column a x %ga (n^2 = %g): %d particles (%d fluid), %ld steps, %.1f s on %d thread(s)\n",
+                            n2, n2, u->hist[c].particles, u->hist[c].fluid, u->hist[c].steps, u->hist[c].seconds, threads);
+            compare(md, "surge front Z = z/a", sqrt(n2), pm.a, &ex[c].front, &u->hist[c], u->hist[c].Z, &lag, &speed);
+            compare(md, "residual height H = eta/(n^2 a)", sqrt(n2), pm.a, &ex[c].height, &u->hist[c], u->hist[c].H,
+                    &lag, &speed);
+        }
+        u->pr = evaluate(&ex[0], &u->hist[0], &ex[1], &u->hist[1], pm.a);
+        pr[r] = u->pr;
+        for (c = 0; c < 2 && u->pm.out; ++c) /* delays in tau: a x 2a from T, a x a from ms */
+            if (u->hist[c].n > 0)
+                write_csv(u->pm.out, &ex[c], &u->hist[c],
+                          c == 0 ? u->pr.shift_T / sqrt(2.0) : u->pr.sq_shift_ms / (1e3 * sqrt(pm.a / GRAV)));
+        snprintf(label[r], sizeof label[r], "%d across a%s", u->pm.res, u->pm.stokes ? "" : ", no friction");
+        if (summary) {
+            FILE *f = fopen(summary, "r");
+            const int fresh = f == NULL;
+            if (f) fclose(f);
+            if ((f = fopen(summary, "a")) == NULL) {
+                fprintf(stderr, "dam_break: cannot write %s\n", summary);
+                return 2;
             }
+            describe_variant(&u->pm, &def, variant, sizeof variant);
             if (fresh)
-                fprintf(f, "| particles across a | model (default unless listed) | particles (a x 2a) | front a x 2a | "
-                           "height a x 2a | front a x a | height a x a | front lag a x 2a (ms) | front lag a x a (ms) "
-                           "| front speed a x 2a | front speed a x a | run time (s), threads |\n"
-                           "|---:|:---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
-            fprintf(f, "| %d | %s | %d | %s | %s | %s | %s | %s | %s | %s | %s | %.1f, %d |\n", pm.res, variant,
-                    hist[0].particles, cell[0], cell[1], cell[2], cell[3], cell[4], cell[5], cell[6], cell[7], seconds,
-                    threads);
+                fprintf(f, "| particles across a | model (default unless listed) | particles (a x 2a) | delay (T) | delay "
+                           "(ms) | front after it: largest, rms | front unshifted (T >= 0.84) | front speed T 1.83-3.33, "
+                           "0.84-3.33 | height: largest abs, rel (tau <= 2.45) | a x a: delay (ms), front after it | "
+                           "run time (s), threads |\n"
+                           "|---:|:---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+            fprintf(f, "| %d | %s | %d | %.3f | %.1f | %.1f %%, %.1f %% | %.1f %% | %+.1f %%, %+.1f %% | %.3f, %.1f %% | ",
+                    u->pm.res, variant, u->hist[0].particles, u->pr.shift_T, u->pr.shift_ms, 100 * u->pr.worst,
+                    100 * u->pr.rms, 100 * u->pr.worst_raw, 100 * u->pr.speed_late, 100 * u->pr.speed_all, u->pr.h_abs,
+                    100 * u->pr.h_rel);
+            if (u->pr.sq_shift_ms == u->pr.sq_shift_ms)
+                fprintf(f, "%.1f, %.1f %% |", u->pr.sq_shift_ms, 100 * u->pr.sq_worst);
+            else
+                fprintf(f, "- |");
+            fprintf(f, " %.1f, %d |\n", seconds, threads);
             fclose(f);
         }
     }
-    if (check) {
-        /* Loose bounds at res 20, tau <= 2.4 (measured there: front 16.5 % and
-         * 12.1 % ahead of the experiment at its worst, early in the surge;
-         * height within 3.7 % and 2.9 %; mean front speed 0.3 % and 1.8 %
-         * above the measured one, 4.7 % and 6.9 % without the wall friction;
-         * docs/examples.md explains the early lead): the fronts within 20 %
-         * and 16 %, the heights within 6 %, the front speeds within 4 %. A
-         * broken pressure force, wall, wall friction or time step misses these. */
-        const double bound[2][3] = {{0.20, 0.06, 0.04}, {0.16, 0.06, 0.04}};
-        static const char *what[3] = {"front", "height", "front speed"};
-        for (c = 0; c < 2; ++c) {
-            int q;
-            for (q = 0; q < 3; ++q) {
-                const double d = q < 2 ? dev[c][q] : fabs(speed[c]);
-                const int ok = d <= bound[c][q];
-                printf("check: %s of column a x %da: %s %.1f %% (bound %.0f %%) %s\n", what[q], c == 0 ? 2 : 1,
-                       q < 2 ? "largest deviation" : "deviation", 100 * d, 100 * bound[c][q], ok ? "ok" : "MISSED");
-                fail |= !ok;
-            }
-        }
-        printf("dam_break --check: %s\n", fail ? "FAILED" : "passed");
+    if (md) fprintf(md, "\n## Validation protocol\n\n");
+    fail = print_protocol(stdout, 0, pr, label, nrun);
+    if (md) print_protocol(md, 1, pr, label, nrun);
+    for (c = 0; refine && c < 1 + side; ++c) {
+        const double d = pr[1 + side + c].shift_T - pr[c].shift_T;
+        printf("  fitted delay, %s: %d -> %d across a changes it by %+.3f in T (target: at most 0.03) %s\n",
+               runs[c].pm.stokes ? "with the wall friction" : "without it", runs[c].pm.res, runs[1 + side + c].pm.res, d,
+               fabs(d) <= 0.03 ? "ok" : "MISSED");
+        if (md)
+            fprintf(md, "\nFitted delay, %s: from %d to %d particles across a it changes by %+.3f in T (target: at "
+                        "most 0.03): %s.\n",
+                    runs[c].pm.stokes ? "with the wall friction" : "without it", runs[c].pm.res,
+                    runs[1 + side + c].pm.res, d, fabs(d) <= 0.03 ? "met" : "missed");
     }
-    for (c = 0; c < 2; ++c) free(hist[c].tau), free(hist[c].Z), free(hist[c].Zraw), free(hist[c].H);
-    return fail;
+    if (md) fclose(md);
+    for (r = 0; r < nrun; ++r)
+        for (c = 0; c < 2; ++c) history_free(&runs[r].hist[c]);
+    if (check) {
+        printf("dam_break --check: %s (%d protocol target(s) missed at %d particles across a)\n",
+               fail ? "FAILED" : "passed", fail, pm.res);
+        return fail ? 1 : 0;
+    }
+    return 0;
 }

@@ -1,16 +1,41 @@
 /* examples/example_io.h - the small I/O every example solver needs, kept out
  * of the solvers so they read as physics: command-line options with --help,
- * a one-line progress indicator (elapsed time and ETA on stderr), legacy VTK
+ * a one-line progress indicator (elapsed time and ETA on stderr), VTK
  * particle files that ParaView opens, and output directories.
  * Not part of the library: sph_kernel.h does no I/O. POSIX (clock_gettime,
- * mkdir); define _POSIX_C_SOURCE before any system header, as below. */
+ * mkdir, opendir); define _POSIX_C_SOURCE before any system header, as below.
+ *
+ * What a solver uses:
+ *   ex_arg, ex_parse_args      options with their accepted range (numbers) or
+ *                              words (text): a value outside is refused before
+ *                              anything runs, naming the option and the range
+ *   ex_kernel_choices()        the kernel names of sph_kernel.h as choices
+ *   ex_calloc(n, size, what)   calloc with the size checked for overflow; a
+ *                              failure prints what could not be allocated
+ *   ex_fields_finite(...)      stops a run at the first NaN or Inf of its
+ *                              fields (sph_check_field), naming field, particle, t
+ *   ex_series_open/_write/_report/_close
+ *                              a run's frames: XML VTK (.vtu, appended raw
+ *                              binary by default, ASCII on request) carrying
+ *                              their time (FieldData TIME), the .pvd series
+ *                              file ParaView plays in physical time, and the
+ *                              frames of an earlier run of the same name removed
+ *                              first, so one folder never mixes two runs
+ * Kept for programs written against the first version: ex_option / ex_parse
+ * (options without ranges; integers now refused outside int and when not
+ * whole) and ex_write_vtk (one legacy ASCII frame).
+ */
 #ifndef SPH_EXAMPLE_IO_H
 #define SPH_EXAMPLE_IO_H
 
 #ifndef _POSIX_C_SOURCE
 #define _POSIX_C_SOURCE 200809L
 #endif
+#include <dirent.h>
 #include <errno.h>
+#include <limits.h>
+#include <math.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -31,6 +56,127 @@ typedef struct {
     int *flag;
 } ex_option;
 
+/* An option with what it accepts: numbers (real, integer) within lo..hi,
+ * the ends themselves refused when open has EX_OPEN_LO / EX_OPEN_HI, and 0
+ * accepted besides the range with EX_OR_ZERO (0 meaning "automatic"); text
+ * one of the words of choices ("a|b|c"; NULL: any). An integer must also be
+ * whole. Unset (zero) lo and hi accept every finite number. */
+typedef struct {
+    const char *name, *help;
+    double *real;
+    int *integer;
+    const char **text;
+    int *flag;
+    double lo, hi;
+    int open;
+    const char *choices;
+} ex_arg;
+
+enum { EX_OPEN_LO = 1, EX_OPEN_HI = 2, EX_OR_ZERO = 4 };
+
+/* The accepted range of a numeric option as text: "0 < cfl <= 1". */
+static inline void ex_range_text(const ex_arg *o, char *buf, size_t size)
+{
+    if (o->lo == 0 && o->hi == 0)
+        snprintf(buf, size, "any finite number");
+    else
+        snprintf(buf, size, "%s%.15g %s %s %s %.15g", (o->open & EX_OR_ZERO) ? "0 or " : "", o->lo, (o->open & EX_OPEN_LO) ? "<" : "<=", o->name,
+                 (o->open & EX_OPEN_HI) ? "<" : "<=", o->hi);
+}
+
+static inline void ex_usage_args(const char *prog, const char *about, const ex_arg *opt, int n)
+{
+    int i;
+    printf("%s - %s\n\nusage: %s [options]\n\n", prog, about, prog);
+    for (i = 0; i < n; ++i) {
+        char def[64] = "", range[128] = "";
+        if (opt[i].real) snprintf(def, sizeof def, " (default %g", *opt[i].real);
+        if (opt[i].integer) snprintf(def, sizeof def, " (default %d", *opt[i].integer);
+        if (opt[i].text) snprintf(def, sizeof def, " (default %s", *opt[i].text ? *opt[i].text : "none");
+        if ((opt[i].real || opt[i].integer) && !(opt[i].lo == 0 && opt[i].hi == 0)) {
+            char r[100];
+            ex_range_text(&opt[i], r, sizeof r);
+            snprintf(range, sizeof range, "; %s", r);
+        }
+        if (opt[i].text && opt[i].choices) snprintf(range, sizeof range, "; %s", opt[i].choices);
+        printf("  --%-14s %s%s%s%s\n", opt[i].name, opt[i].help, def, range, def[0] ? ")" : "");
+    }
+    printf("  --%-14s %s\n", "help", "this text");
+}
+
+/* Whether word is one of the '|'-separated choices. */
+static inline int ex_is_choice(const char *word, const char *choices)
+{
+    const size_t n = strlen(word);
+    const char *c = choices;
+    while (n > 0 && c != NULL && *c) {
+        const char *e = strchr(c, '|');
+        const size_t len = e ? (size_t)(e - c) : strlen(c);
+        if (len == n && strncmp(c, word, n) == 0) return 1;
+        c = e ? e + 1 : NULL;
+    }
+    return 0;
+}
+
+/* Parses argv into the options, checking each value against what its
+ * option accepts. Returns 0 to run, 1 after --help (exit 0), -1 on an
+ * unknown option, a missing value or a refused one (a message on stderr
+ * that names the option and what it accepts). */
+static inline int ex_parse_args(int argc, char **argv, const char *about, const ex_arg *opt, int n)
+{
+    int a, i;
+    for (a = 1; a < argc; ++a) {
+        const char *s = argv[a];
+        const ex_arg *o;
+        if (strcmp(s, "--help") == 0 || strcmp(s, "-h") == 0) {
+            ex_usage_args(argv[0], about, opt, n);
+            return 1;
+        }
+        for (i = 0; i < n; ++i)
+            if (strncmp(s, "--", 2) == 0 && strcmp(s + 2, opt[i].name) == 0) break;
+        if (i == n) {
+            fprintf(stderr, "%s: unknown option '%s' (try --help)\n", argv[0], s);
+            return -1;
+        }
+        o = &opt[i];
+        if (o->flag) {
+            *o->flag = 1;
+            continue;
+        }
+        if (a + 1 >= argc) {
+            fprintf(stderr, "%s: option '%s' needs a value (try --help)\n", argv[0], s);
+            return -1;
+        }
+        ++a;
+        if (o->text) {
+            if (o->choices != NULL && !ex_is_choice(argv[a], o->choices)) {
+                fprintf(stderr, "%s: --%s '%s' refused: accepted %s\n", argv[0], o->name, argv[a], o->choices);
+                return -1;
+            }
+            *o->text = argv[a];
+        } else {
+            char *end = NULL, range[128];
+            const double v = strtod(argv[a], &end);
+            const int ranged = !(o->lo == 0 && o->hi == 0);
+            int bad = end == argv[a] || *end != '\0' || !isfinite(v);
+            if (!bad && o->integer && (v != floor(v) || v < INT_MIN || v > INT_MAX)) bad = 1;
+            if (!bad && ranged && !(v == 0 && (o->open & EX_OR_ZERO)))
+                bad = (o->open & EX_OPEN_LO ? !(v > o->lo) : !(v >= o->lo)) ||
+                      (o->open & EX_OPEN_HI ? !(v < o->hi) : !(v <= o->hi));
+            if (bad) {
+                if (ranged) ex_range_text(o, range, sizeof range);
+                else snprintf(range, sizeof range, "%s", o->integer ? "a number in int" : "any finite number");
+                fprintf(stderr, "%s: --%s %s refused: accepted %s%s\n", argv[0], o->name, argv[a],
+                        o->integer && ranged ? "a whole number, " : o->integer ? "a whole " : "", range);
+                return -1;
+            }
+            if (o->real) *o->real = v;
+            if (o->integer) *o->integer = (int)v;
+        }
+    }
+    return 0;
+}
+
 static inline void ex_usage(const char *prog, const char *about, const ex_option *opt, int n)
 {
     int i;
@@ -45,46 +191,87 @@ static inline void ex_usage(const char *prog, const char *about, const ex_option
     printf("  --%-14s %s\n", "help", "this text");
 }
 
-/* Parses argv into the options. Returns 0 to run, 1 after --help (exit 0),
- * -1 on an unknown option or a missing/bad value (a message on stderr). */
+/* ex_parse_args for options without ranges (every finite number; integers
+ * whole and within int). Same returns. */
 static inline int ex_parse(int argc, char **argv, const char *about, const ex_option *opt, int n)
 {
-    int a, i;
-    for (a = 1; a < argc; ++a) {
-        const char *s = argv[a];
-        if (strcmp(s, "--help") == 0 || strcmp(s, "-h") == 0) {
+    ex_arg *all;
+    int i, st;
+    for (i = 1; i < argc; ++i)
+        if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
             ex_usage(argv[0], about, opt, n);
             return 1;
         }
-        for (i = 0; i < n; ++i)
-            if (strncmp(s, "--", 2) == 0 && strcmp(s + 2, opt[i].name) == 0) break;
-        if (i == n) {
-            fprintf(stderr, "%s: unknown option '%s' (try --help)\n", argv[0], s);
-            return -1;
-        }
-        if (opt[i].flag) {
-            *opt[i].flag = 1;
-            continue;
-        }
-        if (a + 1 >= argc) {
-            fprintf(stderr, "%s: option '%s' needs a value\n", argv[0], s);
-            return -1;
-        }
-        ++a;
-        if (opt[i].text) {
-            *opt[i].text = argv[a];
-        } else {
-            char *end = NULL;
-            double v = strtod(argv[a], &end);
-            if (end == argv[a] || *end != '\0') {
-                fprintf(stderr, "%s: bad value '%s' for '%s'\n", argv[0], argv[a], s);
-                return -1;
-            }
-            if (opt[i].real) *opt[i].real = v;
-            if (opt[i].integer) *opt[i].integer = (int)v;
-        }
+    all = (ex_arg *)calloc(n > 0 ? (size_t)n : 1, sizeof *all);
+    if (all == NULL) {
+        fprintf(stderr, "%s: out of memory reading the options\n", argv[0]);
+        return -1;
     }
-    return 0;
+    for (i = 0; i < n; ++i) {
+        all[i].name = opt[i].name, all[i].help = opt[i].help, all[i].real = opt[i].real;
+        all[i].integer = opt[i].integer, all[i].text = opt[i].text, all[i].flag = opt[i].flag;
+    }
+    st = ex_parse_args(argc, argv, about, all, n);
+    free(all);
+    return st;
+}
+
+/* The kernel names of sph_kernel.h as a choices list "cubic|lucy|...". */
+static inline const char *ex_kernel_choices(void)
+{
+    static char buf[512];
+    int k;
+    if (buf[0] == '\0')
+        for (k = 0; k < SPH_KERNEL_COUNT; ++k) {
+            const size_t used = strlen(buf);
+            snprintf(buf + used, sizeof buf - used, "%s%s", k ? "|" : "", sph_kernel_name((sph_kernel)k));
+        }
+    return buf;
+}
+
+/* ---- status ---- */
+
+/* Statuses of the examples beside the library's (section 2 of sph_kernel.h):
+ * an output file could not be written, memory ran out (a message on stderr
+ * names the file or what could not be allocated). */
+#define EX_EWRITE 100
+#define EX_ENOMEM 101
+
+static inline const char *ex_strerror(int st)
+{
+    return st == EX_EWRITE ? "an output file could not be written"
+           : st == EX_ENOMEM        ? "out of memory"
+           : st == SPH_ENONFINITE   ? "NaN or Inf in the solution"
+                                    : sph_strerror(st);
+}
+
+/* ---- memory ---- */
+
+/* calloc of count elements of size bytes; NULL when count * size overflows
+ * size_t or memory runs out, with a message on stderr naming what (none
+ * when what is NULL: the caller reports). */
+static inline void *ex_calloc(size_t count, size_t size, const char *what)
+{
+    void *p = NULL;
+    if (size != 0 && count > (size_t)-1 / size) {
+        if (what) fprintf(stderr, "cannot allocate %s: %.4g x %lu bytes overflow the address space\n", what,
+                          (double)count, (unsigned long)size);
+    } else if ((p = calloc(count ? count : 1, size ? size : 1)) == NULL && what) {
+        fprintf(stderr, "cannot allocate %s: %.4g MB (out of memory)\n", what, (double)count * (double)size / 1e6);
+    }
+    return p;
+}
+
+/* A particle count from its factors, checked to fit sph_idx (int32_t):
+ * SPH_OK and *n, or SPH_ESIZE (and a message naming what) when too many. */
+static inline int ex_particle_count(double count, const char *what, sph_idx *n)
+{
+    if (!(count >= 0) || count > (double)INT32_MAX) {
+        fprintf(stderr, "%s: %.4g particles exceed what sph_idx counts (%ld)\n", what, count, (long)INT32_MAX);
+        return SPH_ESIZE;
+    }
+    *n = (sph_idx)count;
+    return SPH_OK;
 }
 
 /* ---- wall clock and progress ---- */
@@ -197,6 +384,264 @@ static inline int ex_write_vtk(const char *path, sph_idx n, int dim, sph_view x,
         }
     }
     return fclose(out) == 0 ? 0 : -1;
+}
+
+/* ---- a run's frames: XML VTK with their time, and the series file ---- */
+
+/* SPH_OK when every component of the first n particles of each field is
+ * finite (sph_check_field); otherwise SPH_ENONFINITE and a message on stderr
+ * naming the program, field, particle and time, so the run stops there. */
+static inline int ex_fields_finite(const char *prog, const ex_field *f, int nfields, sph_idx n, double t)
+{
+    int k;
+    for (k = 0; k < nfields; ++k) {
+        sph_idx bad = -1;
+        const int st = sph_check_field(f[k].v, f[k].ncomp, n, &bad);
+        if (st == SPH_ENONFINITE) {
+            fprintf(stderr, "%s: %s of particle %ld is not finite at t = %.6g: run stopped, no further frames\n",
+                    prog, f[k].name, (long)bad, t);
+            return st;
+        }
+        if (st != SPH_OK) return st;
+    }
+    return SPH_OK;
+}
+
+/* One data array of a .vtu file: Float32 values of ncomp components per
+ * particle (kind 0; components vcomp.. of view v padded with 0, so 2-D
+ * vectors and positions get 3), or the Int32 / UInt8 vertex cells (kind 1:
+ * the connectivity i, 2: the offsets i + 1, 3: the types, 1 = VTK_VERTEX).
+ * Float32 and Int32: what a viewer needs, half the bytes of 64-bit values
+ * (sph_idx is 32-bit, so are the indices). ASCII: the values inside the
+ * element; binary: the 8-byte byte count and the raw values appended. */
+typedef struct {
+    FILE *out;
+    int ascii;
+} ex__vtu;
+
+static inline int ex__vtu_values(ex__vtu *w, sph_view v, int vcomp, int ncomp, int kind, sph_idx n)
+{
+    float buf[3 * 256];
+    int32_t ibuf[256];
+    unsigned char tbuf[256];
+    const size_t esize = kind == 3 ? 1 : 4;
+    const uint64_t bytes = (uint64_t)n * (uint64_t)(kind == 0 ? ncomp : 1) * esize;
+    sph_idx i0, i;
+    int a;
+    if (!w->ascii && fwrite(&bytes, sizeof bytes, 1, w->out) != 1) return -1;
+    for (i0 = 0; i0 < n; i0 += 256) {
+        const sph_idx m = n - i0 < 256 ? n - i0 : 256;
+        size_t cnt = 0;
+        for (i = 0; i < m; ++i) {
+            const sph_idx p = i0 + i;
+            if (kind == 0)
+                for (a = 0; a < ncomp; ++a)
+                    buf[cnt++] = a < vcomp ? (float)v.p[a][(ptrdiff_t)p * v.stride] : 0.0f;
+            else if (kind == 3)
+                tbuf[cnt++] = 1;
+            else
+                ibuf[cnt++] = (int32_t)p + (kind == 2);
+        }
+        if (w->ascii) {
+            size_t q;
+            for (q = 0; q < cnt; ++q) {
+                if (kind == 0) fprintf(w->out, "%.9g ", (double)buf[q]);
+                else fprintf(w->out, "%ld ", kind == 3 ? 1L : (long)ibuf[q]);
+            }
+            fputc('\n', w->out);
+        } else if (fwrite(kind == 0 ? (void *)buf : kind == 3 ? (void *)tbuf : (void *)ibuf, esize, cnt, w->out) !=
+                   cnt) {
+            return -1;
+        }
+    }
+    return 0;
+}
+
+/* The <DataArray> element of one array; binary: its offset into the
+ * appended block, advanced past it. */
+static inline void ex__vtu_array(ex__vtu *w, const char *type, const char *name, int ncomp, sph_view v, int vcomp,
+                                 int kind, sph_idx n, uint64_t *offset)
+{
+    fprintf(w->out, "        <DataArray type=\"%s\" Name=\"%s\" NumberOfComponents=\"%d\" format=\"%s\"", type, name,
+            ncomp, w->ascii ? "ascii" : "appended");
+    if (w->ascii) {
+        fprintf(w->out, ">\n");
+        ex__vtu_values(w, v, vcomp, ncomp, kind, n);
+        fprintf(w->out, "        </DataArray>\n");
+    } else {
+        fprintf(w->out, " offset=\"%lu\"/>\n", (unsigned long)*offset);
+        *offset += 8 + (uint64_t)n * (uint64_t)ncomp * (kind == 3 ? 1u : 4u);
+    }
+}
+
+/* Writes n particles (positions x, dim components) and their fields at time
+ * t as an XML VTK UnstructuredGrid of vertices (.vtu; VTK 6 and later,
+ * ParaView), values in single precision, the time (double) in FieldData
+ * TIME; appended raw binary in the host's byte order (named in the header),
+ * or ASCII (ascii = 1). 0 on success. */
+static inline int ex_write_vtu(const char *path, double t, sph_idx n, int dim, sph_view x, const ex_field *f,
+                               int nfields, int ascii)
+{
+    const uint16_t one = 1;
+    uint64_t offset = 0;
+    ex__vtu w;
+    int k, pass, err = 0;
+    if (n < 0 || dim < 1 || dim > 3 || (w.out = fopen(path, ascii ? "w" : "wb")) == NULL) return -1;
+    w.ascii = ascii;
+    fprintf(w.out, "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"%s\" "
+                   "header_type=\"UInt64\">\n  <UnstructuredGrid>\n    <FieldData>\n      <DataArray type=\"Float64\" "
+                   "Name=\"TIME\" NumberOfTuples=\"1\" format=\"ascii\">%.17g</DataArray>\n    </FieldData>\n"
+                   "    <Piece NumberOfPoints=\"%ld\" NumberOfCells=\"%ld\">\n",
+            *(const unsigned char *)&one ? "LittleEndian" : "BigEndian", t, (long)n, (long)n);
+    /* pass 0: the elements (ASCII: with their values); pass 1 (binary): the appended values in the same order */
+    for (pass = 0; pass < (ascii ? 1 : 2); ++pass) {
+        if (pass == 1) fprintf(w.out, "  <AppendedData encoding=\"raw\">\n   _");
+        if (pass == 0) fprintf(w.out, "      <PointData>\n");
+        for (k = 0; k < nfields; ++k) {
+            const int nc = f[k].ncomp == 1 ? 1 : 3;
+            if (pass == 0) ex__vtu_array(&w, "Float32", f[k].name, nc, f[k].v, f[k].ncomp, 0, n, &offset);
+            else err |= ex__vtu_values(&w, f[k].v, f[k].ncomp, nc, 0, n);
+        }
+        if (pass == 0) {
+            fprintf(w.out, "      </PointData>\n      <Points>\n");
+            ex__vtu_array(&w, "Float32", "Points", 3, x, dim, 0, n, &offset);
+            fprintf(w.out, "      </Points>\n      <Cells>\n");
+            ex__vtu_array(&w, "Int32", "connectivity", 1, x, 0, 1, n, &offset);
+            ex__vtu_array(&w, "Int32", "offsets", 1, x, 0, 2, n, &offset);
+            ex__vtu_array(&w, "UInt8", "types", 1, x, 0, 3, n, &offset);
+            fprintf(w.out, "      </Cells>\n    </Piece>\n  </UnstructuredGrid>\n");
+        } else {
+            err |= ex__vtu_values(&w, x, dim, 3, 0, n);
+            for (k = 1; k <= 3; ++k) err |= ex__vtu_values(&w, x, 0, 1, k, n);
+            fprintf(w.out, "\n  </AppendedData>\n");
+        }
+    }
+    fprintf(w.out, "</VTKFile>\n");
+    err |= ferror(w.out);
+    return fclose(w.out) != 0 || err ? -1 : 0;
+}
+
+/* The frames of one run: dir/name_0000.vtu, ... and dir/name.pvd, the
+ * series file that lists them with their times (ParaView: open the .pvd). */
+typedef struct {
+    char dir[1024], name[128], last[1200];
+    int ascii, count, removed;
+    double t_first, t_last;
+    double *time;
+    int cap;
+} ex_series;
+
+/* Whether file is name_<digits>.vtu / .vtk or name.pvd: a frame or series
+ * file of a run called name. */
+static inline int ex__series_file(const char *file, const char *name)
+{
+    const size_t n = strlen(name);
+    const char *p = file + n;
+    if (strncmp(file, name, n) != 0) return 0;
+    if (strcmp(p, ".pvd") == 0) return 1;
+    if (*p++ != '_' || !(*p >= '0' && *p <= '9')) return 0;
+    while (*p >= '0' && *p <= '9') ++p;
+    return strcmp(p, ".vtu") == 0 || strcmp(p, ".vtk") == 0;
+}
+
+/* Starts a series in dir (created, like mkdir -p) and removes the frames and
+ * series file of an earlier run of the same name there (s->removed counts
+ * them; other files are left alone). 0 on success, -1 (with a message) when
+ * dir cannot be created, read or cleaned. */
+static inline int ex_series_open(ex_series *s, const char *dir, const char *name, int ascii)
+{
+    DIR *d;
+    struct dirent *e;
+    memset(s, 0, sizeof *s);
+    if (strlen(dir) >= sizeof s->dir || strlen(name) >= sizeof s->name) {
+        fprintf(stderr, "output path too long: %s/%s\n", dir, name);
+        return -1;
+    }
+    strcpy(s->dir, dir), strcpy(s->name, name);
+    s->ascii = ascii;
+    if (ex_mkdir_p(dir) != 0 || (d = opendir(dir)) == NULL) {
+        fprintf(stderr, "cannot create or read the output directory %s\n", dir);
+        return -1;
+    }
+    while ((e = readdir(d)) != NULL) {
+        char path[1200];
+        if (!ex__series_file(e->d_name, name)) continue;
+        snprintf(path, sizeof path, "%s/%s", dir, e->d_name);
+        if (remove(path) != 0) {
+            fprintf(stderr, "cannot remove %s of an earlier run\n", path);
+            closedir(d);
+            return -1;
+        }
+        ++s->removed;
+    }
+    closedir(d);
+    return 0;
+}
+
+/* Writes the next frame (time t) and rewrites the .pvd to list every frame
+ * so far, so a run stopped early still leaves a series ParaView opens.
+ * 0 on success, -1 with a message naming the file. */
+static inline int ex_series_write(ex_series *s, double t, sph_idx n, int dim, sph_view x, const ex_field *f,
+                                  int nfields)
+{
+    char path[1200];
+    FILE *pvd;
+    int i, err;
+    if (s->count == s->cap) {
+        const int cap = s->cap ? 2 * s->cap : 64;
+        double *grown = (double *)realloc(s->time, (size_t)cap * sizeof *grown);
+        if (grown == NULL) {
+            fprintf(stderr, "cannot allocate the frame list of %s\n", s->name);
+            return -1;
+        }
+        s->time = grown, s->cap = cap;
+    }
+    snprintf(s->last, sizeof s->last, "%s/%s_%04d.vtu", s->dir, s->name, s->count);
+    if (ex_write_vtu(s->last, t, n, dim, x, f, nfields, s->ascii) != 0) {
+        fprintf(stderr, "cannot write %s\n", s->last);
+        return -1;
+    }
+    s->time[s->count++] = t;
+    s->t_last = t;
+    if (s->count == 1) s->t_first = t;
+    snprintf(path, sizeof path, "%s/%s.pvd", s->dir, s->name);
+    if ((pvd = fopen(path, "w")) == NULL) {
+        fprintf(stderr, "cannot write %s\n", path);
+        return -1;
+    }
+    fprintf(pvd, "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\">\n  <Collection>\n");
+    for (i = 0; i < s->count; ++i)
+        fprintf(pvd, "    <DataSet timestep=\"%.17g\" part=\"0\" file=\"%s_%04d.vtu\"/>\n", s->time[i], s->name, i);
+    fprintf(pvd, "  </Collection>\n</VTKFile>\n");
+    err = ferror(pvd);
+    if (fclose(pvd) != 0 || err) {
+        fprintf(stderr, "cannot write %s\n", path);
+        return -1;
+    }
+    return 0;
+}
+
+/* One line on stdout: what the series wrote (and removed of an earlier run). */
+static inline void ex_series_report(const ex_series *s)
+{
+    char times[64];
+    if (s->count == 0) {
+        printf("wrote no VTK frames of %s", s->name);
+    } else {
+        if (s->count > 1) snprintf(times, sizeof times, "t = %.4g .. %.4g", s->t_first, s->t_last);
+        else snprintf(times, sizeof times, "t = %.4g", s->t_first);
+        printf("wrote %d VTK frame%s %s/%s_0000.vtu%s%s (%s, %s) and the series %s/%s.pvd (ParaView)", s->count,
+               s->count > 1 ? "s" : "", s->dir, s->name, s->count > 1 ? " .. " : "",
+               s->count > 1 ? strrchr(s->last, '/') + 1 : "", s->ascii ? "ASCII" : "binary", times, s->dir, s->name);
+    }
+    if (s->removed > 0) printf("; removed %d file%s of an earlier run", s->removed, s->removed > 1 ? "s" : "");
+    printf("\n");
+}
+
+static inline void ex_series_close(ex_series *s)
+{
+    free(s->time);
+    s->time = NULL, s->cap = 0;
 }
 
 /* ---- neighbour lists that follow moving particles ---- */

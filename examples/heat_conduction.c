@@ -70,8 +70,10 @@ static double hc_two_layer_exact(double x, double k1, double k2)
 
 /* One case (two_layer 0 or 1). csv (may be NULL) receives the time series
  * t, L2 error, max error (single) or t, T at the interface (two-layer) and,
- * at the end, the profile x, T, exact T into profile (may be NULL). */
-static int hc_run(const hc_param *P, int two_layer, hc_result *R, FILE *csv, FILE *profile, const char *vtkdir,
+ * at the end, the profile x, T, exact T into profile (may be NULL); frames
+ * (may be NULL) the VTK series. A temperature turning NaN or Inf stops the
+ * run (SPH_ENONFINITE, no further frames). */
+static int hc_run(const hc_param *P, int two_layer, hc_result *R, FILE *csv, FILE *profile, ex_series *frames,
                   const char *label)
 {
     const int kid = sph_kernel_from_name(P->kernel), n = P->n;
@@ -80,9 +82,10 @@ static int hc_run(const hc_param *P, int two_layer, hc_result *R, FILE *csv, FIL
     const int mirror = strcmp(P->wall, "mirror") == 0;
     double kappa, dmax = 0, dt, t0 = ex_now();
     int nl, ny, i, j, l, st = SPH_OK, frame = 0;
-    sph_idx nf, nw, ns, q;
-    sph_real *x, *y, *T, *k, *V, *dT;
-    sph_idx *img;
+    sph_idx nf, ns, q;
+    sph_real *x = NULL, *y = NULL, *T = NULL, *k = NULL, *V = NULL, *dT = NULL;
+    sph_idx *img = NULL;
+    double steps_d;
     ex_neighbours NL;
     ex_progress prog = ex_progress_start();
     sph_box box;
@@ -94,12 +97,18 @@ static int hc_run(const hc_param *P, int two_layer, hc_result *R, FILE *csv, FIL
     nl = (int)ceil(kappa * P->hdx);          /* wall layers: the support reaches nl dx */
     ny = (int)ceil(2 * kappa * P->hdx) + 1;  /* periodic rows: the period exceeds 2 kappa h */
     if (n < 2 * nl || !(P->hdx > 0) || !(t_end > 0)) return SPH_EINVAL;
-    nf = (sph_idx)n * ny, nw = (sph_idx)2 * nl * ny, ns = nf + nw;
-    x = (sph_real *)calloc((size_t)ns, sizeof *x), y = (sph_real *)calloc((size_t)ns, sizeof *y);
-    T = (sph_real *)calloc((size_t)ns, sizeof *T), k = (sph_real *)calloc((size_t)ns, sizeof *k);
-    V = (sph_real *)calloc((size_t)ns, sizeof *V), dT = (sph_real *)calloc((size_t)ns, sizeof *dT);
-    img = (sph_idx *)calloc((size_t)ns, sizeof *img);
     memset(&NL, 0, sizeof NL);
+    if ((st = ex_particle_count((double)(n + 2 * nl) * ny, "heat_conduction", &ns)) != SPH_OK) return st;
+    nf = (sph_idx)n * ny;
+    x = (sph_real *)ex_calloc((size_t)ns, sizeof *x, NULL), y = (sph_real *)ex_calloc((size_t)ns, sizeof *y, NULL);
+    T = (sph_real *)ex_calloc((size_t)ns, sizeof *T, NULL), k = (sph_real *)ex_calloc((size_t)ns, sizeof *k, NULL);
+    V = (sph_real *)ex_calloc((size_t)ns, sizeof *V, NULL), dT = (sph_real *)ex_calloc((size_t)ns, sizeof *dT, NULL);
+    img = (sph_idx *)ex_calloc((size_t)ns, sizeof *img, NULL);
+    if (!x || !y || !T || !k || !V || !dT || !img) {
+        fprintf(stderr, "heat_conduction: cannot allocate the fields of %ld particles\n", (long)ns);
+        st = EX_ENOMEM;
+        goto done;
+    }
     for (j = 0; j < ny; ++j)
         for (i = 0; i < n; ++i) { /* fluid: cell-centred lattice, T = 0 */
             q = (sph_idx)j * n + i;
@@ -130,13 +139,22 @@ static int hc_run(const hc_param *P, int two_layer, hc_result *R, FILE *csv, FIL
         }
         dmax = d > dmax ? d : dmax;
     }
-    steps = (long)ceil(t_end / (0.9 / dmax));
+    steps_d = ceil(t_end / (0.9 / dmax));
+    if (st == SPH_OK && !(steps_d < 1e9)) {
+        fprintf(stderr, "heat_conduction: %.3g time steps is more than this example runs (1e9)\n", steps_d);
+        st = SPH_ESIZE;
+    }
+    steps = st == SPH_OK ? (long)steps_d : 1;
     dt = t_end / (double)steps;
     c = sph_ctx_init((sph_kernel)kid, 2, h, &NL.list, sph_view_soa(x, y, NULL));
     c.box = &box;
     c.V = sph_view_soa(V, NULL, NULL);
     for (s = 0; st == SPH_OK; ++s) {
         const double t = (double)s * dt;
+        ex_field f[2];
+        f[0].name = "temperature", f[0].v = sph_view_soa(T, NULL, NULL), f[0].ncomp = 1;
+        f[1].name = "conductivity", f[1].v = sph_view_soa(k, NULL, NULL), f[1].ncomp = 1;
+        if ((st = ex_fields_finite("heat_conduction", f, 1, nf, t)) != SPH_OK) break;
         for (q = nf; q < ns; ++q) { /* wall temperatures */
             const double Tb = x[q] < 0 ? 0 : 1;
             T[q] = (sph_real)(mirror ? 2 * Tb - T[img[q]] : Tb);
@@ -151,13 +169,12 @@ static int hc_run(const hc_param *P, int two_layer, hc_result *R, FILE *csv, FIL
             if (two_layer) fprintf(csv, "%.6g,%.9g\n", t, ti);
             else if (s > 0) fprintf(csv, "%.6g,%.6g,%.6g\n", t, sqrt(e2 / nf), em);
         }
-        if (vtkdir != NULL && P->frames > 0 && (s * P->frames) / steps >= frame) {
-            char path[1100];
-            ex_field f[2];
-            f[0].name = "temperature", f[0].v = sph_view_soa(T, NULL, NULL), f[0].ncomp = 1;
-            f[1].name = "conductivity", f[1].v = sph_view_soa(k, NULL, NULL), f[1].ncomp = 1;
-            snprintf(path, sizeof path, "%s/heat_%s_%04d.vtk", vtkdir, two_layer ? "two_layer" : "single", frame++);
-            if (ex_write_vtk(path, ns, 2, sph_view_soa(x, y, NULL), f, 2) != 0) fprintf(stderr, "cannot write %s\n", path);
+        if (frames != NULL && P->frames > 0 && (s * P->frames) / steps >= frame) {
+            if (ex_series_write(frames, t, ns, 2, sph_view_soa(x, y, NULL), f, 2) != 0) {
+                st = EX_EWRITE;
+                break;
+            }
+            ++frame;
         }
         if (s == steps) break;
         st = sph_diffusion(&c, sph_view_soa(k, NULL, NULL), sph_view_none(), sph_view_soa(T, NULL, NULL),
@@ -168,7 +185,7 @@ static int hc_run(const hc_param *P, int two_layer, hc_result *R, FILE *csv, FIL
     }
     if (label != NULL) ex_progress_done(&prog, label);
     R->l2 = R->max = R->t_interface = R->t_interface_exact = 0;
-    for (q = 0; q < nf; ++q) {
+    for (q = 0; st == SPH_OK && q < nf; ++q) {
         const double Te = two_layer ? hc_two_layer_exact(x[q], k1, k2) : hc_single_exact(x[q], t_end);
         const double e = fabs(T[q] - Te);
         R->l2 += e * e / nf, R->max = e > R->max ? e : R->max;
@@ -179,6 +196,7 @@ static int hc_run(const hc_param *P, int two_layer, hc_result *R, FILE *csv, FIL
     R->steps = steps;
     R->seconds = ex_now() - t0;
     if (st == SPH_OK && !(R->l2 < 1e30)) st = SPH_ENONFINITE;
+done:
     ex_neighbours_free(&NL);
     free(x), free(y), free(T), free(k), free(V), free(dT), free(img);
     return st;
@@ -202,7 +220,7 @@ static int hc_study(const hc_param *base, const char *docdir, const char *outdir
     FILE *md;
     int q, two, bad = 0;
     snprintf(path, sizeof path, "%s/heat_results.md", docdir);
-    if ((md = fopen(path, "w")) == NULL) return -1;
+    if ((md = fopen(path, "w")) == NULL) return fprintf(stderr, "heat_conduction: cannot write %s\n", path), -1;
     fprintf(md, "Written by `heat_conduction --study` (h = %g dx, rho c = 1, T = 0 at t = 0). Errors are "
                 "absolute (T runs from 0 to 1): L2 = root mean square over the particles, max = largest. Single "
                 "layer: k = 1, against the Fourier series at t = %g. Two layers: k = 1 | %g, against the steady "
@@ -232,7 +250,7 @@ static int hc_study(const hc_param *base, const char *docdir, const char *outdir
             if (a == SPH_OK) hc_print(&P, two, &R[two]);
         }
         if (a != SPH_OK) {
-            fprintf(md, "| %d | %s | %s | failed: %s | | | | | | |\n", P.n, P.kernel, P.wall, sph_strerror(a));
+            fprintf(md, "| %d | %s | %s | failed: %s | | | | | | |\n", P.n, P.kernel, P.wall, ex_strerror(a));
             bad = 1;
             continue;
         }
@@ -247,27 +265,41 @@ int main(int argc, char **argv)
     hc_param P;
     hc_result R[2];
     const char *out = "build/heat_conduction", *study = NULL;
-    int threads = 0, check = 0, st, two;
-    ex_option opt[12];
+    int threads = 1, check = 0, ascii = 0, st, two, nl;
+    ex_series frames[2];
+    /* Ranges: n to 1000 (the two-layer steps grow as n^2 k-ratio); h from dx
+     * (below, a particle has hardly any neighbours) to 3 dx; k-ratio within
+     * 1e-3 .. 1e3 (the step is set by the larger k, the run time by the ratio). */
+    const ex_arg opt[] = {
+        {"n", "particles across the slab (dx = 1/n)", NULL, &P.n, NULL, NULL, 8, 1000, 0, NULL},
+        {"kernel", "smoothing kernel", NULL, NULL, &P.kernel, NULL, 0, 0, 0, ex_kernel_choices()},
+        {"wall", "boundary particles: mirror (T_w = 2 T_b - T_f) or fixed (T_w = T_b)", NULL, NULL, &P.wall, NULL, 0,
+         0, 0, "mirror|fixed"},
+        {"hdx", "smoothing length h / dx", &P.hdx, NULL, NULL, NULL, 1, 3, 0, NULL},
+        {"k-ratio", "conductivity of the right layer (left: 1)", &P.k_ratio, NULL, NULL, NULL, 1e-3, 1e3, 0, NULL},
+        {"t-single", "end time of the single-layer transient", &P.t_single, NULL, NULL, NULL, 0, 10, EX_OPEN_LO, NULL},
+        {"t-end", "end time of the two-layer run (steady by then)", &P.t_end, NULL, NULL, NULL, 0, 10, EX_OPEN_LO,
+         NULL},
+        {"out", "output directory (VTK frames, CSV series and profiles)", NULL, NULL, &out, NULL, 0, 0, 0, NULL},
+        {"frames", "VTK frames per case: the start and this many more to the end (0: none)", NULL, &P.frames, NULL,
+         NULL, 0, 10000, 0, NULL},
+        {"ascii", "VTK frames in ASCII (default: binary)", NULL, NULL, NULL, &ascii, 0, 0, 0, NULL},
+        {"threads", "OpenMP threads (0: the runtime's default; 1 by default: a few hundred particles lose more to thread synchronisation than they gain)",
+         NULL, &threads, NULL, NULL, 0, 1024, 0, NULL},
+        {"check", "coarse run; exit 1 if it misses its validation bounds", NULL, NULL, NULL, &check, 0, 0, 0, NULL},
+        {"study", "write the error table into this directory (docs/results)", NULL, NULL, &study, NULL, 0, 0, 0, NULL},
+    };
     P.n = 30, P.kernel = "wendland_c2", P.wall = "mirror", P.hdx = 1.3, P.k_ratio = 100, P.t_single = 0.1;
     P.t_end = 0.3, P.frames = 10;
-    memset(opt, 0, sizeof opt);
-    opt[0].name = "n", opt[0].help = "particles across the slab (dx = 1/n)", opt[0].integer = &P.n;
-    opt[1].name = "kernel", opt[1].help = "cubic, lucy, new_quartic, quintic, wendland_c2/c4/c6", opt[1].text = &P.kernel;
-    opt[2].name = "wall", opt[2].help = "boundary particles: mirror (T_w = 2 T_b - T_f) or fixed (T_w = T_b)",
-    opt[2].text = &P.wall;
-    opt[3].name = "hdx", opt[3].help = "smoothing length h / dx", opt[3].real = &P.hdx;
-    opt[4].name = "k-ratio", opt[4].help = "conductivity of the right layer (left: 1)", opt[4].real = &P.k_ratio;
-    opt[5].name = "t-single", opt[5].help = "end time of the single-layer transient", opt[5].real = &P.t_single;
-    opt[6].name = "t-end", opt[6].help = "end time of the two-layer run (steady by then)", opt[6].real = &P.t_end;
-    opt[7].name = "out", opt[7].help = "output directory (VTK frames, CSV series and profiles)", opt[7].text = &out;
-    opt[8].name = "frames", opt[8].help = "VTK frames per case (0: none)", opt[8].integer = &P.frames;
-    opt[9].name = "threads", opt[9].help = "OpenMP threads (0: the runtime's default)", opt[9].integer = &threads;
-    opt[10].name = "check", opt[10].help = "coarse run; exit 1 if it misses its validation bounds", opt[10].flag = &check;
-    opt[11].name = "study", opt[11].help = "write the error table into this directory (docs/results)", opt[11].text = &study;
-    st = ex_parse(argc, argv, "2-D heat conduction through two layers (k 1:100) and one, against analytic solutions",
-                  opt, 12);
+    st = ex_parse_args(argc, argv, "2-D heat conduction through two layers (k 1:100) and one, against analytic solutions",
+                       opt, (int)(sizeof opt / sizeof opt[0]));
     if (st != 0) return st > 0 ? 0 : 2;
+    nl = (int)ceil(sph_kernel_support((sph_kernel)sph_kernel_from_name(P.kernel)) * P.hdx);
+    if (P.n < 2 * nl) { /* the wall layers mirror the first nl fluid columns on each side */
+        fprintf(stderr, "%s: --n %d refused: with --kernel %s and --hdx %g the walls need n >= 2 ceil(kappa h / dx) = %d\n",
+                argv[0], P.n, P.kernel, P.hdx, 2 * nl);
+        return 2;
+    }
 #ifdef _OPENMP
     if (threads > 0) omp_set_num_threads(threads);
 #else
@@ -280,7 +312,7 @@ int main(int argc, char **argv)
         for (two = 0; two < 2; ++two) {
             st = hc_run(&C, two, &R[two], NULL, NULL, NULL, NULL);
             if (st != SPH_OK) {
-                printf("heat_conduction --check: run failed: %s\n", sph_strerror(st));
+                printf("heat_conduction --check: run failed: %s\n", ex_strerror(st));
                 return 1;
             }
             hc_print(&C, two, &R[two]);
@@ -292,28 +324,37 @@ int main(int argc, char **argv)
         return ok ? 0 : 1;
     }
     if (ex_mkdir_p(out) != 0) {
-        fprintf(stderr, "cannot create %s\n", out);
+        fprintf(stderr, "heat_conduction: cannot create %s\n", out);
         return 2;
     }
     if (study != NULL) return hc_study(&P, study, out) == 0 ? 0 : 1;
+    if (ex_series_open(&frames[0], out, "heat_single", ascii) != 0 ||
+        ex_series_open(&frames[1], out, "heat_two_layer", ascii) != 0)
+        return 2;
     for (two = 0; two < 2; ++two) {
-        char path[1100];
+        char path[2][1100];
         FILE *csv, *prof;
-        snprintf(path, sizeof path, "%s/%s_series.csv", out, two ? "two_layer" : "single");
-        csv = fopen(path, "w");
-        if (csv != NULL) fprintf(csv, two ? "t,T at x = 1/2\n" : "t,L2 error,max error\n");
-        snprintf(path, sizeof path, "%s/%s_profile.csv", out, two ? "two_layer" : "single");
-        prof = fopen(path, "w");
-        if (prof != NULL) fprintf(prof, "x,T,exact T\n");
-        st = hc_run(&P, two, &R[two], csv, prof, out, two ? "heat two-layer" : "heat single");
-        if (csv != NULL) fclose(csv);
-        if (prof != NULL) fclose(prof);
+        snprintf(path[0], sizeof path[0], "%s/%s_series.csv", out, two ? "two_layer" : "single");
+        snprintf(path[1], sizeof path[1], "%s/%s_profile.csv", out, two ? "two_layer" : "single");
+        if ((csv = fopen(path[0], "w")) == NULL || (prof = fopen(path[1], "w")) == NULL) {
+            fprintf(stderr, "heat_conduction: cannot write %s\n", csv == NULL ? path[0] : path[1]);
+            if (csv != NULL) fclose(csv);
+            return 2;
+        }
+        fprintf(csv, two ? "t,T at x = 1/2\n" : "t,L2 error,max error\n");
+        fprintf(prof, "x,T,exact T\n");
+        st = hc_run(&P, two, &R[two], csv, prof, &frames[two], two ? "heat two-layer" : "heat single");
+        if ((fclose(csv) != 0 || fclose(prof) != 0) && st == SPH_OK) st = EX_EWRITE;
         if (st != SPH_OK) {
-            fprintf(stderr, "heat_conduction: %s\n", sph_strerror(st));
-            return 1;
+            fprintf(stderr, "heat_conduction: %s case failed: %s\n", two ? "two-layer" : "single", ex_strerror(st));
+            ex_series_report(&frames[two]);
+            break;
         }
         hc_print(&P, two, &R[two]);
+        printf("wrote %s (%s) and %s (x, T, exact T at the end)\n", path[0],
+               two ? "t, T next to x = 1/2" : "t, L2 error, max error", path[1]);
+        ex_series_report(&frames[two]);
     }
-    printf("wrote %s/{single,two_layer}_{series,profile}.csv and VTK frames %s/heat_*.vtk\n", out, out);
-    return 0;
+    ex_series_close(&frames[0]), ex_series_close(&frames[1]);
+    return st == SPH_OK ? 0 : 1;
 }

@@ -14,6 +14,7 @@
  */
 #include <math.h>
 #include <stdio.h>
+#include <string.h>
 
 #include "sph_kernel.h"
 
@@ -142,8 +143,14 @@ static void table_values(void)
     printf("\n");
 }
 
-int main(void)
+int main(int argc, char **argv)
 {
+    if (argc > 1) { /* it takes none: say so rather than ignore a typo */
+        const int help = strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0;
+        fprintf(help ? stdout : stderr, "%s: %s; takes no arguments%s%s%s\n", argv[0], "the constants of every kernel, checked by quadrature, and W, dW/dr at a few q",
+                help ? "" : " (got '", help ? "" : argv[1], help ? "" : "')");
+        return help ? 0 : 2;
+    }
     gauss_legendre_init();
     printf("sph_kernel.h %s, sph_real = %s\n\n", SPH_KERNEL_VERSION_STRING,
            sizeof(sph_real) == sizeof(float) ? "float" : "double");

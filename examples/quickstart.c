@@ -2,16 +2,23 @@
  * Build: cc -std=c99 -I. examples/quickstart.c -lm   (or: make build/quickstart) */
 #include <math.h>
 #include <stdio.h>
+#include <string.h>
 #include "sph_kernel.h"
 
 #define N 25 /* a 5 x 5 lattice of spacing dx: unit density, m = dx^2 */
 
-int main(void)
+int main(int argc, char **argv)
 {
     const sph_kernel k = SPH_KERNEL_WENDLAND_C2;
     const sph_real dx = 0.1, m = dx * dx, h = 1.2 * dx;
     sph_real x[N][2], W, F, grad[2], rho = 0;
     int i, j;
+    if (argc > 1) { /* it takes none: say so rather than ignore a typo */
+        const int help = strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0;
+        fprintf(help ? stdout : stderr, "%s: %s; takes no arguments%s%s%s\n", argv[0], "one kernel pair and a density sum on a 5 x 5 lattice",
+                help ? "" : " (got '", help ? "" : argv[1], help ? "" : "')");
+        return help ? 0 : 2;
+    }
     for (i = 0; i < N; ++i) x[i][0] = dx * (i % 5), x[i][1] = dx * (i / 5);
 
     /* one pair i = 12 (the centre), j = 18 (diagonal): W, F = (1/r) dW/dr, grad_i W_ij */

@@ -77,7 +77,7 @@ typedef struct {
     sph_real *bu, *bv; /* transport-velocity formulation: the background-pressure acceleration */
 } tg_state;
 
-static sph_real *tg_alloc(sph_idx n) { return (sph_real *)calloc((size_t)(2 * n), sizeof(sph_real)); }
+static sph_real *tg_alloc(sph_idx n) { return (sph_real *)ex_calloc((size_t)n * 2, sizeof(sph_real), NULL); }
 
 /* The rates of the two halves of a step (Adami et al. 2013 ordering):
  * phase 0 rebuilds the lists (moving particles) and writes drho/dt,
@@ -281,25 +281,24 @@ static double tg_energy(const tg_state *S, double t, double nu, double *l2)
     return e;
 }
 
-static int tg_vtk(const tg_state *S, const char *dir, int frame)
+/* The fields of a frame, also the ones checked for NaN and Inf every step. */
+static void tg_fields(const tg_state *S, ex_field f[3])
 {
-    char path[1100];
-    ex_field f[3];
     f[0].name = "velocity", f[0].v = sph_view_soa(S->u, S->v, NULL), f[0].ncomp = 2;
     f[1].name = "pressure", f[1].v = sph_view_soa(S->p, NULL, NULL), f[1].ncomp = 1;
     f[2].name = "density", f[2].v = sph_view_soa(S->rho, NULL, NULL), f[2].ncomp = 1;
-    snprintf(path, sizeof path, "%s/taylor_green_%04d.vtk", dir, frame);
-    return ex_write_vtk(path, S->n, 2, sph_view_soa(S->x, S->y, NULL), f, 3);
 }
 
 /* One run. csv (may be NULL): time series t, E/E0, exact E/E0, L2 error.
- * vtkdir (may be NULL): frames. Returns 0 or a negative status. */
-static int tg_run(const tg_param *P, tg_result *R, FILE *csv, const char *vtkdir, const char *label)
+ * frames (may be NULL): the VTK series. Returns 0 or a negative status;
+ * a field turning NaN or Inf stops the run (SPH_ENONFINITE, no further frames). */
+static int tg_run(const tg_param *P, tg_result *R, FILE *csv, ex_series *frames, const char *label)
 {
     const int n = P->n, kid = sph_kernel_from_name(P->kernel);
     const double L = 1, U = 1, rho0 = 1, dx = L / n, h = P->hdx * dx, nu = U * L / P->re;
     const double dt0 = fmin(P->cfl * h / (P->c0 + U), 0.125 * h * h / nu);
-    const long steps = (long)ceil(P->t_end / dt0 - 1e-9);
+    const double steps_d = ceil(P->t_end / dt0 - 1e-9);
+    const long steps = steps_d > 0 && steps_d < 1e9 ? (long)steps_d : 1;
     const double dt = P->t_end / (double)steps;
     const sph_box box = {{0, 0, 0}, {1, 1, 1}, {1, 1, 0}};
     const int tvf = P->lagrangian && !P->plain;
@@ -316,14 +315,26 @@ static int tg_run(const tg_param *P, tg_result *R, FILE *csv, const char *vtkdir
         strcmp(P->scheme, "corrected") != 0)
         return SPH_EINVAL;
     if (n < 4 || !(P->t_end > 0) || !(P->hdx > 0)) return SPH_EINVAL;
+    if (!(steps_d < 1e9)) {
+        fprintf(stderr, "taylor_green: %.3g time steps (dt = %.3g) is more than this example runs (1e9)\n", steps_d, dt0);
+        return SPH_ESIZE;
+    }
     memset(&NL, 0, sizeof NL);
-    S.n = (sph_idx)n * n;
+    memset(&S, 0, sizeof S);
+    if ((st = ex_particle_count((double)n * n, "taylor_green", &S.n)) != SPH_OK) return st;
     S.x = tg_alloc(S.n), S.y = tg_alloc(S.n), S.u = tg_alloc(S.n), S.v = tg_alloc(S.n);
     S.rho = tg_alloc(S.n), S.p = tg_alloc(S.n), S.V = tg_alloc(S.n), S.m = tg_alloc(S.n);
     S.du = tg_alloc(S.n), S.dv = tg_alloc(S.n), S.drho = tg_alloc(S.n), S.gp = tg_alloc(S.n);
     S.lu = tg_alloc(S.n), S.lv = tg_alloc(S.n), S.div = tg_alloc(S.n), S.one = tg_alloc(S.n);
-    S.T = (sph_real *)calloc((size_t)(4 * S.n), sizeof(sph_real));
+    S.T = (sph_real *)ex_calloc((size_t)S.n * 4, sizeof(sph_real), NULL);
     S.bu = tg_alloc(S.n), S.bv = tg_alloc(S.n);
+    if (!S.x || !S.y || !S.u || !S.v || !S.rho || !S.p || !S.V || !S.m || !S.du || !S.dv || !S.drho || !S.gp ||
+        !S.lu || !S.lv || !S.div || !S.one || !S.T || !S.bu || !S.bv) {
+        fprintf(stderr, "taylor_green: cannot allocate the fields of %ld particles (%.4g MB)\n", (long)S.n,
+                (double)S.n * 40 * sizeof(sph_real) / 1e6);
+        st = EX_ENOMEM;
+        goto done;
+    }
     for (i = 0; i < S.n; ++i) S.one[i] = 1;
     for (i = 0; i < S.n; ++i) { /* cell-centred lattice, optionally perturbed (seeded) */
         double px = ((double)(i % n) + 0.5) * dx, py = ((double)(i / n) + 0.5) * dx, pa;
@@ -352,16 +363,23 @@ static int tg_run(const tg_param *P, tg_result *R, FILE *csv, const char *vtkdir
     for (s = 0; st == SPH_OK && s <= steps; ++s) {
         const double t = (double)s * dt;
         const double e = tg_energy(&S, t, nu, &l2);
+        ex_field f[3];
+        tg_fields(&S, f);
         if (s == 0) e0 = e;
-        if (!(e > 0) || !isfinite(e)) {
+        if ((st = ex_fields_finite("taylor_green", f, 3, S.n, t)) != SPH_OK) break;
+        if (!(e > 0)) {
+            fprintf(stderr, "taylor_green: kinetic energy %g at t = %.6g: run stopped\n", e, t);
             st = SPH_ENONFINITE;
             break;
         }
         st_t += t, st_y += log(e / e0), st_tt += t * t, st_ty += t * log(e / e0), cnt += 1;
         if (csv != NULL && (s % (steps / 200 + 1) == 0 || s == steps))
             fprintf(csv, "%.6g,%.9g,%.9g,%.6g\n", t, e / e0, exp(-16 * PI * PI * nu * t), l2);
-        if (vtkdir != NULL && P->frames > 0 && (s * P->frames) / steps >= frame) {
-            if (tg_vtk(&S, vtkdir, frame) != 0) fprintf(stderr, "cannot write VTK into %s\n", vtkdir);
+        if (frames != NULL && P->frames > 0 && (s * P->frames) / steps >= frame) {
+            if (ex_series_write(frames, t, S.n, 2, sph_view_soa(S.x, S.y, NULL), f, 3) != 0) {
+                st = EX_EWRITE;
+                break;
+            }
             ++frame;
         }
         if (s == steps) break;
@@ -384,6 +402,7 @@ static int tg_run(const tg_param *P, tg_result *R, FILE *csv, const char *vtkdir
         if (label != NULL) ex_progress_update(&prog, label, (double)(s + 1) / (double)steps);
     }
     if (label != NULL) ex_progress_done(&prog, label);
+done:
     R->steps = steps;
     R->rate_exact = 16 * PI * PI * nu;
     R->rate_fit = -(cnt * st_ty - st_t * st_y) / (cnt * st_tt - st_t * st_t); /* least squares of ln E(t) */
@@ -441,7 +460,7 @@ static int tg_study(const tg_param *base, const char *docdir, const char *outdir
     size_t q;
     int a, s, bad = 0;
     snprintf(path, sizeof path, "%s/taylor_green_results.md", docdir);
-    if ((md = fopen(path, "w")) == NULL) return -1;
+    if ((md = fopen(path, "w")) == NULL) return fprintf(stderr, "taylor_green: cannot write %s\n", path), -1;
     fprintf(md, "Written by `taylor_green --study` (Re = %g, c0 = %g U, t = %g, linear EOS with p_b = %g; "
                 "h = 2 dx for moving particles, 1.3 dx for fixed ones; transport velocity with background "
                 "pressure rho0 c0^2). Decay-rate error: least-squares slope of ln E(t) over [0, t] against "
@@ -467,7 +486,7 @@ static int tg_study(const tg_param *base, const char *docdir, const char *outdir
         fprintf(md, "| %d^2 | %s | %s | %s | %s | %.1f | ", P.n, P.kernel, P.scheme, tg_motion_name(rows[q].motion),
                 P.perturb > 0 ? "perturbed 0.2 dx" : "lattice", P.hdx);
         if (a != SPH_OK) {
-            fprintf(md, "diverged (%s) | | | | |\n", sph_strerror(a));
+            fprintf(md, "diverged (%s) | | | | |\n", ex_strerror(a));
             bad += q < 3; /* the moving resolution rows must run */
             continue;
         }
@@ -483,46 +502,47 @@ int main(int argc, char **argv)
     tg_param P;
     tg_result R;
     const char *out = "build/taylor_green", *study = NULL;
-    int threads = 0, check = 0, st;
+    int threads = 1, check = 0, ascii = 0, st;
     char path[1100];
     FILE *csv;
-    ex_option opt[13];
+    ex_series frames;
+    /* Ranges: n to 4000 (16 million particles, several GB); Re from 0.1 (the
+     * viscous step 0.125 h^2 Re keeps runs below millions of steps); c0 above
+     * U; cfl to 1 (the acoustic limit of the kick-drift-kick step). */
+    const ex_arg opt[] = {
+        {"n", "particles per side of the unit square", NULL, &P.n, NULL, NULL, 8, 4000, 0, NULL},
+        {"kernel", "smoothing kernel", NULL, NULL, &P.kernel, NULL, 0, 0, 0, ex_kernel_choices()},
+        {"scheme", "pressure gradient: pressure (O8), difference (O5), corrected (O7)", NULL, NULL, &P.scheme, NULL,
+         0, 0, 0, "pressure|difference|corrected"},
+        {"hdx", "smoothing length h / dx (0: 2 moving, 1.3 fixed)", &P.hdx, NULL, NULL, NULL, 1, 4, EX_OR_ZERO, NULL},
+        {"t-end", "end time (L / U)", &P.t_end, NULL, NULL, NULL, 0, 100, EX_OPEN_LO, NULL},
+        {"re", "Reynolds number U L / nu", &P.re, NULL, NULL, NULL, 0.1, 1e5, 0, NULL},
+        {"c0", "speed of sound (U)", &P.c0, NULL, NULL, NULL, 1, 1000, EX_OPEN_LO, NULL},
+        {"pb", "background pressure of the equation of state", &P.pb, NULL, NULL, NULL, 0, 1e6, 0, NULL},
+        {"perturb", "start: lattice moved by up to this fraction of dx", &P.perturb, NULL, NULL, NULL, 0, 0.5, 0, NULL},
+        {"out", "output directory (VTK frames, energy.csv)", NULL, NULL, &out, NULL, 0, 0, 0, NULL},
+        {"frames", "VTK frames: the start and this many more to the end (0: none)", NULL, &P.frames, NULL, NULL, 0,
+         10000, 0, NULL},
+        {"ascii", "VTK frames in ASCII (default: binary)", NULL, NULL, NULL, &ascii, 0, 0, 0, NULL},
+        {"threads", "OpenMP threads (0: the runtime's default; 1 by default: runs this small lose more to thread synchronisation on a busy machine than they gain)",
+         NULL, &threads, NULL, NULL, 0, 1024, 0, NULL},
+        {"check", "short coarse run; exit 1 if it misses its validation bounds", NULL, NULL, NULL, &check, 0, 0, 0,
+         NULL},
+        {"study", "write the error table into this directory (docs/results)", NULL, NULL, &study, NULL, 0, 0, 0, NULL},
+        {"lagrangian", "particles move with the flow, transport-velocity formulation (default: fixed particles)",
+         NULL, NULL, NULL, &P.lagrangian, 0, 0, 0, NULL},
+        {"pt", "background pressure of the transport velocity (negative: rho0 c0^2)", &P.pt, NULL, NULL, NULL, -1,
+         1e6, 0, NULL},
+        {"plain", "with --lagrangian: standard WCSPH (continuity, no transport velocity)", NULL, NULL, NULL, &P.plain,
+         0, 0, 0, NULL},
+        {"shift", "with --plain: particle shifting D, dr = -D h^2 grad C (0: off)", &P.shift, NULL, NULL, NULL, 0, 1,
+         0, NULL},
+        {"cfl", "time step dt = cfl h / (c0 + U)", &P.cfl, NULL, NULL, NULL, 0, 1, EX_OPEN_LO, NULL},
+    };
     P.n = 40, P.kernel = "wendland_c2", P.scheme = "pressure", P.hdx = 0, P.t_end = 1, P.re = 100, P.c0 = 10;
     P.pb = 0, P.pt = -1, P.perturb = 0, P.frames = 10, P.shift = 0.05, P.lagrangian = 0, P.plain = 0, P.cfl = 0.25;
-    memset(opt, 0, sizeof opt);
-    opt[0].name = "n", opt[0].help = "particles per side of the unit square", opt[0].integer = &P.n;
-    opt[1].name = "kernel", opt[1].help = "cubic, lucy, new_quartic, quintic, wendland_c2/c4/c6", opt[1].text = &P.kernel;
-    opt[2].name = "scheme", opt[2].help = "pressure gradient: pressure (O8), difference (O5), corrected (O7)",
-    opt[2].text = &P.scheme;
-    opt[3].name = "hdx", opt[3].help = "smoothing length h / dx (0: 2 moving, 1.3 fixed)", opt[3].real = &P.hdx;
-    opt[4].name = "t-end", opt[4].help = "end time (L / U)", opt[4].real = &P.t_end;
-    opt[5].name = "re", opt[5].help = "Reynolds number U L / nu", opt[5].real = &P.re;
-    opt[6].name = "c0", opt[6].help = "speed of sound (U)", opt[6].real = &P.c0;
-    opt[7].name = "pb", opt[7].help = "background pressure of the equation of state", opt[7].real = &P.pb;
-    opt[8].name = "perturb", opt[8].help = "start: lattice moved by up to this fraction of dx", opt[8].real = &P.perturb;
-    opt[9].name = "out", opt[9].help = "output directory (VTK frames, energy.csv)", opt[9].text = &out;
-    opt[10].name = "frames", opt[10].help = "number of VTK frames (0: none)", opt[10].integer = &P.frames;
-    opt[11].name = "threads", opt[11].help = "OpenMP threads (0: the runtime's default)", opt[11].integer = &threads;
-    opt[12].name = "check", opt[12].help = "short coarse run; exit 1 if it misses its validation bounds",
-    opt[12].flag = &check;
-    {
-        ex_option all[19];
-        memcpy(all, opt, sizeof opt);
-        memset(&all[13], 0, 6 * sizeof all[13]);
-        all[13].name = "study", all[13].help = "write the error table into this directory (docs/results)", all[13].text = &study;
-        all[14].name = "lagrangian", all[14].help = "particles move with the flow, transport-velocity formulation "
-                                                    "(default: fixed particles)";
-        all[14].flag = &P.lagrangian;
-        all[15].name = "pt", all[15].help = "background pressure of the transport velocity (-1: rho0 c0^2)";
-        all[15].real = &P.pt;
-        all[16].name = "plain", all[16].help = "with --lagrangian: standard WCSPH (continuity, no transport velocity)";
-        all[16].flag = &P.plain;
-        all[17].name = "shift", all[17].help = "with --plain: particle shifting D, dr = -D h^2 grad C (0: off)";
-        all[17].real = &P.shift;
-        all[18].name = "cfl", all[18].help = "time step dt = cfl h / (c0 + U)", all[18].real = &P.cfl;
-        st = ex_parse(argc, argv, "2-D Taylor-Green vortex, weakly compressible SPH, against the analytic decay",
-                      all, 19);
-    }
+    st = ex_parse_args(argc, argv, "2-D Taylor-Green vortex, weakly compressible SPH, against the analytic decay",
+                       opt, (int)(sizeof opt / sizeof opt[0]));
     if (st != 0) return st > 0 ? 0 : 2;
     if (!(P.hdx > 0)) P.hdx = P.lagrangian && !P.plain ? 2.0 : 1.3;
 #ifdef _OPENMP
@@ -539,7 +559,7 @@ int main(int argc, char **argv)
             C.n = 24, C.t_end = mv ? 1 : 0.5, C.frames = 0, C.lagrangian = mv, C.plain = 0, C.hdx = mv ? 2.0 : 1.3;
             st = tg_run(&C, &R, NULL, NULL, NULL);
             if (st != SPH_OK) {
-                printf("taylor_green --check: %s run failed: %s\n", mv ? "moving" : "fixed", sph_strerror(st));
+                printf("taylor_green --check: %s run failed: %s\n", mv ? "moving" : "fixed", ex_strerror(st));
                 return 1;
             }
             tg_print(&C, &R);
@@ -552,20 +572,23 @@ int main(int argc, char **argv)
         return ok ? 0 : 1;
     }
     if (ex_mkdir_p(out) != 0) {
-        fprintf(stderr, "cannot create %s\n", out);
+        fprintf(stderr, "taylor_green: cannot create %s\n", out);
         return 2;
     }
     if (study != NULL) return tg_study(&P, study, out) == 0 ? 0 : 1;
     snprintf(path, sizeof path, "%s/energy.csv", out);
-    csv = fopen(path, "w");
-    if (csv != NULL) fprintf(csv, "t,E/E0,exact E/E0,L2 velocity error\n");
-    st = tg_run(&P, &R, csv, out, "taylor_green");
-    if (csv != NULL) fclose(csv);
-    if (st != SPH_OK) {
-        fprintf(stderr, "taylor_green: %s\n", sph_strerror(st));
-        return 1;
+    if ((csv = fopen(path, "w")) == NULL) {
+        fprintf(stderr, "taylor_green: cannot write %s\n", path);
+        return 2;
     }
-    tg_print(&P, &R);
-    printf("wrote %s/energy.csv and %d VTK frames %s/taylor_green_*.vtk\n", out, P.frames + (P.frames > 0), out);
-    return 0;
+    if (ex_series_open(&frames, out, "taylor_green", ascii) != 0) return 2;
+    fprintf(csv, "t,E/E0,exact E/E0,L2 velocity error\n");
+    st = tg_run(&P, &R, csv, &frames, "taylor_green");
+    if (fclose(csv) != 0 && st == SPH_OK) st = EX_EWRITE;
+    if (st == SPH_OK) tg_print(&P, &R);
+    else fprintf(stderr, "taylor_green: run failed: %s\n", ex_strerror(st));
+    printf("wrote %s (t, E/E0, exact E/E0, L2 velocity error)%s\n", path, st == SPH_OK ? "" : " up to the failure");
+    ex_series_report(&frames);
+    ex_series_close(&frames);
+    return st == SPH_OK ? 0 : 1;
 }

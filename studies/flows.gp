@@ -1,10 +1,12 @@
 # studies/flows.gp - validation plots of examples/taylor_green.c and
 # examples/heat_conduction.c (make plots-flows). datadir: the CSVs of their
 # --study runs; outdir: where the PNGs go.
-set terminal pngcairo size 800,560 font ",11"
 set datafile separator ","
-set key top right
 set grid
+# the Taylor-Green plots carry six curves that fill the axes: their legend
+# goes below the axes, in two columns, where it covers none of them
+set terminal pngcairo size 800,680 font ",11"
+set key below maxrows 3 width -2
 
 set output outdir.'/taylor_green_energy.png'
 set title "Taylor-Green vortex, Re = 100: kinetic energy (Wendland C2)"
@@ -21,9 +23,8 @@ unset logscale y
 
 set output outdir.'/taylor_green_l2.png'
 set title "Taylor-Green vortex: relative L2 velocity error"
-set ylabel "||v - v_exact|| / ||v_exact||"
+set ylabel "||v - v_{exact}|| / ||v_{exact}||"
 set logscale y
-set key top left
 plot datadir.'/tg_24_wendland_c2_pressure_lattice_tvf.csv' using 1:4 with lines lw 2 title "24^2 moving (transport velocity)", \
      datadir.'/tg_32_wendland_c2_pressure_lattice_tvf.csv' using 1:4 with lines lw 2 title "32^2 moving", \
      datadir.'/tg_48_wendland_c2_pressure_lattice_tvf.csv' using 1:4 with lines lw 2 title "48^2 moving", \
@@ -32,6 +33,8 @@ plot datadir.'/tg_24_wendland_c2_pressure_lattice_tvf.csv' using 1:4 with lines 
      datadir.'/tg_32_wendland_c2_pressure_lattice_plain.csv' using 1:4 with lines lw 2 dt 2 title "32^2 moving, plain + shifting"
 unset logscale y
 
+set terminal pngcairo size 800,560 font ",11"
+set key default
 set output outdir.'/heat_two_layer.png'
 set title "Two layers, k = 1 | 100: steady temperature (Wendland C2, mirror walls)"
 set xlabel "x"

@@ -53,6 +53,15 @@ do for [g in "density interpolation gradient divergence laplacian"] {
 }
 
 set terminal pngcairo size 1800,1150 font "Sans,12"
+# each panel fits its own data (a sweep B spans well under a decade in dx/h and
+# often in the error): ranges fixed at the data plus a margin, x tics at 1, 2
+# and 5 of every decade, the error on a log axis when it spans a factor of 5 or
+# more, otherwise on a linear one (a log axis inside one decade has no labels)
+set autoscale fix
+set offsets graph 0.04, graph 0.04, graph 0.08, graph 0.08
+set format x "%g"
+set xtics ()
+do for [e=-8:3] { set xtics add (1 * 10.0**e, 2 * 10.0**e, 5 * 10.0**e) }
 opname(o) = o == 0 ? "difference gradient" : o == 1 ? "corrected gradient" : "Laplacian"
 do for [sw in "A B"] {
   do for [dim=2:3] {
@@ -73,6 +82,13 @@ do for [sw in "A B"] {
         set ylabel "L2 error"
         if (o == 0 && ai == na - 1) { set key } else { unset key }
         base = ((dim - 2) * 4 + a) * 21 + o * 7
+        stats sprintf("%s/sweep_%s.csv", dir, sw) index base:base+6 using 10 nooutput
+        if (STATS_min > 0 && STATS_max / STATS_min >= 5) {
+          set logscale y; set format y "%g"; set ytics ()
+          do for [e=-8:3] { set ytics add (1 * 10.0**e, 2 * 10.0**e, 5 * 10.0**e) }
+        } else {
+          unset logscale y; set format y "%.3g"; set ytics autofreq
+        }
         plot for [k=0:6] sprintf("%s/sweep_%s.csv", dir, sw) index base+k \
              using (sw eq "A" ? $8 : $9):10 with linespoints lt k+1 title word(names, k+1)
       }
