@@ -70,6 +70,8 @@
  *   5. pair terms           1-4: one neighbour's contribution to each operator
  *   6. array operators      1-5: the operators over a CSR list (deletable)
  *   7. neighbour search     1-4: builds the CSR lists (deletable)
+ *   9. smoothing length     1-5: adaptive h with grad-h terms, pair-once
+ *      and pair-once loops  loops over a half list (deletable)
  *
  * ==== API AT A GLANCE (every public function; k kernel, dim 1..3) ==========
  * Names with a double underscore (sph__, SPH__) are internal.
@@ -144,6 +146,16 @@
  *   sph_nsearch_permutation(&g, perm)            sources in cell order (N5)
  *   sph_permutation_invert(perm, n, inv)         inverse permutation (N6)
  *   sph_permute(in, ncomp, n, perm, out)         out[k] = in[perm[k]] (N5)
+ * 9. Smoothing length and pair-once loops (docs/smoothing_length.md)
+ *   sph_hctx_init(k, dim, list, x, m, h_list_max)  a context; eta 1.2, tol 1e-6
+ *   sph_h_solve(c, h, rho, omega, iters, state, &report)  h, rho, Omega per particle (H1)-(H4)
+ *   sph_gradh_factor(p, rho, omega)              A = p / (Omega rho^2) of (H5), (H6)
+ *   sph_pair_gradh_pressure(dim, m_j, A_i, A_j, F_i, F_j, dx, acc)  acc += (H5)
+ *   sph_pair_gradh_energy(dim, m_j, A_i, F_i, v_ij, dx)            (H6) term
+ *   sph_gradh_forces(c, v, h, A, dvdt, dudt)     (H5), (H6), gather form
+ *   sph_pairs_build(full, offset, index, cap, t_offset, t_pair, &pairs, &P)  half list + transpose (H8)
+ *   sph_pairs_reduce(&P, ncomp, to_i, to_j, out) per-particle sums of per-pair terms (H8)
+ *   sph_gradh_forces_pairs(c, &P, v, h, A, buf, dvdt, dudt)  (H5), (H6), pair-once
  *
  * ==== EQUATION LABELS (comments cite docs/ by these) ========================
  *   (K1)-(K8)   kernel quantities, docs/kernels.md section 1: W, F, dW/dr,
@@ -156,6 +168,8 @@
  *   (N1)-(N7)   neighbour search, docs/neighbours.md: criteria (N1)-(N3),
  *               grid (N4), permutation and inverse (N5)-(N6), periodic
  *               image of a run of cells (N7)
+ *   (H1)-(H8)   smoothing length, grad-h equations, pair-once sums,
+ *               docs/smoothing_length.md
  */
 #ifndef SPH_KERNEL_H
 #define SPH_KERNEL_H
@@ -859,7 +873,7 @@ SPH_API void sph_kernel_grad(sph_kernel k, int dim, const sph_real *dx, sph_real
     for (a = 0; a < dim; ++a) grad[a] = G != 0 ? G * s[a] : 0;
 }
 
-#if !defined(SPH_ONLY_KERNELS) /* sections 4-7 */
+#if !defined(SPH_ONLY_KERNELS) /* sections 4-9 */
 
 /* ======================================================================== */
 /* 4. Particle data: strided views, neighbour lists, periodic box            */
@@ -3842,7 +3856,567 @@ SPH_API int sph_permute(sph_view in, int ncomp, sph_idx n, const sph_idx *perm, 
 
 
 #endif /* section 7 */
-#endif /* sections 4-7 */
+
+#if !defined(SPH_ONLY_PAIRS) /* section 9 */
+
+/* ======================================================================== */
+/* 9. Smoothing length and pair-once loops                                   */
+/* ======================================================================== */
+/* docs/smoothing_length.md. Needs sections 1-5 only (kernels, views, CSR
+ * lists, pair terms); lists come from section 7 or the caller.
+ *
+ * Adaptive h (Springel & Hernquist 2002; Price 2012, J. Comput. Phys. 231,
+ * 759, section 2.4): h_i = eta (m_i / rho_i)^(1/d) (H1) and rho_i =
+ * sum_j m_j W(r_ij, h_i) (H2) solved together per particle by Newton-Raphson
+ * on f(h) = rho(h) - m_i (eta / h)^d (H3), kept inside a bracket [lo, hi]
+ * where f changes sign and bisected when a Newton step leaves it. h^d f(h) / m_i
+ * = sum_j (m_j / m_i) alpha_d w(r_ij / h) - eta^d rises with h (w falls
+ * with q), so the root is unique and f < 0 below it, provided eta^d exceeds
+ * the self term alpha_d w(0) (else SPH_EINVAL). Omega_i (H4) and the grad-h
+ * momentum and energy equations (H5), (H6) follow; they conserve momentum
+ * and total energy pair by pair (H7).
+ *
+ * Lists that grow with h: the solver reads only the list it is given, built
+ * with a search radius kappa h_list_i (per particle, ctx.h_list, or
+ * ctx.h_list_max for all). A particle whose h would exceed it gets
+ * SPH_H_BEYOND_LIST and, in h[i], the fixed-point estimate eta (m_i /
+ * rho_i(h_list))^(1/d) > h_list_i: search again with a larger radius (e.g.
+ * 1.2 times that) and call again.
+ *
+ * Pair-once loops: sph_pairs_build turns a symmetric full list (each pair in
+ * both rows: SPH_NSEARCH_SYMMETRIC, or a uniform h) into a half list, row i
+ * holding the sources j > i, and its transpose (for each j the positions of
+ * the pairs (i, j), ascending in i). A pair loop over the half list writes
+ * what the pair adds to i and to j into a per-pair buffer; sph_pairs_reduce
+ * sums each particle's entries in a fixed order (its own row, then its
+ * transposed entries) (H8): every pair evaluated once, no two threads
+ * writing one particle, and the result bitwise the same for any number of
+ * OpenMP threads. */
+
+/* Per-particle outcome of sph_h_solve. */
+enum {
+    SPH_H_CONVERGED = 0,     /* |h_next - h| <= tol h within max_iter density sums */
+    SPH_H_NOT_CONVERGED = 1, /* max_iter sums without meeting tol: h, rho, Omega of the last sum */
+    SPH_H_BEYOND_LIST = 2    /* the solution lies beyond kappa h_list_i: h holds a larger estimate; search again */
+};
+
+/* What the smoothing-length solver and the grad-h forces read. Fill with
+ * sph_hctx_init. Targets are the sources: list->n_targets == n_sources = n. */
+typedef struct {
+    sph_kernel kernel;
+    int dim;                    /* 1..3 */
+    const sph_neighbours *list; /* full CSR list; row i ascending (as the search gives) for sph_pairs_build */
+    const sph_box *box;         /* periodic box, or NULL */
+    sph_view x;                 /* positions (dim components) */
+    sph_view m;                 /* masses, positive */
+    sph_view h_list;            /* per particle: row i holds every j with r_ij < kappa h_list_i; absent: h_list_max */
+    sph_real h_list_max;        /* the same for every particle (when h_list is absent) */
+    sph_real eta;               /* (H1); default 1.2 (about 58 neighbours for the 3-D cubic spline) */
+    sph_real tol;               /* relative change of h that ends the iteration; default 1e-6 (float: 64 eps) */
+    int max_iter;               /* density sums per particle at most; default 50 */
+    int check_list;             /* 1 (default): one pass checks the list (offsets, indices); 0: the caller did */
+} sph_hctx;
+
+/* Totals of one sph_h_solve call. */
+typedef struct {
+    sph_idx n_not_converged; /* particles with SPH_H_NOT_CONVERGED */
+    sph_idx n_beyond_list;   /* particles with SPH_H_BEYOND_LIST */
+    int max_iterations;      /* most density sums of any particle */
+    sph_off iterations;      /* density sums of all particles */
+} sph_hreport;
+
+/* A half list and its transpose (sph_pairs_build). */
+typedef struct {
+    sph_neighbours half;   /* row i: the sources j > i of the full list; pair k = position in half.index */
+    const sph_off *t_offset; /* [n + 1]: the pairs (i, j) of particle j are t_pair[t_offset[j] .. t_offset[j+1]-1] */
+    const sph_off *t_pair;   /* [pairs]: pair positions k, ascending in i */
+} sph_pairs;
+
+/* A context with eta = 1.2, tol = 1e-6 (64 eps in float), max_iter = 50,
+ * the list checked, no box and no per-particle list radius. */
+SPH_API sph_hctx sph_hctx_init(sph_kernel kernel, int dim, const sph_neighbours *list, sph_view x, sph_view m,
+                               sph_real h_list_max)
+{
+    sph_hctx c;
+    c.kernel = kernel;
+    c.dim = dim;
+    c.list = list;
+    c.box = NULL;
+    c.x = x;
+    c.m = m;
+    c.h_list = sph_view_soa(NULL, NULL, NULL);
+    c.h_list_max = h_list_max;
+    c.eta = SPH__C(1.2);
+    c.tol = sizeof(sph_real) == sizeof(float) ? 64 * (sph_real)FLT_EPSILON : SPH__C(1e-6);
+    c.max_iter = 50;
+    c.check_list = 1;
+    return c;
+}
+
+/* Periods and their inverses per axis (0 where not periodic): the minimum
+ * image of (O0) without a division per pair. */
+typedef struct {
+    sph_real L[3], invL[3];
+} sph__period;
+
+SPH_API sph__period sph__period_of(const sph_box *box, int dim)
+{
+    sph__period P;
+    int a;
+    for (a = 0; a < 3; ++a) {
+        const int on = box != NULL && a < dim && box->periodic[a];
+        P.L[a] = on ? box->length[a] : 0;
+        P.invL[a] = on ? 1 / box->length[a] : 0;
+    }
+    return P;
+}
+
+/* (O0): dx = x_i - x_j (minimum image), returns r^2. */
+SPH__INLINE sph_real sph__h_dx(const sph__period *P, int dim, const sph_real *xi, sph_view x, sph_idx j,
+                               sph_real *dx)
+{
+    sph_real r2 = 0;
+    int a;
+    for (a = 0; a < 3; ++a) dx[a] = 0;
+    for (a = 0; a < dim && a < 3; ++a) {
+        sph_real d = xi[a] - x.p[a][(ptrdiff_t)j * x.stride];
+        if (P->L[a] != 0) d -= P->L[a] * sph__floor(d * P->invL[a] + (sph_real)0.5);
+        dx[a] = d;
+        r2 += d * d;
+    }
+    return r2;
+}
+
+/* Position of particle i into xi[3]. */
+SPH__INLINE void sph__h_xi(sph_view x, int dim, sph_idx i, sph_real *xi)
+{
+    int a;
+    for (a = 0; a < 3; ++a) xi[a] = a < dim ? x.p[a][(ptrdiff_t)i * x.stride] : 0;
+}
+
+/* Checks what sph_h_solve and the forces share: kernel, dimension, list
+ * (targets = sources; with check_list, offsets and indices), positions and
+ * masses present, periods positive, and kappa h_list within half a period. */
+SPH_API int sph__hctx_check(const sph_hctx *c)
+{
+    sph_idx i, n;
+    int a;
+    if (c == NULL || c->list == NULL || c->list->offset == NULL) return SPH_ENULL;
+    if (sph_kernel_check(c->kernel, c->dim) != SPH_OK) return sph_kernel_check(c->kernel, c->dim);
+    n = c->list->n_targets;
+    if (n < 0 || c->list->n_sources != n) return SPH_ESIZE;
+    if (n > 0 && c->m.p[0] == NULL) return SPH_ENULL;
+    for (a = 0; a < c->dim; ++a)
+        if (n > 0 && c->x.p[a] == NULL) return SPH_ENULL;
+    for (a = 0; c->box != NULL && a < c->dim; ++a)
+        if (c->box->periodic[a] && !(c->box->length[a] > 0 && c->box->length[a] <= SPH__REAL_MAX)) return SPH_EINVAL;
+    if (c->list->offset[n] > 0 && c->list->index == NULL) return SPH_ENULL;
+    if (c->check_list) {
+        sph_off o;
+        if (c->list->offset[0] != 0) return SPH_EINVAL;
+        for (i = 0; i < n; ++i)
+            if (c->list->offset[i + 1] < c->list->offset[i]) return SPH_EINVAL;
+        for (o = 0; o < c->list->offset[n]; ++o)
+            if (c->list->index[o] < 0 || c->list->index[o] >= n) return SPH_EINDEX;
+    }
+    return SPH_OK;
+}
+
+/* (H2) and its h-derivative at h for particle i: rho = sum_j m_j W(r_ij, h),
+ * drho = sum_j m_j dW/dh (K7), dW/dh = -alpha_d h^-(d+1) (d w + q w'). */
+SPH_API void sph__h_sums(const sph_hctx *c, const sph__kdim *kd, const sph__period *P, sph_idx i, sph_real h,
+                         sph_real *rho, sph_real *drho)
+{
+    const sph__nshape *s = &sph__nshapes[kd->shape];
+    const sph_real hinv = 1 / h, dd = (sph_real)c->dim;
+    sph_real xi[3], dx[3], sw = 0, sd = 0;
+    sph_off o;
+    sph__h_xi(c->x, c->dim, i, xi);
+    for (o = c->list->offset[i]; o < c->list->offset[i + 1]; ++o) {
+        const sph_idx j = c->list->index[o];
+        const sph_real q = sph__sqrt(sph__h_dx(P, c->dim, xi, c->x, j, dx)) * hinv;
+        const sph_real mj = c->m.p[0][(ptrdiff_t)j * c->m.stride];
+        const sph_real w = sph__nshape_w(s, q), g = sph__nshape_g(s, q);
+        sw += mj * w;
+        sd += mj * (dd * w + q * q * g);
+    }
+    *rho = sph__hpow(kd->alpha * sw, hinv, c->dim);
+    *drho = -sph__hpow(kd->alpha * sd, hinv, c->dim + 1);
+}
+
+/* (H1)-(H4) for particle i from the guess *h, bracketed Newton-Raphson:
+ * returns its state, writes h, rho(h), Omega(h) of the last sum and the
+ * number of sums. */
+SPH_API int sph__h_particle(const sph_hctx *c, const sph__kdim *kd, const sph__period *P, sph_idx i, sph_real hl,
+                            sph_real *h, sph_real *rho, sph_real *omega, int *iters)
+{
+    const sph_real mi = c->m.p[0][(ptrdiff_t)i * c->m.stride], dd = (sph_real)c->dim;
+    sph_real lo = 0, hi = hl, x = *h < hl ? *h : hl;
+    int hi_known = 0, it, state = SPH_H_NOT_CONVERGED;
+    for (it = 1; it <= c->max_iter; ++it) {
+        sph_real r, dr, rh, f, fp, xn;
+        sph__h_sums(c, kd, P, i, x, &r, &dr);
+        rh = sph__hpow(mi, c->eta / x, c->dim); /* m_i (eta / h)^d */
+        f = r - rh;
+        fp = dr + dd * rh / x;
+        *h = x;
+        *rho = r;
+        *omega = 1 + x * dr / (dd * r); /* (H4): dh/drho = -h / (d rho) */
+        if (f < 0) lo = x;
+        else hi = x, hi_known = 1;
+        if (f < 0 && x >= hl) { /* the root lies beyond the list: the fixed point of (H1) beyond h_list */
+            *h = c->eta * (sph_real)pow((double)(mi / r), 1.0 / c->dim);
+            state = SPH_H_BEYOND_LIST;
+            break;
+        }
+        xn = fp > 0 ? x - f / fp : lo; /* (H3) Newton step; lo forces the bracket below */
+        if (fp > 0 && (xn > x ? xn - x : x - xn) <= c->tol * x) { /* also a step below the rounding of x */
+            state = SPH_H_CONVERGED;
+            break;
+        }
+        if (!(xn > lo && xn < hi)) xn = hi_known ? (lo + hi) / 2 : xn >= hi ? hl : (lo + hl) / 2;
+        if ((xn > x ? xn - x : x - xn) <= c->tol * x) { /* a bracket narrower than tol */
+            state = SPH_H_CONVERGED;
+            break;
+        }
+        x = xn;
+    }
+    *iters = it <= c->max_iter ? it : c->max_iter;
+    return state;
+}
+
+/* (H1)-(H4): solves h_i and rho_i together for every particle, from the
+ * guesses in h (positive, finite; one above h_list_i starts at h_list_i),
+ * and writes h, rho, Omega (each [n]); iterations and state (optional,
+ * [n]): the density sums and SPH_H_* of each particle; report (optional):
+ * the totals. Returns SPH_OK (check report or state for particles not
+ * converged or beyond their list) or SPH_ENULL, SPH_EKERNEL, SPH_EDIM,
+ * SPH_ESIZE, SPH_EINDEX, SPH_EINVAL (eta^d <= alpha_d w(0): no solution;
+ * eta, tol not positive and finite, max_iter < 1, a bad box or list),
+ * SPH_EH (a guess or h_list not usable), SPH_ENONFINITE (a NaN or Inf
+ * position or a mass not positive and finite), before anything is written.
+ * Parallel over particles under OpenMP; the same result for any thread
+ * count. */
+SPH_API int sph_h_solve(const sph_hctx *c, sph_real *h, sph_real *rho, sph_real *omega, int *iterations, int *state,
+                        sph_hreport *report)
+{
+    const sph__kdim *kd;
+    sph__period P;
+    sph_idx i, n, nnc = 0, nbl = 0;
+    sph_off total = 0;
+    int st = sph__hctx_check(c), mx = 0, a;
+    if (st != SPH_OK) return st;
+    n = c->list->n_targets;
+    if (n > 0 && (h == NULL || rho == NULL || omega == NULL)) return SPH_ENULL;
+    kd = sph__kd(c->kernel, c->dim);
+    if (!(c->eta > 0 && c->eta <= SPH__REAL_MAX) || !(c->tol > 0 && c->tol <= SPH__REAL_MAX) || c->max_iter < 1 ||
+        !(sph__hpow(1, c->eta, c->dim) > kd->alpha * (sph_real)sph__shape_at(&sph__nshapes[kd->shape], SPH__SW, 0)))
+        return SPH_EINVAL;
+    if (c->h_list.p[0] == NULL && !sph__h_ok(c->h_list_max, c->dim)) return SPH_EH;
+    for (i = 0; i < n; ++i) {
+        const sph_real mi = c->m.p[0][(ptrdiff_t)i * c->m.stride];
+        if (!sph__h_ok(h[i], c->dim)) return SPH_EH;
+        if (c->h_list.p[0] != NULL && !sph__h_ok(c->h_list.p[0][(ptrdiff_t)i * c->h_list.stride], c->dim))
+            return SPH_EH;
+        if (!(mi > 0 && mi <= SPH__REAL_MAX)) return SPH_ENONFINITE;
+        for (a = 0; a < c->dim; ++a)
+            if (!sph__finite(c->x.p[a][(ptrdiff_t)i * c->x.stride])) return SPH_ENONFINITE;
+    }
+    P = sph__period_of(c->box, c->dim);
+#ifdef _OPENMP
+#pragma omp parallel for schedule(dynamic, 64) if (n >= 512) reduction(+ : nnc, nbl, total) reduction(max : mx)
+#endif
+    for (i = 0; i < n; ++i) {
+        const sph_real hl = c->h_list.p[0] != NULL ? c->h_list.p[0][(ptrdiff_t)i * c->h_list.stride] : c->h_list_max;
+        int it = 0;
+        const int s = sph__h_particle(c, kd, &P, i, hl, &h[i], &rho[i], &omega[i], &it);
+        if (iterations != NULL) iterations[i] = it;
+        if (state != NULL) state[i] = s;
+        nnc += s == SPH_H_NOT_CONVERGED;
+        nbl += s == SPH_H_BEYOND_LIST;
+        total += it;
+        mx = it > mx ? it : mx;
+    }
+    if (report != NULL) {
+        report->n_not_converged = nnc;
+        report->n_beyond_list = nbl;
+        report->max_iterations = mx;
+        report->iterations = total;
+    }
+    return SPH_OK;
+}
+
+/* A_i = p_i / (Omega_i rho_i^2), the per-particle factor of (H5), (H6).
+ * 0 where it is not a finite number (rho not positive, NaN or Inf input);
+ * an Omega not positive and finite counts as 1 (the equations without the
+ * grad-h term), so a degenerate neighbourhood cannot flip or blow up the
+ * force. */
+SPH_API sph_real sph_gradh_factor(sph_real p, sph_real rho, sph_real omega)
+{
+    const sph_real P = rho > 0 ? p / (rho * rho) : 0, A = omega > 0 && omega <= SPH__REAL_MAX ? P / omega : P;
+    return sph__finite(A) ? A : 0;
+}
+
+/* (H5) pair term: acc += m_j (A_i F_i + A_j F_j) dx, F_i = F(r, h_i),
+ * F_j = F(r, h_j); dv_i/dt = -acc. */
+SPH_API void sph_pair_gradh_pressure(int dim, sph_real m_j, sph_real A_i, sph_real A_j, sph_real F_i, sph_real F_j,
+                                     const sph_real *dx, sph_real *acc)
+{
+    sph__axpy(dim, m_j * (A_i * F_i + A_j * F_j), dx, acc);
+}
+
+/* (H6) pair term: m_j A_i F_i (v_i - v_j) . dx, summed into du_i/dt. */
+SPH_API sph_real sph_pair_gradh_energy(int dim, sph_real m_j, sph_real A_i, sph_real F_i, const sph_real *v_ij,
+                                       const sph_real *dx)
+{
+    sph_real s = 0;
+    int a;
+    for (a = 0; a < dim && a < 3; ++a) s += v_ij[a] * dx[a];
+    return m_j * A_i * F_i * s;
+}
+
+/* Checks the arrays of the forces: h usable, A finite, v present when du/dt is asked for. */
+SPH_API int sph__gradh_check(const sph_hctx *c, sph_view v, const sph_real *h, const sph_real *A, sph_real *dvdt,
+                             sph_real *dudt)
+{
+    sph_idx i, n;
+    int a, st = sph__hctx_check(c);
+    if (st != SPH_OK) return st;
+    n = c->list->n_targets;
+    if (n > 0 && (h == NULL || A == NULL || dvdt == NULL)) return SPH_ENULL;
+    for (a = 0; dudt != NULL && n > 0 && a < c->dim; ++a)
+        if (v.p[a] == NULL) return SPH_ENULL;
+    for (i = 0; i < n; ++i) {
+        if (!sph__h_ok(h[i], c->dim)) return SPH_EH;
+        if (!sph__finite(A[i])) return SPH_ENONFINITE;
+    }
+    return SPH_OK;
+}
+
+/* The common arithmetic of (H5), (H6) for pair (i, j), j != i: dx, the
+ * factor c = A_i F_i + A_j F_j and e = F_i (v_i - v_j) . dx, F_i and F_j
+ * at the particles' own h. */
+SPH__INLINE void sph__gradh_pair(const sph_hctx *c, const sph__kdim *kd, const sph__period *P, const sph_real *xi,
+                                 sph_real hi, sph_real Ai, const sph_real *vi, sph_idx j, sph_view v,
+                                 const sph_real *h, const sph_real *A, int want_e, sph_real *dx, sph_real *cf,
+                                 sph_real *Fi, sph_real *Fj)
+{
+    const sph__nshape *s = &sph__nshapes[kd->shape];
+    const sph_real r = sph__sqrt(sph__h_dx(P, c->dim, xi, c->x, j, dx)), hj = h[j];
+    int a;
+    *Fi = sph__hpow(kd->alpha * sph__nshape_g(s, r / hi), 1 / hi, c->dim + 2);
+    *Fj = sph__hpow(kd->alpha * sph__nshape_g(s, r / hj), 1 / hj, c->dim + 2);
+    *cf = Ai * *Fi + A[j] * *Fj;
+    if (want_e) {
+        sph_real e = 0;
+        for (a = 0; a < c->dim; ++a) e += (vi[a] - v.p[a][(ptrdiff_t)j * v.stride]) * dx[a];
+        *Fi *= e; /* F_i (v_ij . dx) */
+        *Fj *= e;
+    }
+}
+
+/* (H5), (H6) in gather form: every pair visited from both rows.
+ * dvdt[dim i + a] = -sum_j m_j (A_i F_i + A_j F_j) x_ij,a and, when dudt
+ * is not NULL, dudt[i] = A_i sum_j m_j F_i v_ij . x_ij, over a symmetric
+ * list (each pair in both rows, or the sums miss what the other side sees)
+ * with A from sph_gradh_factor. h [n], A [n]; v read only for dudt.
+ * Returns SPH_OK or a status of sph_h_solve's kinds, nothing written then. */
+SPH_API int sph_gradh_forces(const sph_hctx *c, sph_view v, const sph_real *h, const sph_real *A, sph_real *dvdt,
+                             sph_real *dudt)
+{
+    const sph__kdim *kd;
+    sph__period P;
+    sph_idx i, n;
+    int st = sph__gradh_check(c, v, h, A, dvdt, dudt);
+    if (st != SPH_OK) return st;
+    n = c->list->n_targets;
+    kd = sph__kd(c->kernel, c->dim);
+    P = sph__period_of(c->box, c->dim);
+#ifdef _OPENMP
+#pragma omp parallel for schedule(dynamic, 64) if (n >= 512)
+#endif
+    for (i = 0; i < n; ++i) {
+        sph_real xi[3], vi[3] = {0, 0, 0}, acc[3] = {0, 0, 0}, du = 0, dx[3], cf, Fi, Fj;
+        sph_off o;
+        int a;
+        sph__h_xi(c->x, c->dim, i, xi);
+        if (dudt != NULL) sph__h_xi(v, c->dim, i, vi);
+        for (o = c->list->offset[i]; o < c->list->offset[i + 1]; ++o) {
+            const sph_idx j = c->list->index[o];
+            const sph_real mj = c->m.p[0][(ptrdiff_t)j * c->m.stride];
+            if (j == i) continue;
+            sph__gradh_pair(c, kd, &P, xi, h[i], A[i], vi, j, v, h, A, dudt != NULL, dx, &cf, &Fi, &Fj);
+            sph__axpy(c->dim, mj * cf, dx, acc);
+            du += mj * Fi;
+        }
+        for (a = 0; a < c->dim; ++a) dvdt[(ptrdiff_t)c->dim * i + a] = -acc[a];
+        if (dudt != NULL) dudt[i] = A[i] * du;
+    }
+    return SPH_OK;
+}
+
+/* (H8) The half list of a symmetric full list and its transpose. offset
+ * [n + 1], index [cap], t_offset [n + 1], t_pair [cap]; pairs is set to the
+ * number of pairs (j > i) whatever happens. Rows of the full list must be
+ * in ascending index (the search's order). Returns SPH_OK and fills *P, or
+ * SPH_ESIZE (cap < pairs; offset complete), SPH_EINVAL when the list is not
+ * symmetric (a pair in one row only; the pair-once sums would differ from
+ * the gather ones) or a row not ascending, SPH_ENULL, SPH_EINDEX. */
+SPH_API int sph_pairs_build(const sph_neighbours *full, sph_off *offset, sph_idx *index, sph_off cap,
+                            sph_off *t_offset, sph_off *t_pair, sph_off *pairs, sph_pairs *P)
+{
+    sph_idx i, n;
+    sph_off o, k;
+    int bad = 0;
+    if (pairs != NULL) *pairs = 0;
+    if (full == NULL || full->offset == NULL || offset == NULL || t_offset == NULL || P == NULL) return SPH_ENULL;
+    n = full->n_targets;
+    if (n < 0 || full->n_sources != n || cap < 0) return SPH_ESIZE;
+    if (full->offset[0] != 0) return SPH_EINVAL;
+    if (full->offset[n] > 0 && full->index == NULL) return SPH_ENULL;
+    for (i = 0; i < n; ++i) {
+        if (full->offset[i + 1] < full->offset[i]) return SPH_EINVAL;
+        for (o = full->offset[i]; o < full->offset[i + 1]; ++o) {
+            if (full->index[o] < 0 || full->index[o] >= n) return SPH_EINDEX;
+            if (o > full->offset[i] && full->index[o] <= full->index[o - 1]) return SPH_EINVAL;
+        }
+    }
+    offset[0] = 0;
+    for (i = 0; i < n; ++i) { /* rows ascending: the sources j > i are the tail of row i */
+        o = full->offset[i + 1];
+        while (o > full->offset[i] && full->index[o - 1] > i) --o;
+        offset[i + 1] = offset[i] + (full->offset[i + 1] - o);
+    }
+    if (pairs != NULL) *pairs = offset[n];
+    if (cap < offset[n]) return SPH_ESIZE;
+    if (offset[n] > 0 && (index == NULL || t_pair == NULL)) return SPH_ENULL;
+    for (i = 0; i <= n; ++i) t_offset[i] = 0;
+    for (i = 0; i < n; ++i) {
+        const sph_off tail = full->offset[i + 1] - (offset[i + 1] - offset[i]);
+        for (k = offset[i], o = tail; k < offset[i + 1]; ++k, ++o) {
+            index[k] = full->index[o];
+            ++t_offset[index[k] + 1];
+        }
+    }
+    for (i = 0; i < n; ++i) t_offset[i + 1] += t_offset[i];
+    /* transpose: t_offset[j] serves as the cursor of j, then is shifted back */
+    for (i = 0; i < n; ++i)
+        for (k = offset[i]; k < offset[i + 1]; ++k) {
+            const sph_idx j = index[k];
+            t_pair[t_offset[j]++] = k;
+        }
+    for (i = n; i > 0; --i) t_offset[i] = t_offset[i - 1];
+    t_offset[0] = 0;
+    /* symmetry: the sources below j of full row j are, in order, the i whose half rows hold j */
+    for (i = 0; i < n && !bad; ++i) {
+        const sph_off cnt = t_offset[i + 1] - t_offset[i];
+        sph_off below = 0;
+        for (o = full->offset[i]; o < full->offset[i + 1] && full->index[o] < i; ++o) ++below;
+        bad = below != cnt;
+        for (k = 0; k < cnt && !bad; ++k) {
+            const sph_off pk = t_pair[t_offset[i] + k];
+            sph_idx row = full->index[full->offset[i] + k]; /* the expected partner */
+            bad = !(pk >= offset[row] && pk < offset[row + 1]);
+        }
+    }
+    if (bad) return SPH_EINVAL;
+    P->half.n_targets = P->half.n_sources = n;
+    P->half.offset = offset;
+    P->half.index = index;
+    P->t_offset = t_offset;
+    P->t_pair = t_pair;
+    return SPH_OK;
+}
+
+/* (H8) out[ncomp i + a] = sum over the pairs k of row i of to_i[ncomp k + a]
+ * + sum over the transposed pairs k of i of to_j[ncomp k + a], in that
+ * order: to_i and to_j hold what pair k = (i, j) adds to i and to j. ncomp
+ * 1..16. Parallel over particles; bitwise the same for any thread count. */
+SPH_API int sph_pairs_reduce(const sph_pairs *P, int ncomp, const sph_real *to_i, const sph_real *to_j, sph_real *out)
+{
+    sph_idx i, n;
+    if (P == NULL || P->half.offset == NULL || P->t_offset == NULL) return SPH_ENULL;
+    if (ncomp < 1 || ncomp > 16) return SPH_EINVAL;
+    n = P->half.n_targets;
+    if (n > 0 && out == NULL) return SPH_ENULL;
+    if (P->half.offset[n] > 0 && (to_i == NULL || to_j == NULL || P->t_pair == NULL)) return SPH_ENULL;
+#ifdef _OPENMP
+#pragma omp parallel for schedule(static) if (n >= 2048)
+#endif
+    for (i = 0; i < n; ++i) {
+        sph_real s[16];
+        sph_off k, t;
+        int a;
+        for (a = 0; a < ncomp; ++a) s[a] = 0;
+        for (k = P->half.offset[i]; k < P->half.offset[i + 1]; ++k)
+            for (a = 0; a < ncomp; ++a) s[a] += to_i[(ptrdiff_t)ncomp * k + a];
+        for (t = P->t_offset[i]; t < P->t_offset[i + 1]; ++t) {
+            const sph_off k2 = P->t_pair[t];
+            for (a = 0; a < ncomp; ++a) s[a] += to_j[(ptrdiff_t)ncomp * k2 + a];
+        }
+        for (a = 0; a < ncomp; ++a) out[(ptrdiff_t)ncomp * i + a] = s[a];
+    }
+    return SPH_OK;
+}
+
+/* (H5), (H6) pair-once over the half list of sph_pairs_build (same
+ * arguments and results as sph_gradh_forces, to round-off): each pair
+ * evaluated once into buf, then reduced per particle by sph_pairs_reduce.
+ * buf holds 2 (dim + 1) pairs reals (pairs = P->half.offset[n]). c->list
+ * is not read. Bitwise the same for any thread count. */
+SPH_API int sph_gradh_forces_pairs(const sph_hctx *c, const sph_pairs *P, sph_view v, const sph_real *h,
+                                   const sph_real *A, sph_real *buf, sph_real *dvdt, sph_real *dudt)
+{
+    const sph__kdim *kd;
+    sph__period Pd;
+    sph_hctx ch;
+    sph_idx i, n;
+    sph_off np;
+    sph_real *vi_buf, *vj_buf, *ei_buf, *ej_buf;
+    int st, D;
+    if (c == NULL || P == NULL) return SPH_ENULL;
+    ch = *c;
+    ch.list = &P->half;
+    ch.check_list = 0; /* sph_pairs_build checked it */
+    if ((st = sph__gradh_check(&ch, v, h, A, dvdt, dudt)) != SPH_OK) return st;
+    n = P->half.n_targets;
+    np = P->half.offset[n];
+    if (np > 0 && buf == NULL) return SPH_ENULL;
+    D = c->dim;
+    kd = sph__kd(c->kernel, D);
+    Pd = sph__period_of(c->box, D);
+    vi_buf = buf;
+    vj_buf = buf + (ptrdiff_t)D * np;
+    ei_buf = buf + (ptrdiff_t)2 * D * np;
+    ej_buf = ei_buf + np;
+#ifdef _OPENMP
+#pragma omp parallel for schedule(dynamic, 64) if (n >= 512)
+#endif
+    for (i = 0; i < n; ++i) {
+        sph_real xi[3], vi[3] = {0, 0, 0}, dx[3], cf, Fi, Fj;
+        const sph_real mi = c->m.p[0][(ptrdiff_t)i * c->m.stride];
+        sph_off k;
+        int a;
+        sph__h_xi(c->x, D, i, xi);
+        if (dudt != NULL) sph__h_xi(v, D, i, vi);
+        for (k = P->half.offset[i]; k < P->half.offset[i + 1]; ++k) {
+            const sph_idx j = P->half.index[k];
+            const sph_real mj = c->m.p[0][(ptrdiff_t)j * c->m.stride];
+            sph__gradh_pair(&ch, kd, &Pd, xi, h[i], A[i], vi, j, v, h, A, dudt != NULL, dx, &cf, &Fi, &Fj);
+            for (a = 0; a < D; ++a) {
+                vi_buf[(ptrdiff_t)D * k + a] = -(mj * cf) * dx[a];
+                vj_buf[(ptrdiff_t)D * k + a] = (mi * cf) * dx[a];
+            }
+            ei_buf[k] = A[i] * (mj * Fi);
+            ej_buf[k] = A[j] * (mi * Fj);
+        }
+    }
+    if ((st = sph_pairs_reduce(P, D, vi_buf, vj_buf, dvdt)) != SPH_OK) return st;
+    return dudt != NULL ? sph_pairs_reduce(P, 1, ei_buf, ej_buf, dudt) : SPH_OK;
+}
+
+#endif /* section 9 */
+#endif /* sections 4-9 */
 
 #ifdef __cplusplus
 }
