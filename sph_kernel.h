@@ -50,9 +50,12 @@
  *               (same lists); slower.
  *   SPH_ONLY_KERNELS   sections 1-3 only: the scalar kernel functions.
  *   SPH_ONLY_PAIRS     sections 1-5: kernels, views and pair terms, for a
- *               solver with its own neighbour loop (no operators, no search).
- *   SPH_NO_OPERATORS   everything but section 6 (the array operators).
+ *               solver with its own neighbour loop (no operators, no search),
+ *               and the pair terms of section 8.
+ *   SPH_NO_OPERATORS   everything but section 6 (the array operators) and
+ *               the array operators of section 8, which use it.
  *   SPH_NO_NSEARCH     everything but section 7 (the neighbour search).
+ *   SPH_NO_SOLVER      everything but section 8 (the solver terms).
  *               Each saves the compile time of what it leaves out
  *               (`make compile-cost`) and is compiled warning-free by make test.
  *
@@ -70,6 +73,9 @@
  *   5. pair terms           1-4: one neighbour's contribution to each operator
  *   6. array operators      1-5: the operators over a CSR list (deletable)
  *   7. neighbour search     1-4: builds the CSR lists (deletable)
+ *   8. solver terms         1-6: artificial viscosity, density diffusion, wall
+ *                           boundaries, viscosity, time step (deletable; pair
+ *                           terms 1-5)
  *   9. smoothing length     1-5: adaptive h with grad-h terms, pair-once
  *      and pair-once loops  loops over a half list (deletable)
  *
@@ -146,6 +152,12 @@
  *   sph_nsearch_permutation(&g, perm)            sources in cell order (N5)
  *   sph_permutation_invert(perm, n, inv)         inverse permutation (N6)
  *   sph_permute(in, ncomp, n, perm, out)         out[k] = in[perm[k]] (N5)
+ 8. Solver terms: pair terms, then operators (return SPH_OK or a status code)
+ *   sph_pair_av_monaghan(dim, alpha, beta, h, c_ij, rho_ij, dx, dv)  Pi_ij (S1)
+ *   sph_pair_signal_velocity(dim, beta, c_i, c_j, dx, dv)            v_sig,ij (S2)
+ *   sph_pair_av_signal(dim, alpha, beta, c_i, c_j, rho_ij, dx, dv)   Pi_ij (S3)
+ *   sph_pair_av_apply(dim, m_j, Pi_ij, F, dx, dv, acc)   acc += (S4), returns du_i/dt's term
+ *   sph_artificial_viscosity(c, &av, v, v_t, cs, cs_t, acc, dudt, vsig)   (S1)-(S4)
  * 9. Smoothing length and pair-once loops (docs/smoothing_length.md)
  *   sph_hctx_init(k, dim, list, x, m, h_list_max)  a context; eta 1.2, tol 1e-6
  *   sph_h_solve(c, h, rho, omega, iters, state, &report)  h, rho, Omega per particle (H1)-(H4)
@@ -168,6 +180,8 @@
  *   (N1)-(N7)   neighbour search, docs/neighbours.md: criteria (N1)-(N3),
  *               grid (N4), permutation and inverse (N5)-(N6), periodic
  *               image of a run of cells (N7)
+ *   (S1)-(S..)  solver terms, docs/solver.md: artificial viscosity
+ *               (S1)-(S4)
  *   (H1)-(H8)   smoothing length, grad-h equations, pair-once sums,
  *               docs/smoothing_length.md
  */
@@ -3856,6 +3870,173 @@ SPH_API int sph_permute(sph_view in, int ncomp, sph_idx n, const sph_idx *perm, 
 
 
 #endif /* section 7 */
+
+#if !defined(SPH_NO_SOLVER) /* section 8 */
+
+/* ======================================================================== */
+/* 8. Solver terms                                                           */
+/* ======================================================================== */
+
+/* The dissipative terms, boundary and time-step rules that a weakly
+ * compressible or compressible SPH solver adds to the operators of section 6
+ * (docs/solver.md, equations (S1)-(S...)). As in section 5, pair terms come
+ * first (usable under SPH_ONLY_PAIRS and in device code), then the array
+ * operators over a CSR list and a context (section 6). Conventions as in
+ * section 5: dx = x_ij = x_i - x_j, dv = v_ij = v_i - v_j, F = F_ij at the
+ * pair's h, grad_i W_ij = F dx; rho_ij = (rho_i + rho_j) / 2. The pair terms
+ * that divide return 0 instead of a division by zero (documented per term). */
+
+/* Monaghan's regularisation of 1 / r^2: eta^2 = 0.01 h^2 (Monaghan 1992;
+ * Morris, Fox & Zhu 1997). */
+#define SPH__ETA2 SPH__C(0.01)
+
+/* v_ij . x_ij over dim (1..3) components. */
+SPH__INLINE sph_real sph__dot(int dim, const sph_real *a, const sph_real *b)
+{
+    sph_real s = 0;
+    int k;
+    for (k = 0; k < dim && k < 3; ++k) s += a[k] * b[k];
+    return s;
+}
+
+/* (S1) Monaghan (1992) artificial viscosity Pi_ij = (-alpha c_ij mu_ij +
+ * beta mu_ij^2) / rho_ij, mu_ij = h v_ij.x_ij / (r^2 + 0.01 h^2), for
+ * approaching pairs (v_ij.x_ij < 0); 0 for receding ones, and 0 where
+ * rho_ij <= 0 or r^2 + 0.01 h^2 is 0. h and c_ij: the pair's (means). */
+SPH_API sph_real sph_pair_av_monaghan(int dim, sph_real alpha, sph_real beta, sph_real h, sph_real c_ij,
+                                      sph_real rho_ij, const sph_real *dx, const sph_real *dv)
+{
+    const sph_real vr = sph__dot(dim, dv, dx), den = sph__dot(dim, dx, dx) + SPH__ETA2 * h * h;
+    sph_real mu;
+    if (!(vr < 0 && den > 0 && rho_ij > 0)) return 0;
+    mu = h * vr / den;
+    return (beta * mu - alpha * c_ij) * mu / rho_ij;
+}
+
+/* w_ij = v_ij . x_ij / r for an approaching pair, else 0 (no division when
+ * the pair is not approaching or r^2 is 0). */
+SPH__INLINE sph_real sph__w_approach(int dim, const sph_real *dx, const sph_real *dv)
+{
+    const sph_real vr = sph__dot(dim, dv, dx), r2 = sph__dot(dim, dx, dx);
+    return vr < 0 && r2 > 0 ? vr / sph__sqrt(r2) : 0;
+}
+
+/* (S2) signal velocity v_sig,ij = c_i + c_j - beta w_ij, w_ij = min(0,
+ * v_ij . x_ij / r) (Monaghan 1997; Price 2012): the speed in the CFL limit
+ * (S9) and in the signal-velocity viscosity (S3). */
+SPH_API sph_real sph_pair_signal_velocity(int dim, sph_real beta, sph_real c_i, sph_real c_j, const sph_real *dx,
+                                          const sph_real *dv)
+{
+    return c_i + c_j - beta * sph__w_approach(dim, dx, dv);
+}
+
+/* (S3) signal-velocity artificial viscosity Pi_ij = -(alpha / 2) v_sig,ij
+ * w_ij / rho_ij (Monaghan 1997; Price 2012, eqs. 101-103; SWIFT's minimal SPH
+ * with beta = 3); 0 for receding pairs and where rho_ij <= 0. */
+SPH_API sph_real sph_pair_av_signal(int dim, sph_real alpha, sph_real beta, sph_real c_i, sph_real c_j,
+                                    sph_real rho_ij, const sph_real *dx, const sph_real *dv)
+{
+    const sph_real w = sph__w_approach(dim, dx, dv);
+    if (!(w < 0 && rho_ij > 0)) return 0;
+    return -(alpha / 2) * (c_i + c_j - beta * w) * w / rho_ij;
+}
+
+/* The artificial viscosity of sph_artificial_viscosity: (S1) or (S3), and
+ * its coefficients (usual values: Monaghan alpha = 1, beta = 2 for shocks,
+ * alpha ~ 0.01-0.1, beta = 0 for weakly compressible flow; signal velocity
+ * alpha = 1, beta = 3 as SWIFT, or beta = 2 as Price 2012). */
+typedef enum { SPH_AV_MONAGHAN = 0, SPH_AV_SIGNAL = 1 } sph_av_form;
+typedef struct {
+    sph_av_form form;
+    sph_real alpha, beta;
+} sph_av;
+
+/* (S4) applies Pi_ij to target i: acc += -m_j Pi_ij F dx (momentum) and
+ * returns du_i/dt's share (1/2) m_j Pi_ij F v_ij . x_ij (thermal energy):
+ * together they conserve momentum and total energy pair by pair, and the
+ * heating is >= 0 for Pi_ij >= 0 (F <= 0). */
+SPH_API sph_real sph_pair_av_apply(int dim, sph_real m_j, sph_real Pi_ij, sph_real F, const sph_real *dx,
+                                   const sph_real *dv, sph_real *acc)
+{
+    const sph_real c = m_j * Pi_ij * F;
+    sph__axpy(dim, -c, dx, acc);
+    return c * sph__dot(dim, dv, dx) / 2;
+}
+
+#if !defined(SPH_ONLY_PAIRS) && !defined(SPH_NO_OPERATORS) /* the operators of section 8 use section 6 */
+
+/* SPH_OK for an absent output (p[0] NULL: not written) or a usable one. */
+SPH_API int sph__out_opt(sph_out o, int ncomp) { return o.p[0] == NULL ? SPH_OK : sph__out_ok(o, ncomp); }
+
+/* call (using i) for every target i of 0..nt-1, count = the sum of what it returns. */
+#define SPH__EACH_TARGET(nt, count, call)                                                                         \
+    do {                                                                                                          \
+        sph_idx i, n = 0;                                                                                         \
+        SPH__OMP_FOR                                                                                              \
+        for (i = 0; i < (nt); ++i) n += (call);                                                                   \
+        (count) = n;                                                                                              \
+    } while (0)
+
+/* (S1)-(S4) at target i: acceleration, heating and the largest v_sig. */
+SPH_API int sph__av_target(const sph__args *A, const sph_av *av, sph_idx i, sph_out acc, sph_out dudt,
+                           sph_out vsig)
+{
+    const int D = SPH__DIM(A);
+    const sph_real ci = SPH__AT(A->kt, 0, i), rhoi = SPH__AT(A->rhot, 0, i);
+    sph_real vi[3] = {0, 0, 0}, a[3] = {0, 0, 0}, du = 0, vs = 0, dx[3], W, F;
+    sph__tgt t;
+    sph_off o;
+    int k;
+    sph__tinit(A, i, &t);
+    for (k = 0; k < D; ++k) vi[k] = SPH__AT(A->ft, k, i);
+    for (o = A->off[i]; o < A->off[i + 1]; ++o) {
+        const sph_idx j = A->idx[o];
+        const sph_real cj = SPH__AT(A->k, 0, j), rhoij = (rhoi + SPH__AT(A->rho, 0, j)) / 2;
+        const sph_real hij = A->hv ? (t.hi + SPH__AT(A->hs, 0, j)) / 2 : A->h;
+        sph_real dv[3] = {0, 0, 0}, Pi, s;
+        sph__pair(A, &t, j, SPH__WANT_F, dx, &W, &F);
+        for (k = 0; k < D; ++k) dv[k] = vi[k] - SPH__AT(A->f, k, j);
+        Pi = av->form == SPH_AV_MONAGHAN ? sph_pair_av_monaghan(D, av->alpha, av->beta, hij, (ci + cj) / 2, rhoij, dx, dv)
+                                         : sph_pair_av_signal(D, av->alpha, av->beta, ci, cj, rhoij, dx, dv);
+        du += sph_pair_av_apply(D, SPH__AT(A->m, 0, j), Pi, F, dx, dv, a);
+        s = sph_pair_signal_velocity(D, av->beta, ci, cj, dx, dv);
+        vs = s > vs ? s : vs;
+    }
+    for (k = 0; k < D; ++k) SPH__AT(acc, k, i) = a[k];
+    if (dudt.p[0] != NULL) SPH__AT(dudt, 0, i) = du;
+    if (vsig.p[0] != NULL) SPH__AT(vsig, 0, i) = vs;
+    return 0;
+}
+
+/* (S1)-(S4) over the list: acc_i = -sum_j m_j Pi_ij grad_i W_ij (dim
+ * components), du_i/dt = (1/2) sum_j m_j Pi_ij v_ij . grad_i W_ij and
+ * vsig_i = max_j v_sig,ij (S2) with av's beta (0 for an empty list). v and c
+ * are velocities (dim components) and sound speeds, with target views as in
+ * sph_gradient; needs ctx.m and ctx.rho (and ctx.rho_target with targets of
+ * their own); h_ij as the derivative operators. dudt and vsig may be absent
+ * (not written). SPH_EINVAL for an unknown form or an alpha or beta not
+ * finite and >= 0. */
+SPH_API int sph_artificial_viscosity(const sph_ctx *c, const sph_av *av, sph_view v, sph_view v_target, sph_view cs,
+                                     sph_view cs_target, sph_out acc, sph_out dudt, sph_out vsig)
+{
+    sph__args A;
+    int st;
+    if (av == NULL) return SPH_ENULL;
+    if ((av->form != SPH_AV_MONAGHAN && av->form != SPH_AV_SIGNAL) || !(av->alpha >= 0 && sph__finite(av->alpha)) ||
+        !(av->beta >= 0 && sph__finite(av->beta)))
+        return SPH_EINVAL;
+    st = sph__setup(c, SPH__N_M | SPH__N_RHO | SPH__N_FI | SPH__N_K, c != NULL ? c->dim : 1, v, v_target, cs,
+                    cs_target, &A);
+    if (st == SPH_OK) st = sph__out_ok(acc, c->dim);
+    if (st == SPH_OK) st = sph__out_opt(dudt, 1);
+    if (st == SPH_OK) st = sph__out_opt(vsig, 1);
+    if (st != SPH_OK) return st;
+    SPH__EACH_TARGET(A.nt, st, sph__av_target(&A, av, i, acc, dudt, vsig));
+    return SPH_OK;
+}
+
+#endif /* operators of section 8 */
+#endif /* section 8 */
 
 #if !defined(SPH_ONLY_PAIRS) /* section 9 */
 

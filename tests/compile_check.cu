@@ -14,6 +14,16 @@ __global__ void eval_kernels(sph_real *out, int n)
              sph_kernel_dwdr(k, 1, r, 1) + sph_kernel_support(k);
 }
 
+// The solver pair terms (section 8) in device code.
+__global__ void eval_solver_terms(sph_real *out, int n)
+{
+    int i = blockIdx.x * blockDim.x + threadIdx.x;
+    if (i >= n) return;
+    sph_real dx[3] = {sph_real(0.01) * i + 1, 0, 0}, dv[3] = {-1, 0, 0}, acc[3] = {0, 0, 0};
+    sph_real Pi = sph_pair_av_monaghan(3, 1, 2, 1, 1, 1, dx, dv) + sph_pair_av_signal(3, 1, 3, 1, 1, 1, dx, dv);
+    out[i] = sph_pair_av_apply(3, 1, Pi, -1, dx, dv, acc) + acc[0] + sph_pair_signal_velocity(3, 3, 1, 1, dx, dv);
+}
+
 int host_side(void) { return sph_kernel_w(SPH_KERNEL_CUBIC, 3, 0.5, 1) > 0 ? 0 : 1; }
 
 // Host code of a CUDA translation unit builds neighbour lists and runs an
