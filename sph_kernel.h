@@ -165,7 +165,7 @@
  *   sph_pair_gradh_pressure(dim, m_j, A_i, A_j, F_i, F_j, dx, acc)  acc += (H5)
  *   sph_pair_gradh_energy(dim, m_j, A_i, F_i, v_ij, dx)            (H6) term
  *   sph_gradh_forces(c, v, h, A, dvdt, dudt)     (H5), (H6), gather form
- *   sph_pairs_build(full, offset, index, cap, t_offset, t_pair, &pairs, &P)  half list + transpose (H8)
+ *   sph_pairs_build(full, offset, index, cap, t_offset, t_slot, &pairs, &P)  half list + transpose (H8)
  *   sph_pairs_reduce(&P, ncomp, to_i, to_j, out) per-particle sums of per-pair terms (H8)
  *   sph_gradh_forces_pairs(c, &P, v, h, A, buf, dvdt, dudt)  (H5), (H6), pair-once
  *
@@ -4066,11 +4066,11 @@ SPH_API int sph_artificial_viscosity(const sph_ctx *c, const sph_av *av, sph_vie
  *
  * Pair-once loops: sph_pairs_build turns a symmetric full list (each pair in
  * both rows: SPH_NSEARCH_SYMMETRIC, or a uniform h) into a half list, row i
- * holding the sources j > i, and its transpose (for each j the positions of
- * the pairs (i, j), ascending in i). A pair loop over the half list writes
- * what the pair adds to i and to j into a per-pair buffer; sph_pairs_reduce
- * sums each particle's entries in a fixed order (its own row, then its
- * transposed entries) (H8): every pair evaluated once, no two threads
+ * holding the sources j > i, and its transpose (for each j a range of slots,
+ * one per pair (i, j), ascending in i). A pair loop over the half list writes
+ * what pair k adds to i at k and what it adds to j at its slot, in two
+ * per-pair buffers; sph_pairs_reduce sums each particle's entries in a fixed
+ * order (its own row, then its slots), reading both buffers in sequence (H8): every pair evaluated once, no two threads
  * writing one particle, and the result bitwise the same for any number of
  * OpenMP threads. */
 
@@ -4106,11 +4106,15 @@ typedef struct {
     sph_off iterations;      /* density sums of all particles */
 } sph_hreport;
 
-/* A half list and its transpose (sph_pairs_build). */
+/* A half list and its transpose (sph_pairs_build). Pair k = (i, j), i < j,
+ * is position k of half.index (row i); its transposed slot t_slot[k] lies
+ * in j's range t_offset[j] .. t_offset[j+1]-1, whose slots are ordered by
+ * ascending i. A pair loop writes what pair k adds to i at k and what it
+ * adds to j at t_slot[k]: the reduction then reads both in sequence. */
 typedef struct {
-    sph_neighbours half;   /* row i: the sources j > i of the full list; pair k = position in half.index */
-    const sph_off *t_offset; /* [n + 1]: the pairs (i, j) of particle j are t_pair[t_offset[j] .. t_offset[j+1]-1] */
-    const sph_off *t_pair;   /* [pairs]: pair positions k, ascending in i */
+    sph_neighbours half;     /* row i: the sources j > i of the full list */
+    const sph_off *t_offset; /* [n + 1]: particle j's slots */
+    const sph_off *t_slot;   /* [pairs]: the transposed slot of pair k */
 } sph_pairs;
 
 /* A context with eta = 1.2, tol = 1e-6 (64 eps in float), max_iter = 50,
@@ -4376,17 +4380,17 @@ SPH_API int sph__gradh_check(const sph_hctx *c, sph_view v, const sph_real *h, c
 
 /* The common arithmetic of (H5), (H6) for pair (i, j), j != i: dx, the
  * factor c = A_i F_i + A_j F_j and e = F_i (v_i - v_j) . dx, F_i and F_j
- * at the particles' own h. */
+ * at the particles' own h (1 / h_i given: one division per pair). */
 SPH__INLINE void sph__gradh_pair(const sph_hctx *c, const sph__kdim *kd, const sph__period *P, const sph_real *xi,
-                                 sph_real hi, sph_real Ai, const sph_real *vi, sph_idx j, sph_view v,
+                                 sph_real hiinv, sph_real Ai, const sph_real *vi, sph_idx j, sph_view v,
                                  const sph_real *h, const sph_real *A, int want_e, sph_real *dx, sph_real *cf,
                                  sph_real *Fi, sph_real *Fj)
 {
     const sph__nshape *s = &sph__nshapes[kd->shape];
-    const sph_real r = sph__sqrt(sph__h_dx(P, c->dim, xi, c->x, j, dx)), hj = h[j];
+    const sph_real r = sph__sqrt(sph__h_dx(P, c->dim, xi, c->x, j, dx)), hjinv = 1 / h[j];
     int a;
-    *Fi = sph__hpow(kd->alpha * sph__nshape_g(s, r / hi), 1 / hi, c->dim + 2);
-    *Fj = sph__hpow(kd->alpha * sph__nshape_g(s, r / hj), 1 / hj, c->dim + 2);
+    *Fi = sph__hpow(kd->alpha * sph__nshape_g(s, r * hiinv), hiinv, c->dim + 2);
+    *Fj = sph__hpow(kd->alpha * sph__nshape_g(s, r * hjinv), hjinv, c->dim + 2);
     *cf = Ai * *Fi + A[j] * *Fj;
     if (want_e) {
         sph_real e = 0;
@@ -4418,6 +4422,7 @@ SPH_API int sph_gradh_forces(const sph_hctx *c, sph_view v, const sph_real *h, c
 #endif
     for (i = 0; i < n; ++i) {
         sph_real xi[3], vi[3] = {0, 0, 0}, acc[3] = {0, 0, 0}, du = 0, dx[3], cf, Fi, Fj;
+        const sph_real hiinv = 1 / h[i];
         sph_off o;
         int a;
         sph__h_xi(c->x, c->dim, i, xi);
@@ -4426,7 +4431,7 @@ SPH_API int sph_gradh_forces(const sph_hctx *c, sph_view v, const sph_real *h, c
             const sph_idx j = c->list->index[o];
             const sph_real mj = c->m.p[0][(ptrdiff_t)j * c->m.stride];
             if (j == i) continue;
-            sph__gradh_pair(c, kd, &P, xi, h[i], A[i], vi, j, v, h, A, dudt != NULL, dx, &cf, &Fi, &Fj);
+            sph__gradh_pair(c, kd, &P, xi, hiinv, A[i], vi, j, v, h, A, dudt != NULL, dx, &cf, &Fi, &Fj);
             sph__axpy(c->dim, mj * cf, dx, acc);
             du += mj * Fi;
         }
@@ -4437,14 +4442,14 @@ SPH_API int sph_gradh_forces(const sph_hctx *c, sph_view v, const sph_real *h, c
 }
 
 /* (H8) The half list of a symmetric full list and its transpose. offset
- * [n + 1], index [cap], t_offset [n + 1], t_pair [cap]; pairs is set to the
+ * [n + 1], index [cap], t_offset [n + 1], t_slot [cap]; pairs is set to the
  * number of pairs (j > i) whatever happens. Rows of the full list must be
  * in ascending index (the search's order). Returns SPH_OK and fills *P, or
  * SPH_ESIZE (cap < pairs; offset complete), SPH_EINVAL when the list is not
  * symmetric (a pair in one row only; the pair-once sums would differ from
  * the gather ones) or a row not ascending, SPH_ENULL, SPH_EINDEX. */
 SPH_API int sph_pairs_build(const sph_neighbours *full, sph_off *offset, sph_idx *index, sph_off cap,
-                            sph_off *t_offset, sph_off *t_pair, sph_off *pairs, sph_pairs *P)
+                            sph_off *t_offset, sph_off *t_slot, sph_off *pairs, sph_pairs *P)
 {
     sph_idx i, n;
     sph_off o, k;
@@ -4470,7 +4475,7 @@ SPH_API int sph_pairs_build(const sph_neighbours *full, sph_off *offset, sph_idx
     }
     if (pairs != NULL) *pairs = offset[n];
     if (cap < offset[n]) return SPH_ESIZE;
-    if (offset[n] > 0 && (index == NULL || t_pair == NULL)) return SPH_ENULL;
+    if (offset[n] > 0 && (index == NULL || t_slot == NULL)) return SPH_ENULL;
     for (i = 0; i <= n; ++i) t_offset[i] = 0;
     for (i = 0; i < n; ++i) {
         const sph_off tail = full->offset[i + 1] - (offset[i + 1] - offset[i]);
@@ -4480,39 +4485,35 @@ SPH_API int sph_pairs_build(const sph_neighbours *full, sph_off *offset, sph_idx
         }
     }
     for (i = 0; i < n; ++i) t_offset[i + 1] += t_offset[i];
-    /* transpose: t_offset[j] serves as the cursor of j, then is shifted back */
+    /* transpose: t_offset[j] serves as the cursor of j (rows in ascending i), then is shifted back */
     for (i = 0; i < n; ++i)
-        for (k = offset[i]; k < offset[i + 1]; ++k) {
-            const sph_idx j = index[k];
-            t_pair[t_offset[j]++] = k;
-        }
+        for (k = offset[i]; k < offset[i + 1]; ++k) t_slot[k] = t_offset[index[k]]++;
     for (i = n; i > 0; --i) t_offset[i] = t_offset[i - 1];
     t_offset[0] = 0;
     /* symmetry: the sources below j of full row j are, in order, the i whose half rows hold j */
     for (i = 0; i < n && !bad; ++i) {
-        const sph_off cnt = t_offset[i + 1] - t_offset[i];
         sph_off below = 0;
         for (o = full->offset[i]; o < full->offset[i + 1] && full->index[o] < i; ++o) ++below;
-        bad = below != cnt;
-        for (k = 0; k < cnt && !bad; ++k) {
-            const sph_off pk = t_pair[t_offset[i] + k];
-            sph_idx row = full->index[full->offset[i] + k]; /* the expected partner */
-            bad = !(pk >= offset[row] && pk < offset[row + 1]);
-        }
+        bad = below != t_offset[i + 1] - t_offset[i];
     }
+    for (i = 0; i < n && !bad; ++i)
+        for (k = offset[i]; k < offset[i + 1] && !bad; ++k) {
+            const sph_idx j = index[k];
+            bad = full->index[full->offset[j] + (t_slot[k] - t_offset[j])] != i;
+        }
     if (bad) return SPH_EINVAL;
     P->half.n_targets = P->half.n_sources = n;
     P->half.offset = offset;
     P->half.index = index;
     P->t_offset = t_offset;
-    P->t_pair = t_pair;
+    P->t_slot = t_slot;
     return SPH_OK;
 }
 
 /* (H8) out[ncomp i + a] = sum over the pairs k of row i of to_i[ncomp k + a]
- * + sum over the transposed pairs k of i of to_j[ncomp k + a], in that
- * order: to_i and to_j hold what pair k = (i, j) adds to i and to j. ncomp
- * 1..16. Parallel over particles; bitwise the same for any thread count. */
+ * + sum over the slots t of i of to_j[ncomp t + a], in that order: pair k =
+ * (i, j) adds to_i[k] to i and to_j[t_slot[k]] to j. ncomp 1..16. Parallel
+ * over particles; bitwise the same for any thread count. */
 SPH_API int sph_pairs_reduce(const sph_pairs *P, int ncomp, const sph_real *to_i, const sph_real *to_j, sph_real *out)
 {
     sph_idx i, n;
@@ -4520,7 +4521,7 @@ SPH_API int sph_pairs_reduce(const sph_pairs *P, int ncomp, const sph_real *to_i
     if (ncomp < 1 || ncomp > 16) return SPH_EINVAL;
     n = P->half.n_targets;
     if (n > 0 && out == NULL) return SPH_ENULL;
-    if (P->half.offset[n] > 0 && (to_i == NULL || to_j == NULL || P->t_pair == NULL)) return SPH_ENULL;
+    if (P->half.offset[n] > 0 && (to_i == NULL || to_j == NULL)) return SPH_ENULL;
 #ifdef _OPENMP
 #pragma omp parallel for schedule(static) if (n >= 2048)
 #endif
@@ -4531,10 +4532,8 @@ SPH_API int sph_pairs_reduce(const sph_pairs *P, int ncomp, const sph_real *to_i
         for (a = 0; a < ncomp; ++a) s[a] = 0;
         for (k = P->half.offset[i]; k < P->half.offset[i + 1]; ++k)
             for (a = 0; a < ncomp; ++a) s[a] += to_i[(ptrdiff_t)ncomp * k + a];
-        for (t = P->t_offset[i]; t < P->t_offset[i + 1]; ++t) {
-            const sph_off k2 = P->t_pair[t];
-            for (a = 0; a < ncomp; ++a) s[a] += to_j[(ptrdiff_t)ncomp * k2 + a];
-        }
+        for (t = P->t_offset[i]; t < P->t_offset[i + 1]; ++t)
+            for (a = 0; a < ncomp; ++a) s[a] += to_j[(ptrdiff_t)ncomp * t + a];
         for (a = 0; a < ncomp; ++a) out[(ptrdiff_t)ncomp * i + a] = s[a];
     }
     return SPH_OK;
@@ -4562,7 +4561,7 @@ SPH_API int sph_gradh_forces_pairs(const sph_hctx *c, const sph_pairs *P, sph_vi
     if ((st = sph__gradh_check(&ch, v, h, A, dvdt, dudt)) != SPH_OK) return st;
     n = P->half.n_targets;
     np = P->half.offset[n];
-    if (np > 0 && buf == NULL) return SPH_ENULL;
+    if (np > 0 && (buf == NULL || P->t_slot == NULL)) return SPH_ENULL;
     D = c->dim;
     kd = sph__kd(c->kernel, D);
     Pd = sph__period_of(c->box, D);
@@ -4575,7 +4574,7 @@ SPH_API int sph_gradh_forces_pairs(const sph_hctx *c, const sph_pairs *P, sph_vi
 #endif
     for (i = 0; i < n; ++i) {
         sph_real xi[3], vi[3] = {0, 0, 0}, dx[3], cf, Fi, Fj;
-        const sph_real mi = c->m.p[0][(ptrdiff_t)i * c->m.stride];
+        const sph_real mi = c->m.p[0][(ptrdiff_t)i * c->m.stride], hiinv = 1 / h[i];
         sph_off k;
         int a;
         sph__h_xi(c->x, D, i, xi);
@@ -4583,13 +4582,14 @@ SPH_API int sph_gradh_forces_pairs(const sph_hctx *c, const sph_pairs *P, sph_vi
         for (k = P->half.offset[i]; k < P->half.offset[i + 1]; ++k) {
             const sph_idx j = P->half.index[k];
             const sph_real mj = c->m.p[0][(ptrdiff_t)j * c->m.stride];
-            sph__gradh_pair(&ch, kd, &Pd, xi, h[i], A[i], vi, j, v, h, A, dudt != NULL, dx, &cf, &Fi, &Fj);
+            const sph_off t = P->t_slot[k];
+            sph__gradh_pair(&ch, kd, &Pd, xi, hiinv, A[i], vi, j, v, h, A, dudt != NULL, dx, &cf, &Fi, &Fj);
             for (a = 0; a < D; ++a) {
                 vi_buf[(ptrdiff_t)D * k + a] = -(mj * cf) * dx[a];
-                vj_buf[(ptrdiff_t)D * k + a] = (mi * cf) * dx[a];
+                vj_buf[(ptrdiff_t)D * t + a] = (mi * cf) * dx[a];
             }
             ei_buf[k] = A[i] * (mj * Fi);
-            ej_buf[k] = A[j] * (mi * Fj);
+            ej_buf[t] = A[j] * (mi * Fj);
         }
     }
     if ((st = sph_pairs_reduce(P, D, vi_buf, vj_buf, dvdt)) != SPH_OK) return st;

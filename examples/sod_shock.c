@@ -39,7 +39,7 @@
  *
  *   ./sod_shock                     one run, nx = 64 (particles per unit length, left)
  *   ./sod_shock --check             nx = 32 run with validation bounds (make test)
- *   ./sod_shock --study docs/results  nx = 64, 128, 256: L1 errors and orders into
+ *   ./sod_shock --study docs/results  nx = 32, 48, 64: L1 errors and orders into
  *                                   docs/results/sod_shock.md, profiles into --out
  */
 #include "example_io.h"
@@ -147,7 +147,7 @@ typedef struct {
     /* lists */
     void *work;
     size_t work_bytes;
-    sph_off *offset, *h_off, *t_off, *t_pair, cap;
+    sph_off *offset, *h_off, *t_off, *t_slot, cap;
     sph_idx *index, *h_idx;
     double vsig_max;
     long solves, sums, researches;
@@ -159,7 +159,7 @@ static void sd_free(sd_sim *S)
     free(S->x), free(S->v), free(S->vp), free(S->a), free(S->u), free(S->up), free(S->du), free(S->h);
     free(S->rho), free(S->om), free(S->hl), free(S->A), free(S->cs), free(S->alpha), free(S->dalpha);
     free(S->f5), free(S->buf), free(S->state), free(S->work), free(S->offset), free(S->h_off), free(S->t_off);
-    free(S->t_pair), free(S->index), free(S->h_idx);
+    free(S->t_slot), free(S->index), free(S->h_idx);
 }
 
 /* malloc of count elements of size bytes, NULL on overflow or failure. */
@@ -232,13 +232,13 @@ static int sd_search(sd_sim *S)
         return st;
     st = sph_nsearch_lists(&g, xv, S->n, hv, 0, S->kappa, SPH_NSEARCH_SYMMETRIC, S->offset, S->index, S->cap, &pairs);
     if (st == SPH_ESIZE) { /* grow the index arrays with slack, then fill */
-        free(S->index), free(S->h_idx), free(S->t_pair), free(S->buf);
+        free(S->index), free(S->h_idx), free(S->t_slot), free(S->buf);
         S->cap = S->offset[S->n] + S->offset[S->n] / 4 + 1;
         S->index = (sph_idx *)sd_alloc((size_t)S->cap, sizeof(sph_idx));
         S->h_idx = (sph_idx *)sd_alloc((size_t)S->cap, sizeof(sph_idx));
-        S->t_pair = (sph_off *)sd_alloc((size_t)S->cap, sizeof(sph_off));
+        S->t_slot = (sph_off *)sd_alloc((size_t)S->cap, sizeof(sph_off));
         S->buf = (sph_real *)sd_alloc((size_t)S->cap, 10 * sizeof(sph_real)); /* 2 x 5 per half pair: cap / 2 would do */
-        if (S->index == NULL || S->h_idx == NULL || S->t_pair == NULL || S->buf == NULL) return S->cap = 0, SPH_ESIZE;
+        if (S->index == NULL || S->h_idx == NULL || S->t_slot == NULL || S->buf == NULL) return S->cap = 0, SPH_ESIZE;
         st = sph_nsearch_fill(&g, xv, S->n, hv, 0, S->kappa, SPH_NSEARCH_SYMMETRIC, S->offset, S->index, S->cap);
     }
     return st;
@@ -284,7 +284,7 @@ static int sd_density(sd_sim *S)
 static void sd_pair(const sd_sim *S, sph_idx i, sph_idx j, sph_off k, double m, sph_real *vs)
 {
     const sd_param *P = &S->P;
-    sph_real dx[3], dv[3], nx[3], nv[3], r2 = 0, e = 0, *ti = S->buf + 5 * k, *tj = S->buf + 5 * (S->cap + k);
+    sph_real dx[3], dv[3], nx[3], nv[3], r2 = 0, e = 0, *ti = S->buf + 5 * k, *tj = S->buf + 5 * (S->cap + S->t_slot[k]);
     sph_real Fi, Fj, Fb, rhob, Pi, pi_, pj_, vu, cond, s, r;
     int a;
     for (a = 0; a < 3; ++a) {
@@ -339,7 +339,7 @@ static int sd_forces(sd_sim *S, double m)
     full.n_targets = full.n_sources = S->n;
     full.offset = S->offset;
     full.index = S->index;
-    st = sph_pairs_build(&full, S->h_off, S->h_idx, S->cap, S->t_off, S->t_pair, &pairs, &pr);
+    st = sph_pairs_build(&full, S->h_off, S->h_idx, S->cap, S->t_off, S->t_slot, &pairs, &pr);
     if (st != SPH_OK) return st;
 #ifdef _OPENMP
 #pragma omp parallel for schedule(dynamic, 64) reduction(max : vmax)
@@ -527,10 +527,10 @@ static int sd_run_to(const sd_param *P, const char *out, sd_result *R)
     return st;
 }
 
-/* nx = 64, 128, 256: table with orders into dir/sod_shock.md. */
+/* nx = 32, 48, 64: table with orders into dir/sod_shock.md. */
 static int sd_study(const sd_param *P0, const char *dir, const char *out)
 {
-    const int nxs[3] = {64, 128, 256};
+    const int nxs[3] = {32, 48, 64};
     sd_result R[3];
     char path[1100];
     FILE *md;
@@ -549,7 +549,7 @@ static int sd_study(const sd_param *P0, const char *dir, const char *out)
                 "Written by `make plots-sod` (`build/sod_shock --study %s`). gamma = %g, t = %g, %s kernel, eta = %g, "
                 "%d x %d particles across the tube on the left, CFL %g, viscosity switch alpha in [%g, %g], "
                 "beta = %g, conductivity alpha_u = %g. L1 = mean over the particles with |x| <= 0.5 of "
-                "|q_i - q_exact(x_i)|; order = log2 of the ratio of successive L1.\n\n"
+                "|q_i - q_exact(x_i)|; order = log(L1 ratio) / log(nx ratio) of successive rows.\n\n"
                 "| nx | particles | steps | L1 rho | order | L1 v_x | order | L1 P | order | density sums per "
                 "particle and solve (max) | re-searches | abs(dE)/E | run time (s) |\n"
                 "|---|---|---|---|---|---|---|---|---|---|---|---|---|\n",
@@ -558,9 +558,10 @@ static int sd_study(const sd_param *P0, const char *dir, const char *out)
     for (r = 0; r < 3; ++r) {
         char o[3][16] = {"-", "-", "-"};
         if (r > 0) {
-            snprintf(o[0], sizeof o[0], "%.2f", log2(R[r - 1].l1_rho / R[r].l1_rho));
-            snprintf(o[1], sizeof o[1], "%.2f", log2(R[r - 1].l1_v / R[r].l1_v));
-            snprintf(o[2], sizeof o[2], "%.2f", log2(R[r - 1].l1_p / R[r].l1_p));
+            const double q = log((double)nxs[r] / nxs[r - 1]);
+            snprintf(o[0], sizeof o[0], "%.2f", log(R[r - 1].l1_rho / R[r].l1_rho) / q);
+            snprintf(o[1], sizeof o[1], "%.2f", log(R[r - 1].l1_v / R[r].l1_v) / q);
+            snprintf(o[2], sizeof o[2], "%.2f", log(R[r - 1].l1_p / R[r].l1_p) / q);
         }
         fprintf(md, "| %d | %ld | %ld | %.4f | %s | %.4f | %s | %.4f | %s | %.2f (%d) | %ld | %.1e | %.0f |\n", nxs[r],
                 (long)R[r].n, R[r].steps, R[r].l1_rho, o[0], R[r].l1_v, o[1], R[r].l1_p, o[2],
@@ -611,7 +612,7 @@ int main(int argc, char **argv)
 {
     sd_param P;
     sd_result R;
-    const char *out = "build/sod_shock", *study = NULL;
+    const char *out = "build/sod_shock_out", *study = NULL;
     int threads = 0, check = 0, st;
     ex_option opt[16];
     P.nx = 64, P.ny = 12, P.kernel = "cubic", P.gamma = 5.0 / 3.0, P.t_end = 0.2, P.eta = 1.2, P.cfl = 0.3;
@@ -631,7 +632,7 @@ int main(int argc, char **argv)
     opt[11].name = "out", opt[11].help = "output directory (profiles, exact solution)", opt[11].text = &out;
     opt[12].name = "threads", opt[12].help = "OpenMP threads (0: the runtime's default)", opt[12].integer = &threads;
     opt[13].name = "check", opt[13].help = "nx = 32 run; exit 1 if it misses its validation bounds", opt[13].flag = &check;
-    opt[14].name = "study", opt[14].help = "nx = 64, 128, 256: the error table into this directory", opt[14].text = &study;
+    opt[14].name = "study", opt[14].help = "nx = 32, 48, 64: the error table into this directory", opt[14].text = &study;
     st = ex_parse(argc, argv, "3-D Sod shock tube with adaptive h and grad-h terms against the exact Riemann solution",
                   opt, 15);
     if (st != 0) return st > 0 ? 0 : 2;

@@ -179,19 +179,19 @@ static void build_errors_case(void)
     const sph_idx sym[9] = {0, 1, 2, 0, 1, 2, 0, 1, 2};
     const sph_off soff[4] = {0, 3, 6, 9};
     sph_neighbours full = {3, 3, off, idx};
-    sph_off offset[4], t_offset[4], t_pair[9], pairs = -1;
+    sph_off offset[4], t_offset[4], t_slot[9], pairs = -1;
     sph_idx index[9];
     sph_pairs P;
     sph_real to_i[3] = {1, 2, 4}, to_j[3] = {8, 16, 32}, out[3];
     int st;
     th_begin("pairs: non-symmetric list refused, short arrays report the count, reduce order");
-    st = sph_pairs_build(&full, offset, index, 9, t_offset, t_pair, &pairs, &P);
+    st = sph_pairs_build(&full, offset, index, 9, t_offset, t_slot, &pairs, &P);
     TH_CHECK(st == SPH_EINVAL, "non-symmetric: %d", st);
     full.offset = soff;
     full.index = sym;
-    st = sph_pairs_build(&full, offset, index, 2, t_offset, t_pair, &pairs, &P);
+    st = sph_pairs_build(&full, offset, index, 2, t_offset, t_slot, &pairs, &P);
     TH_CHECK(st == SPH_ESIZE && pairs == 3, "cap 2: %d, pairs %ld", st, (long)pairs);
-    st = sph_pairs_build(&full, offset, index, 3, t_offset, t_pair, &pairs, &P);
+    st = sph_pairs_build(&full, offset, index, 3, t_offset, t_slot, &pairs, &P);
     TH_CHECK(st == SPH_OK && pairs == 3, "cap 3: %d", st);
     /* pairs k: 0 = (0,1), 1 = (0,2), 2 = (1,2) */
     TH_CHECK(index[0] == 1 && index[1] == 2 && index[2] == 2, "half list %d %d %d", index[0], index[1], index[2]);
@@ -199,7 +199,21 @@ static void build_errors_case(void)
     TH_CHECK(st == SPH_OK && out[0] == 1 + 2 && out[1] == 4 + 8 && out[2] == 16 + 32, "reduce %g %g %g", (double)out[0],
              (double)out[1], (double)out[2]);
     TH_CHECK(sph_pairs_reduce(&P, 0, to_i, to_j, out) == SPH_EINVAL, "ncomp 0");
-    TH_CHECK(sph_pairs_build(NULL, offset, index, 3, t_offset, t_pair, &pairs, &P) == SPH_ENULL, "NULL list");
+    { /* 4 particles, every pair: k = (0,1) (0,2) (0,3) (1,2) (1,3) (2,3); slots of 1: [0], of 2: [1, 2] for
+         i = 0, 1, of 3: [3, 4, 5] for i = 0, 1, 2 */
+        const sph_off o4[5] = {0, 4, 8, 12, 16};
+        const sph_idx i4[16] = {0, 1, 2, 3, 0, 1, 2, 3, 0, 1, 2, 3, 0, 1, 2, 3};
+        const sph_off expect[6] = {0, 1, 3, 2, 4, 5};
+        sph_neighbours f4 = {4, 4, o4, i4};
+        sph_off ho[5], to[5], ts[16];
+        sph_idx hi[16];
+        int k, ok = 1;
+        st = sph_pairs_build(&f4, ho, hi, 16, to, ts, &pairs, &P);
+        for (k = 0; k < 6; ++k) ok &= ts[k] == expect[k];
+        TH_CHECK(st == SPH_OK && pairs == 6 && ok && to[4] == 6, "4 particles: slots %ld %ld %ld %ld %ld %ld",
+                 (long)ts[0], (long)ts[1], (long)ts[2], (long)ts[3], (long)ts[4], (long)ts[5]);
+    }
+    TH_CHECK(sph_pairs_build(NULL, offset, index, 3, t_offset, t_slot, &pairs, &P) == SPH_ENULL, "NULL list");
     th_end();
 }
 
