@@ -27,7 +27,7 @@
  *     the artificial conductivity of Price (2008), du_i/dt += sum_j m_j
  *     alpha_u v_u (u_i - u_j) F_ij r / rho_ij with v_u = sqrt(|P_i - P_j| /
  *     rho_ij), and div v_i = -(1 / (Omega_i rho_i)) sum_j m_j v_ij . grad_i
- *     W_ij(h_i) (Price 2012, eq. 40);
+ *     W_ij(h_i) (Price 2012);
  *   - the viscosity switch of Morris & Monaghan (1997) with the source of
  *     Rosswog et al. (2000): d alpha_i / dt = -(alpha_i - alpha_min) / tau_i
  *     + max(-div v_i, 0) (alpha_max - alpha_i), tau_i = h_i / (0.1 c_i).
