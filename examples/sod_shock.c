@@ -284,13 +284,13 @@ static int sd_density(sd_sim *S)
 static void sd_pair(const sd_sim *S, sph_idx i, sph_idx j, sph_off k, double m, sph_real *vs)
 {
     const sd_param *P = &S->P;
-    sph_real dx[3], dv[3], nx[3], nv[3], r2 = 0, e = 0, *ti = S->buf + 5 * k, *tj = S->buf + 5 * (S->cap + S->t_slot[k]);
-    sph_real Fi, Fj, Fb, rhob, Pi, pi_, pj_, vu, cond, s, r;
+    sph_real dx[3], dv[3], xji[3], vji[3], r2 = 0, e = 0, *ti = S->buf + 5 * k, *tj = S->buf + 5 * (S->cap + S->t_slot[k]);
+    sph_real Fi, Fj, Fb, rhob, Pi, p_i, p_j, vu, cond, s, r;
     int a;
     for (a = 0; a < 3; ++a) {
         dx[a] = sph_box_delta(&S->box, a, S->x[3 * i + a] - S->x[3 * j + a]);
         dv[a] = S->vp[3 * i + a] - S->vp[3 * j + a];
-        nx[a] = -dx[a], nv[a] = -dv[a];
+        xji[a] = -dx[a], vji[a] = -dv[a];
         r2 += dx[a] * dx[a];
         e += dv[a] * dx[a];
     }
@@ -301,15 +301,15 @@ static void sd_pair(const sd_sim *S, sph_idx i, sph_idx j, sph_off k, double m, 
     sph_pair_gradh_pressure(3, (sph_real)m, S->A[i], S->A[j], Fi, Fj, dx, ti); /* acc_i; dv_i/dt = -acc */
     for (a = 0; a < 3; ++a) tj[a] = ti[a], ti[a] = -ti[a]; /* dv_i/dt = -acc; equal masses: dv_j/dt = +acc */
     ti[3] = sph_pair_gradh_energy(3, (sph_real)m, S->A[i], Fi, dv, dx);
-    tj[3] = sph_pair_gradh_energy(3, (sph_real)m, S->A[j], Fj, nv, nx);
+    tj[3] = sph_pair_gradh_energy(3, (sph_real)m, S->A[j], Fj, vji, xji);
     Fb = (Fi + Fj) / 2;
     rhob = (S->rho[i] + S->rho[j]) / 2;
     Pi = sph_pair_av_signal(3, (S->alpha[i] + S->alpha[j]) / 2, (sph_real)P->beta, S->cs[i], S->cs[j], rhob, dx, dv);
     ti[3] += sph_pair_av_apply(3, (sph_real)m, Pi, Fb, dx, dv, ti);
-    tj[3] += sph_pair_av_apply(3, (sph_real)m, Pi, Fb, nx, nv, tj);
-    pi_ = (sph_real)(P->gamma - 1) * S->rho[i] * S->up[i];
-    pj_ = (sph_real)(P->gamma - 1) * S->rho[j] * S->up[j];
-    vu = sqrt(fabs(pi_ - pj_) / rhob);
+    tj[3] += sph_pair_av_apply(3, (sph_real)m, Pi, Fb, xji, vji, tj);
+    p_i = (sph_real)(P->gamma - 1) * S->rho[i] * S->up[i];
+    p_j = (sph_real)(P->gamma - 1) * S->rho[j] * S->up[j];
+    vu = sqrt(fabs(p_i - p_j) / rhob);
     cond = (sph_real)(P->alpha_u * m) * vu * (S->up[i] - S->up[j]) * Fb * r / rhob;
     ti[3] += cond;
     tj[3] -= cond;
