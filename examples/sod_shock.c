@@ -5,8 +5,13 @@
  *
  * Set-up as SWIFT's sodShock_3D and Phantom's "Sod shock" set-up run it:
  * gamma = 5/3, left state rho = 1, P = 1, right state rho = 0.125, P = 0.1,
- * v = 0, end time t = 0.2, equal-mass particles on two cubic lattices of
- * spacing dx (left) and 2 dx (right: density ratio 8 in 3-D). The tube
+ * v = 0, end time t = 0.2, equal-mass particles on two face-centred cubic
+ * (close-packed, Phantom's default) lattices of cell a (left) and 2 a
+ * (right: density ratio 8 in 3-D); --lattice cubic takes simple cubic
+ * lattices instead, which are not a minimum-energy arrangement: the
+ * particles re-mesh behind the waves and the left plateau ends up 20 %
+ * above the exact pressure (0.35 instead of 0.294 at 32 and 64 cells per
+ * unit length; docs/smoothing_length.md). The tube
  * x in [-1, 1) is periodic along every axis, with the left state on
  * [-1, 0) and the right state on [0, 1): the interface at x = 0 is the Sod
  * problem, the one at x = +-1 its mirror image, and until t = 0.25 the waves
@@ -37,9 +42,9 @@
  * sampling of section 4.5), checked against Toro's Table 4.3 (test 1,
  * gamma = 1.4: p* = 0.30313, u* = 0.92745) on every --check run.
  *
- *   ./sod_shock                     one run, nx = 64 (particles per unit length, left)
- *   ./sod_shock --check             nx = 32 run with validation bounds (make test)
- *   ./sod_shock --study docs/results  nx = 32, 48, 64: L1 errors and orders into
+ *   ./sod_shock                     one run, nx = 32 (fcc cells per unit length, left)
+ *   ./sod_shock --check             nx = 16 run with validation bounds (make test)
+ *   ./sod_shock --study docs/results  nx = 16, 24, 32: L1 errors and orders into
  *                                   docs/results/sod_shock.md, profiles into --out
  */
 #include "example_io.h"
@@ -50,8 +55,8 @@
 #endif
 
 typedef struct {
-    int nx, ny;          /* left lattice: particles per unit length, and across the tube */
-    const char *kernel;
+    int nx, ny;          /* left lattice: cells per unit length, and across the tube (0: the fewest allowed) */
+    const char *kernel, *lattice; /* lattice: fcc (4 particles per cell) or cubic (1) */
     double gamma, t_end, eta, cfl, alpha_min, alpha_max, beta, alpha_u;
 } sd_param;
 
@@ -162,6 +167,16 @@ static void sd_free(sd_sim *S)
     free(S->t_slot), free(S->index), free(S->h_idx);
 }
 
+/* Particles per lattice cell: 4 (fcc) or 1 (cubic). */
+static int sd_per_cell(const sd_param *P) { return strcmp(P->lattice, "cubic") == 0 ? 1 : 4; }
+
+/* The fewest (even) cells across the tube for which the search radius kappa 1.15 h of the right lattice
+ * (h = eta 2 a ppc^(-1/3)) stays within half the cross-section. */
+static double sd_ny_min(const sd_param *P, double kappa)
+{
+    return 2 * kappa * 1.15 * P->eta * 2 / cbrt((double)sd_per_cell(P)) / 0.999;
+}
+
 /* malloc of count elements of size bytes, NULL on overflow or failure. */
 static void *sd_alloc(size_t count, size_t size) { return count > ((size_t)-1) / size ? NULL : malloc(count * size); }
 
@@ -169,11 +184,15 @@ static void *sd_alloc(size_t count, size_t size) { return count > ((size_t)-1) /
 static int sd_setup(sd_sim *S)
 {
     const sd_param *P = &S->P;
-    const int nxr = P->nx / 2, nyr = P->ny / 2;
+    /* cell bases: fcc shifted by a / 4 (the two lattices then meet 3a/4 apart at x = 0 and x = +-1), cubic cell-centred */
+    static const double fcc[4][3] = {{0.25, 0.25, 0.25}, {0.75, 0.75, 0.25}, {0.75, 0.25, 0.75}, {0.25, 0.75, 0.75}};
+    static const double cub[1][3] = {{0.5, 0.5, 0.5}};
+    const int ppc = sd_per_cell(P), nxr = P->nx / 2, nyr = P->ny / 2;
+    const double(*basis)[3] = ppc == 4 ? fcc : cub;
     const double dx = 1.0 / P->nx, dxr = 2 * dx, g1 = P->gamma - 1;
-    const size_t n = (size_t)P->nx * (size_t)P->ny * (size_t)P->ny + (size_t)nxr * (size_t)nyr * (size_t)nyr;
+    const size_t n = (size_t)ppc * ((size_t)P->nx * (size_t)P->ny * (size_t)P->ny + (size_t)nxr * (size_t)nyr * (size_t)nyr);
     sph_idx p = 0;
-    int i, j, l;
+    int i, j, l, b;
     S->n = (sph_idx)n;
     S->dx = (sph_real)dx;
     S->W = (sph_real)(P->ny * dx);
@@ -196,13 +215,14 @@ static int sd_setup(sd_sim *S)
         const int mx = l ? nxr : P->nx, my = l ? nyr : P->ny;
         const double d = l ? dxr : dx, x0 = l ? 0 : -1, rho = l ? 0.125 : 1, pr = l ? 0.1 : 1;
         for (i = 0; i < mx; ++i)
-            for (j = 0; j < my * my; ++j, ++p) {
-                S->x[3 * p] = (sph_real)(x0 + (i + 0.5) * d);
-                S->x[3 * p + 1] = (sph_real)((j % my + 0.5) * d);
-                S->x[3 * p + 2] = (sph_real)((j / my + 0.5) * d);
+            for (j = 0; j < my * my * ppc; ++j, ++p) {
+                b = j % ppc;
+                S->x[3 * p] = (sph_real)(x0 + (i + basis[b][0]) * d);
+                S->x[3 * p + 1] = (sph_real)((j / ppc % my + basis[b][1]) * d);
+                S->x[3 * p + 2] = (sph_real)((j / ppc / my + basis[b][2]) * d);
                 S->v[3 * p] = S->v[3 * p + 1] = S->v[3 * p + 2] = 0;
                 S->u[p] = (sph_real)(pr / (g1 * rho));
-                S->h[p] = (sph_real)(P->eta * d);
+                S->h[p] = (sph_real)(P->eta * d / cbrt((double)ppc));
                 S->alpha[p] = (sph_real)P->alpha_min;
             }
     }
@@ -392,7 +412,7 @@ static int sd_run(const sd_param *P, sd_result *R, FILE *profile, const char *la
         sd_free(&S);
         return SPH_ESIZE;
     }
-    m = 1.0 / ((double)P->nx * P->nx * P->nx); /* rho_L dx^3 = rho_R (2 dx)^3 */
+    m = 1.0 / ((double)sd_per_cell(P) * P->nx * P->nx * P->nx); /* rho_L a^3 / ppc = rho_R (2 a)^3 / ppc */
     S.m = (sph_real)m;
     E0 = sd_energy(&S, m);
     memcpy(S.vp, S.v, sizeof(sph_real) * 3 * (size_t)S.n);
@@ -527,10 +547,10 @@ static int sd_run_to(const sd_param *P, const char *out, sd_result *R)
     return st;
 }
 
-/* nx = 32, 48, 64: table with orders into dir/sod_shock.md. */
+/* nx = 16, 24, 32: table with orders into dir/sod_shock.md. */
 static int sd_study(const sd_param *P0, const char *dir, const char *out)
 {
-    const int nxs[3] = {32, 48, 64};
+    const int nxs[3] = {16, 24, 32};
     sd_result R[3];
     char path[1100];
     FILE *md;
@@ -547,13 +567,13 @@ static int sd_study(const sd_param *P0, const char *dir, const char *out)
     if ((md = fopen(path, "w")) == NULL) return -1;
     fprintf(md, "# Sod shock tube in 3-D (examples/sod_shock.c)\n\n"
                 "Written by `make plots-sod` (`build/sod_shock --study %s`). gamma = %g, t = %g, %s kernel, eta = %g, "
-                "%d x %d particles across the tube on the left, CFL %g, viscosity switch alpha in [%g, %g], "
+                "%s lattices, %d x %d cells across the tube on the left, CFL %g, viscosity switch alpha in [%g, %g], "
                 "beta = %g, conductivity alpha_u = %g. L1 = mean over the particles with |x| <= 0.5 of "
                 "|q_i - q_exact(x_i)|; order = log(L1 ratio) / log(nx ratio) of successive rows.\n\n"
                 "| nx | particles | steps | L1 rho | order | L1 v_x | order | L1 P | order | density sums per "
                 "particle and solve (max) | re-searches | abs(dE)/E | run time (s) |\n"
                 "|---|---|---|---|---|---|---|---|---|---|---|---|---|\n",
-            dir, P0->gamma, P0->t_end, P0->kernel, P0->eta, P0->ny, P0->ny, P0->cfl, P0->alpha_min, P0->alpha_max,
+            dir, P0->gamma, P0->t_end, P0->kernel, P0->eta, P0->lattice, P0->ny, P0->ny, P0->cfl, P0->alpha_min, P0->alpha_max,
             P0->beta, P0->alpha_u);
     for (r = 0; r < 3; ++r) {
         char o[3][16] = {"-", "-", "-"};
@@ -588,6 +608,8 @@ static int sd_validate(const sd_param *P)
         fprintf(stderr, "sod_shock: " __VA_ARGS__); \
         return -1;                                 \
     }
+    SD_RANGE(strcmp(P->lattice, "fcc") == 0 || strcmp(P->lattice, "cubic") == 0, "--lattice '%s' unknown (fcc, cubic)\n",
+             P->lattice)
     SD_RANGE(P->nx >= 8 && P->nx <= 2048 && P->nx % 2 == 0, "--nx %d outside the even numbers 8..2048\n", P->nx)
     SD_RANGE(P->ny >= 4 && P->ny <= 64 && P->ny % 2 == 0, "--ny %d outside the even numbers 4..64\n", P->ny)
     SD_RANGE(P->gamma > 1 && P->gamma <= 3, "--gamma %g outside (1, 3]\n", P->gamma)
@@ -601,9 +623,9 @@ static int sd_validate(const sd_param *P)
     SD_RANGE(P->beta >= 0 && P->beta <= 8, "--beta %g outside [0, 8]\n", P->beta)
     SD_RANGE(P->alpha_u >= 0 && P->alpha_u <= 4, "--alpha-u %g outside [0, 4]\n", P->alpha_u)
     /* the search radius kappa 1.15 h of the right lattice (h = eta 2 dx) within half the cross-section */
-    ny_min = 2 * kappa * 1.15 * P->eta * 2 / 0.999;
-    SD_RANGE(P->ny >= ny_min, "--ny %d below %.1f: the cross-section must exceed 2 kappa 1.15 eta 2 dx for %s, eta %g\n",
-             P->ny, ny_min, P->kernel, P->eta)
+    ny_min = sd_ny_min(P, kappa);
+    SD_RANGE(P->ny >= ny_min, "--ny %d below %.1f: the cross-section must exceed 2 kappa 1.15 h of the right lattice "
+             "for %s, eta %g, %s\n", P->ny, ny_min, P->kernel, P->eta, P->lattice)
 #undef SD_RANGE
     return 0;
 }
@@ -615,11 +637,13 @@ int main(int argc, char **argv)
     const char *out = "build/sod_shock_out", *study = NULL;
     int threads = 0, check = 0, st;
     ex_option opt[16];
-    P.nx = 64, P.ny = 12, P.kernel = "cubic", P.gamma = 5.0 / 3.0, P.t_end = 0.2, P.eta = 1.2, P.cfl = 0.3;
+    P.nx = 32, P.ny = 0, P.kernel = "cubic", P.lattice = "fcc", P.gamma = 5.0 / 3.0, P.t_end = 0.2, P.eta = 1.2, P.cfl = 0.3;
     P.alpha_min = 0.1, P.alpha_max = 1, P.beta = 3, P.alpha_u = 1;
     memset(opt, 0, sizeof opt);
-    opt[0].name = "nx", opt[0].help = "left lattice: particles per unit length (even; right: nx / 2)", opt[0].integer = &P.nx;
-    opt[1].name = "ny", opt[1].help = "left lattice: particles across the tube (even; right: ny / 2)", opt[1].integer = &P.ny;
+    opt[0].name = "nx", opt[0].help = "left lattice: cells per unit length (even; right: nx / 2)", opt[0].integer = &P.nx;
+    opt[1].name = "ny", opt[1].help = "left lattice: cells across the tube (even; right: ny / 2; 0: the fewest allowed)",
+    opt[1].integer = &P.ny;
+    opt[15].name = "lattice", opt[15].help = "fcc (close packed, 4 per cell) or cubic", opt[15].text = &P.lattice;
     opt[2].name = "kernel", opt[2].help = "cubic, lucy, new_quartic, quintic, wendland_c2/c4/c6", opt[2].text = &P.kernel;
     opt[3].name = "gamma", opt[3].help = "adiabatic index (SWIFT and Phantom: 5/3; Sod 1978: 1.4)", opt[3].real = &P.gamma;
     opt[4].name = "t-end", opt[4].help = "end time", opt[4].real = &P.t_end;
@@ -631,12 +655,16 @@ int main(int argc, char **argv)
     opt[10].name = "alpha-u", opt[10].help = "artificial conductivity (0: none)", opt[10].real = &P.alpha_u;
     opt[11].name = "out", opt[11].help = "output directory (profiles, exact solution)", opt[11].text = &out;
     opt[12].name = "threads", opt[12].help = "OpenMP threads (0: the runtime's default)", opt[12].integer = &threads;
-    opt[13].name = "check", opt[13].help = "nx = 32 run; exit 1 if it misses its validation bounds", opt[13].flag = &check;
-    opt[14].name = "study", opt[14].help = "nx = 32, 48, 64: the error table into this directory", opt[14].text = &study;
+    opt[13].name = "check", opt[13].help = "nx = 16 run; exit 1 if it misses its validation bounds", opt[13].flag = &check;
+    opt[14].name = "study", opt[14].help = "nx = 16, 24, 32: the error table into this directory", opt[14].text = &study;
     st = ex_parse(argc, argv, "3-D Sod shock tube with adaptive h and grad-h terms against the exact Riemann solution",
-                  opt, 15);
+                  opt, 16);
     if (st != 0) return st > 0 ? 0 : 2;
-    if (check) P.nx = 32;
+    if (check) P.nx = 16;
+    if (P.ny == 0 && (strcmp(P.lattice, "fcc") == 0 || strcmp(P.lattice, "cubic") == 0) && sph_kernel_from_name(P.kernel) >= 0) {
+        P.ny = 2 * (int)ceil(sd_ny_min(&P, (double)sph_kernel_support((sph_kernel)sph_kernel_from_name(P.kernel))) / 2);
+        P.ny = P.ny < 4 ? 4 : P.ny;
+    }
     if (sd_validate(&P) != 0) return 2;
     if (threads < 0 || threads > 1024) {
         fprintf(stderr, "sod_shock: --threads %d outside 0..1024\n", threads);
@@ -653,9 +681,11 @@ int main(int argc, char **argv)
             return 1;
         }
         sd_print(&P, &R);
-        ok = ok && R.l1_rho < 0.05 && R.l1_v < 0.08 && R.l1_p < 0.04 && R.energy_drift < 1e-3 && R.momentum < 1e-10 &&
+        /* L1 bounds: 1.5 times the figures of the nx = 16 run (0.0196, 0.0464, 0.0193), a regression guard; the
+           conservation and iteration bounds are properties of the scheme */
+        ok = ok && R.l1_rho < 0.03 && R.l1_v < 0.07 && R.l1_p < 0.03 && R.energy_drift < 1e-3 && R.momentum < 1e-10 &&
              R.max_sums <= 10;
-        printf("sod_shock --check: L1 rho %.4f (bound 0.05), v %.4f (0.08), P %.4f (0.04), energy drift %.1e (1e-3), "
+        printf("sod_shock --check: L1 rho %.4f (bound 0.03), v %.4f (0.07), P %.4f (0.03), energy drift %.1e (1e-3), "
                "momentum %.1e (1e-10), most density sums %d (10): %s\n",
                R.l1_rho, R.l1_v, R.l1_p, R.energy_drift, R.momentum, R.max_sums, ok ? "pass" : "FAIL");
         return ok ? 0 : 1;
