@@ -4246,11 +4246,11 @@ SPH_API int sph__h_particle(const sph_hctx *c, const sph__kdim *kd, const sph__p
         fp = dr + dd * rh / x;
         *h = x;
         *rho = r;
-        *omega = 1 + x * dr / (dd * r); /* (H4): dh/drho = -h / (d rho) */
+        *omega = r > 0 ? 1 + x * dr / (dd * r) : 1; /* (H4): dh/drho = -h / (d rho); r = 0 only without the self term */
         if (f < 0) lo = x;
         else hi = x, hi_known = 1;
         if (f < 0 && x >= hl) { /* the root lies beyond the list: the fixed point of (H1) beyond h_list */
-            *h = c->eta * (sph_real)pow((double)(mi / r), 1.0 / c->dim);
+            *h = r > 0 ? c->eta * (sph_real)pow((double)(mi / r), 1.0 / c->dim) : 2 * hl;
             state = SPH_H_BEYOND_LIST;
             break;
         }

@@ -221,6 +221,17 @@ static void bad_input_case(void)
     TH_CHECK((st = sph_h_solve(&c, h, rho, om, it, NULL, NULL)) == SPH_EINDEX, "index 27: %d", st);
     L.index[4] = 0;
     for (i = 0; i < 27; ++i) TH_CHECK(rho[i] == -7, "rho[%d] written", i);
+    { /* a row without the particle itself and without neighbours: finite results, beyond the list */
+        const sph_off o1[2] = {0, 0};
+        sph_real x1[3] = {0, 0, 0}, m1 = 1, h1 = 1, r1 = -1, om1 = -1;
+        sph_neighbours e = {1, 1, o1, NULL};
+        sph_hctx c1 = sph_hctx_init(SPH_KERNEL_CUBIC, 3, &e, sph_view_interleaved(x1, 3), sph_view_soa(&m1, NULL, NULL),
+                                    (sph_real)1.5);
+        int s1 = -1;
+        TH_CHECK(sph_h_solve(&c1, &h1, &r1, &om1, NULL, &s1, NULL) == SPH_OK && s1 == SPH_H_BEYOND_LIST &&
+                 h1 == 3 && r1 == 0 && om1 == 1, "empty row: state %d h %g rho %g Omega %g", s1, (double)h1, (double)r1,
+                 (double)om1);
+    }
     c.max_iter = 1;
     TH_CHECK(sph_h_solve(&c, h, rho, om, it, NULL, &rep) == SPH_OK && rep.n_not_converged == 27 &&
              rep.max_iterations == 1, "max_iter 1: %d not converged", (int)rep.n_not_converged);
