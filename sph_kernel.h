@@ -155,7 +155,19 @@
  *   sph_pair_signal_velocity(dim, beta, c_i, c_j, dx, dv)            v_sig,ij (S2)
  *   sph_pair_av_signal(dim, alpha, beta, c_i, c_j, rho_ij, dx, dv)   Pi_ij (S3)
  *   sph_pair_av_apply(dim, m_j, Pi_ij, F, dx, dv, acc)   acc += (S4), returns du_i/dt's term
+ *   sph_pair_viscosity(dim, m_j, mu_i, mu_j, rho_i, rho_j, h, F, dx, dv, acc)  acc += (S5)
+ *   sph_pair_density_diffusion(dim, V_j, rho_i, rho_j, g_i, g_j, F, dx)   (S6)
+ *   sph_pair_wall(dim, W, p_f, rho_f, v_f, g_eff, dx, sum)    sums of a wall particle (S8)
+ *   sph_wall_end(dim, slip, sum, v_wall, &p_w, v_w)          its pressure and velocity (S8)
+ *   sph_dt_coef_default()                        C of the time-step limits (S9)-(S12)
+ *   sph_dt_limit(&coef, h, vsig, |a|, nu, D, &reason)        one particle's dt (S9)-(S12)
  *   sph_artificial_viscosity(c, &av, v, v_t, cs, cs_t, acc, dudt, vsig)   (S1)-(S4)
+ *   sph_viscosity(c, kind, mu_or_nu, coef_t, v, v_t, acc)    (S5)
+ *   sph_density_diffusion(c, delta, c0, grad_rho, grad_rho_t, out)        (S6), (S7)
+ *   sph_wall_init(dim, g)                        a wall model at rest, no-slip
+ *   sph_wall_adami(c, &wall, p, v, p_w, v_w, &n_empty)       (S8)
+ *   sph_dt_input_init(h)                         inputs of sph_time_step
+ *   sph_time_step(&in, dim, n, &dt, &reason, &which)         (S9)-(S12)
  *
  * ==== EQUATION LABELS (comments cite docs/ by these) ========================
  *   (K1)-(K8)   kernel quantities, docs/kernels.md section 1: W, F, dW/dr,
@@ -168,8 +180,9 @@
  *   (N1)-(N7)   neighbour search, docs/neighbours.md: criteria (N1)-(N3),
  *               grid (N4), permutation and inverse (N5)-(N6), periodic
  *               image of a run of cells (N7)
- *   (S1)-(S..)  solver terms, docs/solver.md: artificial viscosity
- *               (S1)-(S4)
+ *   (S1)-(S12)  solver terms, docs/solver.md: artificial viscosity
+ *               (S1)-(S4), viscosity (S5), density diffusion (S6)-(S7),
+ *               walls (S8), time-step limits (S9)-(S12)
  */
 #ifndef SPH_KERNEL_H
 #define SPH_KERNEL_H
@@ -3865,7 +3878,7 @@ SPH_API int sph_permute(sph_view in, int ncomp, sph_idx n, const sph_idx *perm, 
 
 /* The dissipative terms, boundary and time-step rules that a weakly
  * compressible or compressible SPH solver adds to the operators of section 6
- * (docs/solver.md, equations (S1)-(S...)). As in section 5, pair terms come
+ * (docs/solver.md, equations (S1)-(S12)). As in section 5, pair terms come
  * first (usable under SPH_ONLY_PAIRS and in device code), then the array
  * operators over a CSR list and a context (section 6). Conventions as in
  * section 5: dx = x_ij = x_i - x_j, dv = v_ij = v_i - v_j, F = F_ij at the
