@@ -72,6 +72,8 @@ static void test_array(void)
     in.acc.p[0] = NULL;
     st = sph_time_step(&in, 2, 4, &dt, &why, &which);
     TH_CHECK(st == SPH_OK && why == SPH_DT_NONE && which == -1, "no rates: reason %d particle %d", why, (int)which);
+    st = sph_time_step(&in, 2, 0, &dt, &why, &which);
+    TH_CHECK(st == SPH_OK && why == SPH_DT_NONE && which == -1 && dt > 1e30, "no particles: reason %d", why);
     TH_CHECK(sph_time_step(NULL, 2, 4, &dt, &why, &which) == SPH_ENULL, "in NULL");
     TH_CHECK(sph_time_step(&in, 4, 4, &dt, &why, &which) == SPH_EDIM, "dim 4");
     TH_CHECK(sph_time_step(&in, 2, -1, &dt, &why, &which) == SPH_ESIZE, "n < 0");
