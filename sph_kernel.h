@@ -3889,7 +3889,7 @@ SPH_API int sph_permute(sph_view in, int ncomp, sph_idx n, const sph_idx *perm, 
  * Morris, Fox & Zhu 1997). */
 #define SPH__ETA2 SPH__C(0.01)
 
-/* v_ij . x_ij over dim (1..3) components. */
+/* a . b over dim (1..3) components. */
 SPH__INLINE sph_real sph__dot(int dim, const sph_real *a, const sph_real *b)
 {
     sph_real s = 0;
@@ -4007,17 +4007,17 @@ typedef enum { SPH_WALL_NOSLIP = 0, SPH_WALL_FREESLIP = 1 } sph_wall_slip;
 
 /* (S8) wall pressure p_w = sum[1] / sum[0] and velocity v_w = 2 v_wall - v~
  * (no-slip) or v~ (free-slip), v~ = sum[2..] / sum[0]; returns 0, and p_w =
- * 0, v_w = v_wall (NULL: 0), for a wall with no fluid in reach (sum[0] <= 0),
- * else 1. */
+ * 0, v_w = v_wall (NULL: 0), for a wall with no fluid in reach (sum[0] <= 0,
+ * or so small that 1 / sum[0] overflows), else 1. */
 SPH_API int sph_wall_end(int dim, sph_wall_slip slip, const sph_real *sum, const sph_real *v_wall, sph_real *p_w,
                          sph_real *v_w)
 {
-    const int ok = sum[0] > 0;
-    const sph_real inv = ok ? 1 / sum[0] : 0;
+    const sph_real inv = sum[0] > 0 ? 1 / sum[0] : 0;
+    const int ok = inv > 0 && inv <= SPH__REAL_MAX; /* a denormal sum: as no fluid */
     int a;
-    *p_w = sum[1] * inv;
+    *p_w = ok ? sum[1] * inv : 0;
     for (a = 0; a < dim && a < 3; ++a) {
-        const sph_real vwall = v_wall != NULL ? v_wall[a] : 0, vt = sum[2 + a] * inv;
+        const sph_real vwall = v_wall != NULL ? v_wall[a] : 0, vt = ok ? sum[2 + a] * inv : 0;
         v_w[a] = !ok ? vwall : slip == SPH_WALL_NOSLIP ? 2 * vwall - vt : vt;
     }
     return ok;

@@ -90,6 +90,13 @@ static void test_extrapolation(void)
                         sph_out_interleaved(vw, 2), NULL);
     TH_CHECK(st == SPH_OK && fabs((double)vw[0] - 3.25) <= 8 * TH_EPS && fabs((double)vw[1] - 2.5) <= 8 * TH_EPS,
              "no-slip moving wall: v = (%g, %g), expected 2 v_wall - U = (3.25, 2.5)", vw[0], vw[1]);
+    { /* the pair form's fallback: a Shepard sum whose inverse overflows counts as no fluid */
+        const sph_real tiny = (sph_real)(TH_IS_FLOAT ? 1e-45 : 4.9e-324), sum[5] = {tiny, 1, 1, 1, 0};
+        const sph_real vwl[2] = {2, 1};
+        sph_real pp = -1, vv[2] = {-1, -1};
+        TH_CHECK(sph_wall_end(2, SPH_WALL_NOSLIP, sum, vwl, &pp, vv) == 0 && pp == 0 && vv[0] == 2 && vv[1] == 1,
+                 "denormal sum: p %g, v (%g, %g)", pp, vv[0], vv[1]);
+    }
     /* refusals */
     TH_CHECK(sph_wall_adami(&c, NULL, sph_view_soa(p, NULL, NULL), sph_view_interleaved(v, 2),
                             sph_out_soa(pw, NULL, NULL), sph_out_interleaved(vw, 2), NULL) == SPH_ENULL, "w NULL");
