@@ -10,17 +10,18 @@
  * 2 v_wall - U (no-slip) or U (free-slip), a wall without fluid neighbours
  * p = 0 and v_wall.
  *
- * Hydrostatic tank: a weakly compressible 2-D tank (linear equation of state
- * p = c0^2 (rho - rho0), c0 = 10 sqrt(g H)) whose fluid starts at rest with
- * the hydrostatic density, walls of three particle layers on both sides and
- * below, stepped by kick-drift-kick with continuity (O10), the pressure
- * force (O8) over fluid and wall particles, Monaghan's viscosity (S1)
- * (alpha = 0.02), gravity, the wall pressure and velocity of (S8) each step
- * and the time step (S9)-(S10). It must hold the hydrostatic pressure and
- * stay at rest; the figures and bounds are printed and stated in
- * docs/solver.md.
+ * Hydrostatic tank (support/tank.h): a weakly compressible 2-D tank (linear
+ * equation of state p = c0^2 (rho - rho0), c0 = 10 sqrt(g H)) whose fluid
+ * starts at rest with the hydrostatic density, walls of three particle
+ * layers on both sides and below, stepped by kick-drift-kick with
+ * continuity (O10), the pressure force (O8) over fluid and wall particles,
+ * Monaghan's viscosity (S1) (alpha = 0.02), gravity, the wall pressure and
+ * velocity of (S8) each step and the time step (S9)-(S10). It must hold the
+ * hydrostatic pressure and stay at rest; the figures and bounds are printed
+ * and stated in docs/solver.md (studies/hydrostatic_tank.c runs it longer).
  */
 #include "solver_scene.h"
+#include "support/tank.h"
 
 static void test_extrapolation(void)
 {
@@ -117,179 +118,24 @@ static void test_extrapolation(void)
     th_end();
 }
 
-/* ---- the hydrostatic tank ---- */
-
-enum { TNX = 10, TNY = 12, TLAY = 3 };
-
-typedef struct {
-    int nf, nw, n;
-    double rho0, g, c0, h, dx, H, L;
-    sph_real *x, *x0, *v, *vh, *vav, *rho, *p, *m, *V, *c, *a, *drho, *gp, *vs, *aav, *du;
-    tp_list Lf, Lw; /* fluid targets -> every particle; wall targets -> fluid */
-    int rebuilds;
-} tank;
-
-static void tank_lists(tank *t)
-{
-    const double kappa = 2 * 1.2; /* cubic support and a skin of 0.2 kappa h */
-    int i;
-    tp_free_list(&t->Lf), tp_free_list(&t->Lw);
-    tp_brute_list(2, t->x, t->nf, t->x, t->n, (sph_real)t->h, NULL, NULL, (sph_real)kappa, TP_GATHER, NULL, &t->Lf);
-    tp_brute_list(2, t->x + 3 * t->nf, t->nw, t->x, t->nf, (sph_real)t->h, NULL, NULL, (sph_real)kappa, TP_GATHER, NULL,
-                  &t->Lw);
-    for (i = 0; i < 3 * t->n; ++i) t->x0[i] = t->x[i];
-    ++t->rebuilds;
-}
-
-static void tank_make(tank *t)
-{
-    int i, k, nw = 0;
-    t->dx = 0.025, t->rho0 = 1000, t->g = 9.81;
-    t->H = TNY * t->dx, t->L = TNX * t->dx, t->h = 1.3 * t->dx, t->c0 = 10 * sqrt(t->g * t->H);
-    t->nf = TNX * TNY;
-    t->nw = TLAY * (TNX + 2 * TLAY) + 2 * TLAY * (TNY + 2);
-    t->n = t->nf + t->nw;
-    t->x = ts_vec(3 * t->n), t->x0 = ts_vec(3 * t->n), t->v = ts_vec(2 * t->n), t->vh = ts_vec(2 * t->n);
-    t->vav = ts_vec(2 * t->n), t->rho = ts_vec(t->n), t->p = ts_vec(t->n), t->m = ts_vec(t->n), t->V = ts_vec(t->n);
-    t->c = ts_vec(t->n), t->a = ts_vec(2 * t->nf), t->drho = ts_vec(t->nf), t->gp = ts_vec(2 * t->nf);
-    t->vs = ts_vec(t->nf), t->aav = ts_vec(2 * t->nf), t->du = ts_vec(t->nf);
-    t->Lf.offset = t->Lw.offset = NULL, t->Lf.index = t->Lw.index = NULL, t->rebuilds = 0;
-    for (i = 0; i < t->nf; ++i) {
-        t->x[3 * i] = (sph_real)((i % TNX + 0.5) * t->dx);
-        t->x[3 * i + 1] = (sph_real)((i / TNX + 0.5) * t->dx);
-    }
-    for (k = 0; k < TLAY; ++k) { /* floor, under the fluid and the side walls */
-        for (i = -TLAY; i < TNX + TLAY; ++i, ++nw) {
-            t->x[3 * (t->nf + nw)] = (sph_real)((i + 0.5) * t->dx);
-            t->x[3 * (t->nf + nw) + 1] = (sph_real)(-(k + 0.5) * t->dx);
-        }
-        for (i = 0; i < TNY + 2; ++i, nw += 2) { /* side walls, two layers above the surface */
-            t->x[3 * (t->nf + nw)] = (sph_real)(-(k + 0.5) * t->dx);
-            t->x[3 * (t->nf + nw + 1)] = (sph_real)(t->L + (k + 0.5) * t->dx);
-            t->x[3 * (t->nf + nw) + 1] = t->x[3 * (t->nf + nw + 1) + 1] = (sph_real)((i + 0.5) * t->dx);
-        }
-    }
-    for (i = 0; i < t->n; ++i) {
-        const double y = i < t->nf ? t->x[3 * i + 1] : t->H; /* walls: set by (S8) before use */
-        t->rho[i] = (sph_real)(t->rho0 * (1 + t->g * (t->H - y) / (t->c0 * t->c0)));
-        t->p[i] = (sph_real)(t->c0 * t->c0 * (t->rho[i] - t->rho0));
-        t->m[i] = (sph_real)(i < t->nf ? t->rho[i] * t->dx * t->dx : t->rho0 * t->dx * t->dx);
-        t->c[i] = (sph_real)t->c0;
-    }
-    tank_lists(t);
-}
-
-static void tank_free(tank *t)
-{
-    free(t->x), free(t->x0), free(t->v), free(t->vh), free(t->vav), free(t->rho), free(t->p), free(t->m), free(t->V);
-    free(t->c), free(t->a), free(t->drho), free(t->gp), free(t->vs), free(t->aav), free(t->du);
-    tp_free_list(&t->Lf), tp_free_list(&t->Lw);
-}
-
-/* drho/dt of the fluid at velocities vel (O10), walls at rest: drho_i/dt =
- * -rho_i sum_j V_j (v_j - v_i) . grad_i W_ij. */
-static int tank_continuity(tank *t, const sph_real *vel)
-{
-    sph_ctx cf = sph_ctx_init(SPH_KERNEL_CUBIC, 2, (sph_real)t->h, &t->Lf.list, sph_view_interleaved(t->x, 3));
-    int i, st;
-    for (i = 0; i < 2 * t->n; ++i) t->vav[i] = i < 2 * t->nf ? vel[i] : 0;
-    for (i = 0; i < t->n; ++i) t->V[i] = t->m[i] / t->rho[i];
-    cf.V = sph_view_soa(t->V, NULL, NULL);
-    st = sph_divergence(&cf, SPH_SCHEME_DIFFERENCE, sph_view_interleaved(t->vav, 2), sph_view_none(),
-                        sph_out_soa(t->drho, NULL, NULL), NULL);
-    for (i = 0; i < t->nf; ++i) t->drho[i] *= -t->rho[i];
-    return st;
-}
-
-/* Walls (S8) from the fluid's p, rho and velocities vel, then the fluid's
- * acceleration: pressure (O8) and Monaghan's viscosity (S1) over fluid and
- * walls (the walls with their no-slip velocity), gravity. */
-static int tank_momentum(tank *t, const sph_real *vel)
-{
-    const sph_real grav[2] = {0, (sph_real)-t->g};
-    const sph_av av = {SPH_AV_MONAGHAN, (sph_real)0.02, 0};
-    sph_wall w = sph_wall_init(2, grav);
-    sph_ctx cw = sph_ctx_init(SPH_KERNEL_CUBIC, 2, (sph_real)t->h, &t->Lw.list, sph_view_interleaved(t->x, 3));
-    sph_ctx cf = sph_ctx_init(SPH_KERNEL_CUBIC, 2, (sph_real)t->h, &t->Lf.list, sph_view_interleaved(t->x, 3));
-    int i, st;
-    cw.x_target = sph_view_interleaved(t->x + 3 * t->nf, 3);
-    cw.rho = sph_view_soa(t->rho, NULL, NULL);
-    st = sph_wall_adami(&cw, &w, sph_view_soa(t->p, NULL, NULL), sph_view_interleaved(vel, 2),
-                        sph_out_soa(t->p + t->nf, NULL, NULL), sph_out_interleaved(t->vav + 2 * t->nf, 2), NULL);
-    for (i = t->nf; i < t->n; ++i) t->rho[i] = (sph_real)(t->rho0 + t->p[i] / (t->c0 * t->c0));
-    for (i = 0; i < 2 * t->nf; ++i) t->vav[i] = vel[i];
-    cf.m = sph_view_soa(t->m, NULL, NULL);
-    cf.rho = sph_view_soa(t->rho, NULL, NULL);
-    st |= sph_gradient(&cf, SPH_SCHEME_PRESSURE, sph_view_soa(t->p, NULL, NULL), sph_view_none(),
-                       sph_out_interleaved(t->gp, 2), NULL);
-    st |= sph_artificial_viscosity(&cf, &av, sph_view_interleaved(t->vav, 2), sph_view_none(),
-                                   sph_view_soa(t->c, NULL, NULL), sph_view_none(), sph_out_interleaved(t->aav, 2),
-                                   sph_out_soa(t->du, NULL, NULL), sph_out_soa(t->vs, NULL, NULL));
-    for (i = 0; i < t->nf; ++i) {
-        t->a[2 * i] = -t->gp[2 * i] / t->rho[i] + t->aav[2 * i];
-        t->a[2 * i + 1] = -t->gp[2 * i + 1] / t->rho[i] + t->aav[2 * i + 1] - (sph_real)t->g;
-    }
-    return st;
-}
-
-/* One kick-drift-kick step (docs/solver.md): v(n+1/2) = v + dt/2 a(n);
- * x += dt v(n+1/2); rho += dt drho/dt(x(n+1), v(n+1/2)); a(n+1); v(n+1) =
- * v(n+1/2) + dt/2 a(n+1); dt from (S9), (S10) of step n. */
-static int tank_step(tank *t, double *dt_out)
-{
-    sph_dt_input in = sph_dt_input_init((sph_real)t->h);
-    sph_real dt = 0;
-    int i, st, why;
-    double d2 = 0;
-    in.vsig = sph_view_soa(t->vs, NULL, NULL);
-    in.acc = sph_view_interleaved(t->a, 2);
-    st = sph_time_step(&in, 2, t->nf, &dt, &why, NULL);
-    if (st != SPH_OK) return st;
-    for (i = 0; i < 2 * t->nf; ++i) t->vh[i] = t->v[i] + dt / 2 * t->a[i];
-    for (i = 0; i < t->nf; ++i) {
-        double d = 0;
-        int a;
-        for (a = 0; a < 2; ++a) {
-            t->x[3 * i + a] += dt * t->vh[2 * i + a];
-            d += ((double)t->x[3 * i + a] - t->x0[3 * i + a]) * ((double)t->x[3 * i + a] - t->x0[3 * i + a]);
-        }
-        d2 = fmax(d2, d);
-    }
-    if (sqrt(d2) > 0.2 * t->h) tank_lists(t); /* half the skin (0.2 kappa h) */
-    st = tank_continuity(t, t->vh);
-    for (i = 0; i < t->nf; ++i) {
-        t->rho[i] += dt * t->drho[i];
-        t->p[i] = (sph_real)(t->c0 * t->c0 * (t->rho[i] - t->rho0));
-    }
-    st |= tank_momentum(t, t->vh);
-    for (i = 0; i < 2 * t->nf; ++i) t->v[i] = t->vh[i] + dt / 2 * t->a[i];
-    *dt_out = dt;
-    return st;
-}
+/* ---- the hydrostatic tank (support/tank.h) ---- */
 
 static void test_tank(void)
 {
     tank t;
-    int step, i, st;
+    int step, st;
     double time = 0, dt = 0, vmax = 0, perr = 0, pwerr = 0, vend = 0;
-    const int steps = 1500;
-    th_begin("(S8) hydrostatic 2D tank, %dx%d fluid particles, %d kick-drift-kick steps: p = rho0 g depth, at rest",
-             TNX, TNY, steps);
-    tank_make(&t);
-    st = tank_momentum(&t, t.v);
+    const int nx = 10, ny = 12, steps = 1500;
+    th_begin("(S8) hydrostatic 2D tank, %dx%d fluid particles, %d kick-drift-kick steps: p = rho0 g depth, at rest", nx,
+             ny, steps);
+    st = tank_make(&t, nx, ny) == 0 ? tank_momentum(&t, t.v) : SPH_ESIZE;
     for (step = 0; step < steps && st == SPH_OK; ++step) {
         st = tank_step(&t, &dt);
         time += dt;
-        for (i = 0; i < t.nf; ++i) vmax = fmax(vmax, hypot(t.v[2 * i], t.v[2 * i + 1]));
+        vmax = fmax(vmax, tank_errors(&t, &perr, &pwerr));
     }
     TH_CHECK(st == SPH_OK, "status %d at step %d", st, step);
-    for (i = 0; i < t.nf; ++i) {
-        perr = fmax(perr, fabs((double)t.p[i] - t.rho0 * t.g * (t.H - t.x[3 * i + 1])) / (t.rho0 * t.g * t.H));
-        vend = fmax(vend, hypot(t.v[2 * i], t.v[2 * i + 1]));
-    }
-    for (i = t.nf; i < t.n; ++i)
-        if (t.x[3 * i + 1] > 0.5 * t.dx - 2 * t.h && t.x[3 * i] > 0 && t.x[3 * i] < t.L) /* floor within reach */
-            pwerr = fmax(pwerr, fabs((double)t.p[i] - t.rho0 * t.g * (t.H - t.x[3 * i + 1])) / (t.rho0 * t.g * t.H));
+    vend = tank_errors(&t, &perr, &pwerr);
     printf("    t = %.3f s = %.2f sqrt(H/g) (%d steps, last dt %.3g s, %d list builds): max |p - rho0 g (H - y)| / "
            "(rho0 g H) fluid %.4f, floor walls %.4f; max |v| / sqrt(g H) over the run %.4f, at the end %.4f\n",
            time, time / sqrt(t.H / t.g), steps, dt, t.rebuilds, perr, pwerr, vmax / sqrt(t.g * t.H),
