@@ -157,7 +157,19 @@
  *   sph_pair_signal_velocity(dim, beta, c_i, c_j, dx, dv)            v_sig,ij (S2)
  *   sph_pair_av_signal(dim, alpha, beta, c_i, c_j, rho_ij, dx, dv)   Pi_ij (S3)
  *   sph_pair_av_apply(dim, m_j, Pi_ij, F, dx, dv, acc)   acc += (S4), returns du_i/dt's term
+ *   sph_pair_viscosity(dim, m_j, mu_i, mu_j, rho_i, rho_j, h, F, dx, dv, acc)  acc += (S5)
+ *   sph_pair_density_diffusion(dim, V_j, rho_i, rho_j, g_i, g_j, F, dx)   (S6)
+ *   sph_pair_wall(dim, W, p_f, rho_f, v_f, g_eff, dx, sum)    sums of a wall particle (S8)
+ *   sph_wall_end(dim, slip, sum, v_wall, &p_w, v_w)          its pressure and velocity (S8)
+ *   sph_dt_coef_default()                        C of the time-step limits (S9)-(S12)
+ *   sph_dt_limit(&coef, h, vsig, |a|, nu, D, &reason)        one particle's dt (S9)-(S12)
  *   sph_artificial_viscosity(c, &av, v, v_t, cs, cs_t, acc, dudt, vsig)   (S1)-(S4)
+ *   sph_viscosity(c, kind, mu_or_nu, coef_t, v, v_t, acc)    (S5)
+ *   sph_density_diffusion(c, delta, c0, grad_rho, grad_rho_t, out)        (S6), (S7)
+ *   sph_wall_init(dim, g)                        a wall model at rest, no-slip
+ *   sph_wall_adami(c, &wall, p, v, p_w, v_w, &n_empty)       (S8)
+ *   sph_dt_input_init(h)                         inputs of sph_time_step
+ *   sph_time_step(&in, dim, n, &dt, &reason, &which)         (S9)-(S12)
  * 9. Smoothing length and pair-once loops (docs/smoothing_length.md)
  *   sph_hctx_init(k, dim, list, x, m, h_list_max)  a context; eta 1.2, tol 1e-6
  *   sph_h_solve(c, h, rho, omega, iters, state, &report)  h, rho, Omega per particle (H1)-(H4)
@@ -180,8 +192,9 @@
  *   (N1)-(N7)   neighbour search, docs/neighbours.md: criteria (N1)-(N3),
  *               grid (N4), permutation and inverse (N5)-(N6), periodic
  *               image of a run of cells (N7)
- *   (S1)-(S..)  solver terms, docs/solver.md: artificial viscosity
- *               (S1)-(S4)
+ *   (S1)-(S12)  solver terms, docs/solver.md: artificial viscosity
+ *               (S1)-(S4), viscosity (S5), density diffusion (S6)-(S7),
+ *               walls (S8), time-step limits (S9)-(S12)
  *   (H1)-(H8)   smoothing length, grad-h equations, pair-once sums,
  *               docs/smoothing_length.md
  */
@@ -3879,7 +3892,7 @@ SPH_API int sph_permute(sph_view in, int ncomp, sph_idx n, const sph_idx *perm, 
 
 /* The dissipative terms, boundary and time-step rules that a weakly
  * compressible or compressible SPH solver adds to the operators of section 6
- * (docs/solver.md, equations (S1)-(S...)). As in section 5, pair terms come
+ * (docs/solver.md, equations (S1)-(S12)). As in section 5, pair terms come
  * first (usable under SPH_ONLY_PAIRS and in device code), then the array
  * operators over a CSR list and a context (section 6). Conventions as in
  * section 5: dx = x_ij = x_i - x_j, dv = v_ij = v_i - v_j, F = F_ij at the
@@ -3890,7 +3903,7 @@ SPH_API int sph_permute(sph_view in, int ncomp, sph_idx n, const sph_idx *perm, 
  * Morris, Fox & Zhu 1997). */
 #define SPH__ETA2 SPH__C(0.01)
 
-/* v_ij . x_ij over dim (1..3) components. */
+/* a . b over dim (1..3) components. */
 SPH__INLINE sph_real sph__dot(int dim, const sph_real *a, const sph_real *b)
 {
     sph_real s = 0;
@@ -3963,6 +3976,121 @@ SPH_API sph_real sph_pair_av_apply(int dim, sph_real m_j, sph_real Pi_ij, sph_re
     return c * sph__dot(dim, dv, dx) / 2;
 }
 
+/* (S5) Morris, Fox & Zhu (1997) viscosity, (1/rho div(mu grad) v)_i: acc +=
+ * m_j (mu_i + mu_j) / (rho_i rho_j) F r^2 / (r^2 + 0.01 h^2) v_ij (dynamic
+ * viscosities mu, dv = v_ij). Nothing added where rho_i rho_j <= 0 or r^2 +
+ * 0.01 h^2 is 0. */
+SPH_API void sph_pair_viscosity(int dim, sph_real m_j, sph_real mu_i, sph_real mu_j, sph_real rho_i, sph_real rho_j,
+                                sph_real h, sph_real F, const sph_real *dx, const sph_real *dv, sph_real *acc)
+{
+    const sph_real r2 = sph__dot(dim, dx, dx), den = r2 + SPH__ETA2 * h * h, rr = rho_i * rho_j;
+    if (!(den > 0 && rr > 0)) return;
+    sph__axpy(dim, m_j * (mu_i + mu_j) / rr * F * (r2 / den), dv, acc);
+}
+
+/* (S6) density diffusion (delta-SPH) of target i, without its factor
+ * delta h c0: V_j F [2 (rho_i - rho_j) - (g_i + g_j) . x_ij], g the
+ * renormalised density gradients (Antuono et al. 2010); g_i or g_j NULL:
+ * 2 V_j (rho_i - rho_j) F (Molteni & Colagrossi 2009). */
+SPH_API sph_real sph_pair_density_diffusion(int dim, sph_real V_j, sph_real rho_i, sph_real rho_j, const sph_real *g_i,
+                                            const sph_real *g_j, sph_real F, const sph_real *dx)
+{
+    sph_real s = 2 * (rho_i - rho_j);
+    int a;
+    for (a = 0; g_i != NULL && g_j != NULL && a < dim && a < 3; ++a) s -= (g_i[a] + g_j[a]) * dx[a];
+    return V_j * F * s;
+}
+
+/* (S8) one fluid source f of wall particle w (Adami, Hu & Adams 2012): adds
+ * W_wf to sum[0], (p_f + rho_f g_eff . x_wf) W_wf to sum[1] and v_f W_wf to
+ * sum[2..1+dim] (dx = x_wf = x_w - x_f, g_eff = g - a_w); sph_wall_end turns
+ * the sums into the wall's pressure and velocity. */
+SPH_API void sph_pair_wall(int dim, sph_real W, sph_real p_f, sph_real rho_f, const sph_real *v_f,
+                           const sph_real *g_eff, const sph_real *dx, sph_real *sum)
+{
+    int a;
+    sum[0] += W;
+    sum[1] += (p_f + rho_f * sph__dot(dim, g_eff, dx)) * W;
+    for (a = 0; a < dim && a < 3; ++a) sum[2 + a] += v_f[a] * W;
+}
+
+/* Wall velocity models of (S8): no-slip (the wall's velocity extrapolated
+ * through the wall, 2 v_wall - v~) or free-slip (v~: no velocity jump for
+ * the viscous term to act on). */
+typedef enum { SPH_WALL_NOSLIP = 0, SPH_WALL_FREESLIP = 1 } sph_wall_slip;
+
+/* (S8) wall pressure p_w = sum[1] / sum[0] and velocity v_w = 2 v_wall - v~
+ * (no-slip) or v~ (free-slip), v~ = sum[2..] / sum[0]; returns 0, and p_w =
+ * 0, v_w = v_wall (NULL: 0), for a wall with no fluid in reach (sum[0] <= 0,
+ * or so small that 1 / sum[0] overflows), else 1. */
+SPH_API int sph_wall_end(int dim, sph_wall_slip slip, const sph_real *sum, const sph_real *v_wall, sph_real *p_w,
+                         sph_real *v_w)
+{
+    const sph_real inv = sum[0] > 0 ? 1 / sum[0] : 0;
+    const int ok = inv > 0 && inv <= SPH__REAL_MAX; /* a denormal sum: as no fluid */
+    int a;
+    *p_w = ok ? sum[1] * inv : 0;
+    for (a = 0; a < dim && a < 3; ++a) {
+        const sph_real vwall = v_wall != NULL ? v_wall[a] : 0, vt = ok ? sum[2 + a] * inv : 0;
+        v_w[a] = !ok ? vwall : slip == SPH_WALL_NOSLIP ? 2 * vwall - vt : vt;
+    }
+    return ok;
+}
+
+/* Reasons of the time-step limit (S9)-(S12), as sph_dt_limit returns them. */
+typedef enum {
+    SPH_DT_NONE = 0,      /* no limit applied (every rate 0) */
+    SPH_DT_CFL = 1,       /* (S9)  C_cfl h / v_sig */
+    SPH_DT_FORCE = 2,     /* (S10) C_force sqrt(h / |a|) */
+    SPH_DT_VISCOUS = 3,   /* (S11) C_visc h^2 / nu */
+    SPH_DT_DIFFUSION = 4, /* (S12) C_diff h^2 / D */
+    SPH_DT_INVALID = -1   /* h not positive and finite, or a rate negative or not finite */
+} sph_dt_reason;
+
+/* Coefficients of (S9)-(S12): sph_dt_coef_default() gives C_cfl = 0.25,
+ * C_force = 0.25, C_visc = 0.125 (Morris, Fox & Zhu 1997;
+ * Monaghan 1992), C_diff = 0.125 (the same stability bound for any
+ * diffusivity). With the signal velocity (S2) Price (2012) takes C_cfl = 0.3. */
+typedef struct {
+    sph_real cfl, force, viscous, diffusion;
+} sph_dt_coef;
+
+SPH_API sph_dt_coef sph_dt_coef_default(void)
+{
+    sph_dt_coef k;
+    k.cfl = SPH__C(0.25);
+    k.force = SPH__C(0.25);
+    k.viscous = SPH__C(0.125);
+    k.diffusion = SPH__C(0.125);
+    return k;
+}
+
+/* (S9)-(S12) the time step of one particle: the smallest of C_cfl h / vsig,
+ * C_force sqrt(h / amag), C_visc h^2 / nu and C_diff h^2 / D over the rates
+ * that are > 0, with the limiting one in *reason (may be NULL). SPH__REAL_MAX
+ * and SPH_DT_NONE when every rate is 0; 0 and SPH_DT_INVALID for h not
+ * positive and finite or a rate negative or not finite. */
+SPH_API sph_real sph_dt_limit(const sph_dt_coef *k, sph_real h, sph_real vsig, sph_real amag, sph_real nu, sph_real D,
+                              int *reason)
+{
+    const sph_real rate[4] = {vsig, amag, nu, D};
+    sph_real dt = SPH__REAL_MAX;
+    int why = SPH_DT_NONE, r;
+    for (r = 0; r < 4; ++r)
+        if (!(rate[r] >= 0 && rate[r] <= SPH__REAL_MAX)) why = SPH_DT_INVALID;
+    if (k == NULL || !(h > 0 && h <= SPH__REAL_MAX)) why = SPH_DT_INVALID;
+    for (r = 0; why != SPH_DT_INVALID && r < 4; ++r) {
+        sph_real t;
+        if (!(rate[r] > 0)) continue;
+        t = r == 0 ? k->cfl * h / rate[0]
+            : r == 1 ? k->force * sph__sqrt(h / rate[1])
+            : (r == 2 ? k->viscous : k->diffusion) * h * (h / rate[r]);
+        if (t < dt) dt = t, why = SPH_DT_CFL + r;
+    }
+    if (reason != NULL) *reason = why;
+    return why == SPH_DT_INVALID ? 0 : dt;
+}
+
 #if !defined(SPH_ONLY_PAIRS) && !defined(SPH_NO_OPERATORS) /* the operators of section 8 use section 6 */
 
 /* SPH_OK for an absent output (p[0] NULL: not written) or a usable one. */
@@ -3971,11 +4099,32 @@ SPH_API int sph__out_opt(sph_out o, int ncomp) { return o.p[0] == NULL ? SPH_OK 
 /* call (using i) for every target i of 0..nt-1, count = the sum of what it returns. */
 #define SPH__EACH_TARGET(nt, count, call)                                                                         \
     do {                                                                                                          \
-        sph_idx i, n = 0;                                                                                         \
+        sph_idx i, n = 0; /* n: the name SPH__OMP_FOR reduces; count must not be named n */                      \
         SPH__OMP_FOR                                                                                              \
         for (i = 0; i < (nt); ++i) n += (call);                                                                   \
         (count) = n;                                                                                              \
     } while (0)
+
+/* Start of target i of a term of a vector field v (velocity, gradient): its
+ * kernel data and v_i (A->ft; 0 where the field is absent). */
+SPH__INLINE void sph__vtarget(const sph__args *A, sph_idx i, sph__tgt *t, sph_real *vi)
+{
+    int k;
+    sph__tinit(A, i, t);
+    for (k = 0; k < 3; ++k) vi[k] = k < SPH__DIM(A) && A->ft.p[0] != NULL ? SPH__AT(A->ft, k, i) : 0;
+}
+
+/* Pair (i, j) of such a term: dx, F at h_ij, dv = v_i - v_j (A->f, 0 where
+ * absent); returns h_ij. */
+SPH__INLINE sph_real sph__vpair(const sph__args *A, const sph__tgt *t, const sph_real *vi, sph_idx j, sph_real *dx,
+                                sph_real *dv, sph_real *F)
+{
+    sph_real W;
+    int k;
+    sph__pair(A, t, j, SPH__WANT_F, dx, &W, F);
+    for (k = 0; k < 3; ++k) dv[k] = k < SPH__DIM(A) && A->f.p[0] != NULL ? vi[k] - SPH__AT(A->f, k, j) : 0;
+    return A->hv ? (t->hi + SPH__AT(A->hs, 0, j)) / 2 : A->h;
+}
 
 /* (S1)-(S4) at target i: acceleration, heating and the largest v_sig. */
 SPH_API int sph__av_target(const sph__args *A, const sph_av *av, sph_idx i, sph_out acc, sph_out dudt,
@@ -3983,19 +4132,16 @@ SPH_API int sph__av_target(const sph__args *A, const sph_av *av, sph_idx i, sph_
 {
     const int D = SPH__DIM(A);
     const sph_real ci = SPH__AT(A->kt, 0, i), rhoi = SPH__AT(A->rhot, 0, i);
-    sph_real vi[3] = {0, 0, 0}, a[3] = {0, 0, 0}, du = 0, vs = 0, dx[3], W, F;
+    sph_real vi[3], a[3] = {0, 0, 0}, du = 0, vs = 0, dx[3], dv[3], F;
     sph__tgt t;
     sph_off o;
     int k;
-    sph__tinit(A, i, &t);
-    for (k = 0; k < D; ++k) vi[k] = SPH__AT(A->ft, k, i);
+    sph__vtarget(A, i, &t, vi);
     for (o = A->off[i]; o < A->off[i + 1]; ++o) {
         const sph_idx j = A->idx[o];
         const sph_real cj = SPH__AT(A->k, 0, j), rhoij = (rhoi + SPH__AT(A->rho, 0, j)) / 2;
-        const sph_real hij = A->hv ? (t.hi + SPH__AT(A->hs, 0, j)) / 2 : A->h;
-        sph_real dv[3] = {0, 0, 0}, Pi, s;
-        sph__pair(A, &t, j, SPH__WANT_F, dx, &W, &F);
-        for (k = 0; k < D; ++k) dv[k] = vi[k] - SPH__AT(A->f, k, j);
+        const sph_real hij = sph__vpair(A, &t, vi, j, dx, dv, &F);
+        sph_real Pi, s;
         Pi = av->form == SPH_AV_MONAGHAN ? sph_pair_av_monaghan(D, av->alpha, av->beta, hij, (ci + cj) / 2, rhoij, dx, dv)
                                          : sph_pair_av_signal(D, av->alpha, av->beta, ci, cj, rhoij, dx, dv);
         du += sph_pair_av_apply(D, SPH__AT(A->m, 0, j), Pi, F, dx, dv, a);
@@ -4032,6 +4178,247 @@ SPH_API int sph_artificial_viscosity(const sph_ctx *c, const sph_av *av, sph_vie
     if (st == SPH_OK) st = sph__out_opt(vsig, 1);
     if (st != SPH_OK) return st;
     SPH__EACH_TARGET(A.nt, st, sph__av_target(&A, av, i, acc, dudt, vsig));
+    return SPH_OK;
+}
+
+/* Which coefficient sph_viscosity is given per particle. */
+typedef enum {
+    SPH_VISC_DYNAMIC = 0,  /* mu (Pa s) */
+    SPH_VISC_KINEMATIC = 1 /* nu = mu / rho (m^2/s): mu_i = rho_i nu_i */
+} sph_visc_kind;
+
+/* (S5) at target i. */
+SPH_API int sph__visc_target(const sph__args *A, int kinematic, sph_idx i, sph_out acc)
+{
+    const int D = SPH__DIM(A);
+    const sph_real rhoi = SPH__AT(A->rhot, 0, i), mui = SPH__AT(A->kt, 0, i) * (kinematic ? rhoi : 1);
+    sph_real vi[3], a[3] = {0, 0, 0}, dx[3], dv[3], F;
+    sph__tgt t;
+    sph_off o;
+    int k;
+    sph__vtarget(A, i, &t, vi);
+    for (o = A->off[i]; o < A->off[i + 1]; ++o) {
+        const sph_idx j = A->idx[o];
+        const sph_real rhoj = SPH__AT(A->rho, 0, j), muj = SPH__AT(A->k, 0, j) * (kinematic ? rhoj : 1);
+        const sph_real hij = sph__vpair(A, &t, vi, j, dx, dv, &F);
+        sph_pair_viscosity(D, SPH__AT(A->m, 0, j), mui, muj, rhoi, rhoj, hij, F, dx, dv, a);
+    }
+    for (k = 0; k < D; ++k) SPH__AT(acc, k, i) = a[k];
+    return 0;
+}
+
+/* (S5) viscous acceleration acc_i = (1/rho div(mu grad) v)_i of the velocity
+ * v (dim components; for constant mu, nu lap v) with a dynamic (mu) or
+ * kinematic (nu) coefficient per particle (coef, coef_target; target views
+ * as in sph_gradient). Needs ctx.m and ctx.rho (rho_target with targets of
+ * their own); h_ij as the derivative operators. SPH_EINVAL for another kind. */
+SPH_API int sph_viscosity(const sph_ctx *c, sph_visc_kind kind, sph_view coef, sph_view coef_target, sph_view v,
+                          sph_view v_target, sph_out acc)
+{
+    sph__args A;
+    int st = kind != SPH_VISC_DYNAMIC && kind != SPH_VISC_KINEMATIC
+                 ? SPH_EINVAL
+                 : sph__setup(c, SPH__N_M | SPH__N_RHO | SPH__N_FI | SPH__N_K, c != NULL ? c->dim : 1, v, v_target,
+                              coef, coef_target, &A);
+    if (st == SPH_OK) st = sph__out_ok(acc, c->dim);
+    if (st != SPH_OK) return st;
+    SPH__EACH_TARGET(A.nt, st, sph__visc_target(&A, kind == SPH_VISC_KINEMATIC, i, acc));
+    return SPH_OK;
+}
+
+/* (S6), (S7) at target i: g in A->f / A->ft (absent: Molteni & Colagrossi). */
+SPH_API int sph__ddiff_target(const sph__args *A, sph_real dc0, sph_idx i, sph_out out)
+{
+    const int renorm = A->f.p[0] != NULL;
+    const sph_real rhoi = SPH__AT(A->rhot, 0, i);
+    sph_real gi[3], gj[3], dg[3], s = 0, dx[3], F;
+    sph__tgt t;
+    sph_off o;
+    int k;
+    sph__vtarget(A, i, &t, gi);
+    for (o = A->off[i]; o < A->off[i + 1]; ++o) {
+        const sph_idx j = A->idx[o];
+        const sph_real hij = sph__vpair(A, &t, gi, j, dx, dg, &F);
+        for (k = 0; k < 3; ++k) gj[k] = renorm && k < SPH__DIM(A) ? SPH__AT(A->f, k, j) : 0; /* not gi - dg: exact */
+        s += hij * sph_pair_density_diffusion(SPH__DIM(A), SPH__AT(A->V, 0, j), rhoi, SPH__AT(A->rho, 0, j),
+                                              renorm ? gi : NULL, renorm ? gj : NULL, F, dx);
+    }
+    SPH__AT(out, 0, i) = dc0 * s;
+    return 0;
+}
+
+/* (S7) density diffusion term of the continuity equation, drho_i/dt +=
+ * delta c0 sum_j h_ij (S6): Antuono et al. (2010) with grad_rho the
+ * renormalised density gradients (sph_gradient with SPH_SCHEME_CORRECTED of
+ * ctx.rho; dim components, target view as in sph_gradient), or Molteni &
+ * Colagrossi (2009) when grad_rho is absent. Density from ctx.rho (and
+ * rho_target), volumes ctx.V; h_ij as the derivative operators. Writes out.
+ * SPH_EINVAL for delta or c0 negative or not finite. */
+SPH_API int sph_density_diffusion(const sph_ctx *c, sph_real delta, sph_real c0, sph_view grad_rho,
+                                  sph_view grad_rho_target, sph_out out)
+{
+    sph__args A;
+    const int renorm = grad_rho.p[0] != NULL;
+    int st = !(delta >= 0 && delta <= SPH__REAL_MAX && c0 >= 0 && c0 <= SPH__REAL_MAX)
+                 ? SPH_EINVAL
+                 : sph__setup(c, SPH__N_V | SPH__N_RHO | (renorm ? SPH__N_FI : 0), renorm && c != NULL ? c->dim : 0,
+                              grad_rho, grad_rho_target, sph_view_none(), sph_view_none(), &A);
+    if (st == SPH_OK) st = sph__out_ok(out, 1);
+    if (st != SPH_OK) return st;
+    SPH__EACH_TARGET(A.nt, st, sph__ddiff_target(&A, delta * c0, i, out));
+    return SPH_OK;
+}
+
+/* The wall model of sph_wall_adami (S8). */
+typedef struct {
+    sph_real g[3];      /* body force per unit mass on the fluid (gravity) */
+    sph_wall_slip slip; /* SPH_WALL_NOSLIP or SPH_WALL_FREESLIP */
+    sph_view v_wall;    /* prescribed velocity per wall particle (dim components); absent: at rest */
+    sph_view a_wall;    /* prescribed acceleration per wall particle; absent: 0 */
+} sph_wall;
+
+/* A wall model at rest with gravity g (dim components, NULL: none) and no-slip. */
+SPH_API sph_wall sph_wall_init(int dim, const sph_real *g)
+{
+    sph_wall w;
+    int a;
+    for (a = 0; a < 3; ++a) w.g[a] = g != NULL && a < dim ? g[a] : 0;
+    w.slip = SPH_WALL_NOSLIP;
+    w.v_wall = w.a_wall = sph_view_none();
+    return w;
+}
+
+/* (S8) at wall target i. */
+SPH_API int sph__wall_target(const sph__args *A, const sph_wall *w, sph_view p, sph_idx i, sph_out p_w, sph_out v_w)
+{
+    const int D = SPH__DIM(A);
+    sph_real sum[5] = {0, 0, 0, 0, 0}, g[3] = {0, 0, 0}, vwall[3] = {0, 0, 0}, vf[3] = {0, 0, 0}, pw, vw[3], dx[3],
+             W, F;
+    sph__tgt t;
+    sph_off o;
+    int k, ok;
+    sph__tinit(A, i, &t);
+    for (k = 0; k < D; ++k) {
+        g[k] = w->g[k] - (w->a_wall.p[0] != NULL ? SPH__AT(w->a_wall, k, i) : 0);
+        vwall[k] = w->v_wall.p[0] != NULL ? SPH__AT(w->v_wall, k, i) : 0;
+    }
+    for (o = A->off[i]; o < A->off[i + 1]; ++o) {
+        const sph_idx j = A->idx[o];
+        sph__pair(A, &t, j, SPH__WANT_W, dx, &W, &F);
+        for (k = 0; k < D; ++k) vf[k] = SPH__AT(A->f, k, j);
+        sph_pair_wall(D, W, SPH__AT(p, 0, j), SPH__AT(A->rho, 0, j), vf, g, dx, sum);
+    }
+    ok = sph_wall_end(D, w->slip, sum, vwall, &pw, vw);
+    SPH__AT(p_w, 0, i) = pw;
+    for (k = 0; v_w.p[0] != NULL && k < D; ++k) SPH__AT(v_w, k, i) = vw[k];
+    return !ok;
+}
+
+/* SPH_OK when a view of the targets is absent or usable (values checked
+ * with full validation). */
+SPH_API int sph__target_opt(const sph_ctx *c, sph_view v, int ncomp)
+{
+    int st;
+    if (v.p[0] == NULL) return SPH_OK;
+    st = sph__view_ok(v, ncomp);
+    return st != SPH_OK || c->validate == SPH_VALIDATE_ARGS ? st : sph__scan(v, ncomp, c->list->n_targets, 0, c->dim);
+}
+
+/* (S8) generalised wall boundary (Adami, Hu & Adams 2012): for every wall
+ * particle (the targets: ctx.x_target, h_target with per-particle h) from its
+ * fluid neighbours (the sources: ctx.x, ctx.rho, p, v), the pressure p_w =
+ * [sum_f p_f W_wf + (g - a_w) . sum_f rho_f x_wf W_wf] / sum_f W_wf and the
+ * velocity for the viscous terms v_w (no-slip 2 v_wall - v~, free-slip v~,
+ * v~ = sum_f v_f W_wf / sum_f W_wf), W at the wall's h. A wall particle with
+ * no fluid in reach gets p_w = 0 and v_w = v_wall, counted in *n_empty (may
+ * be NULL). v_w may be absent (not written). The wall densities for the
+ * momentum equation follow from p_w by the solver's equation of state. */
+SPH_API int sph_wall_adami(const sph_ctx *c, const sph_wall *w, sph_view p, sph_view v, sph_out p_w, sph_out v_w,
+                           sph_idx *n_empty)
+{
+    sph__args A;
+    sph_view unused;
+    sph_idx empty = 0;
+    int st, a;
+    if (w == NULL) return SPH_ENULL;
+    if (w->slip != SPH_WALL_NOSLIP && w->slip != SPH_WALL_FREESLIP) return SPH_EINVAL;
+    for (a = 0; a < 3; ++a)
+        if (!sph__finite(w->g[a])) return SPH_EINVAL;
+    st = sph__setup(c, 0, c != NULL ? c->dim : 1, v, sph_view_none(), sph_view_none(), sph_view_none(), &A);
+    if (st == SPH_OK) st = sph__field(c, c->rho, sph_view_none(), 1, 0, 2, &A.rho, &unused); /* fluid only */
+    if (st == SPH_OK) st = sph__field(c, p, sph_view_none(), 1, 0, 0, &A.k, &unused);
+    if (st == SPH_OK) st = sph__target_opt(c, w->v_wall, c->dim);
+    if (st == SPH_OK) st = sph__target_opt(c, w->a_wall, c->dim);
+    if (st == SPH_OK) st = sph__out_ok(p_w, 1);
+    if (st == SPH_OK) st = sph__out_opt(v_w, c->dim);
+    if (st != SPH_OK) return st;
+    SPH__EACH_TARGET(A.nt, empty, sph__wall_target(&A, w, A.k, i, p_w, v_w));
+    if (n_empty != NULL) *n_empty = empty;
+    return SPH_OK;
+}
+
+/* Inputs of sph_time_step (S9)-(S12): per-particle views, each optional
+ * (absent: the scalar next to it, 0 = no such limit). */
+typedef struct {
+    sph_dt_coef coef;     /* the C of each limit */
+    sph_real h;           /* uniform h (when h_particle is absent) */
+    sph_view h_particle;  /* per-particle h */
+    sph_view vsig;        /* signal velocity (S2), or c + |v| */
+    sph_view acc;         /* acceleration (dim components): |a| */
+    sph_real nu;          /* uniform kinematic viscosity */
+    sph_view nu_particle; /* per-particle kinematic viscosity */
+    sph_real D;           /* uniform diffusivity */
+    sph_view D_particle;  /* per-particle diffusivity */
+} sph_dt_input;
+
+/* Inputs with the default coefficients, uniform h and no rate. */
+SPH_API sph_dt_input sph_dt_input_init(sph_real h)
+{
+    sph_dt_input in;
+    in.coef = sph_dt_coef_default();
+    in.h = h;
+    in.nu = in.D = 0;
+    in.h_particle = in.vsig = in.acc = in.nu_particle = in.D_particle = sph_view_none();
+    return in;
+}
+
+/* (S9)-(S12) the global time step: min over particles 0..n-1 of
+ * sph_dt_limit, with the limiting reason and particle (reason and which may
+ * be NULL; SPH_DT_NONE, -1 and SPH__REAL_MAX when no rate is given or all
+ * are 0). SPH_EINVAL (first such particle in *which) where sph_dt_limit is
+ * SPH_DT_INVALID (h not positive and finite, a rate negative or not finite);
+ * SPH_ENULL for in or dt NULL or a view without its components, SPH_EDIM,
+ * SPH_ESIZE for n < 0. */
+SPH_API int sph_time_step(const sph_dt_input *in, int dim, sph_idx n, sph_real *dt, int *reason, sph_idx *which)
+{
+    sph_real best = SPH__REAL_MAX;
+    int why = SPH_DT_NONE, a;
+    sph_idx i, at = -1;
+    if (in == NULL || dt == NULL) return SPH_ENULL;
+    if (dim < 1 || dim > 3) return SPH_EDIM;
+    if (n < 0) return SPH_ESIZE;
+    if ((in->h_particle.p[0] != NULL && sph__view_ok(in->h_particle, 1) != SPH_OK) ||
+        (in->vsig.p[0] != NULL && sph__view_ok(in->vsig, 1) != SPH_OK) ||
+        (in->acc.p[0] != NULL && sph__view_ok(in->acc, dim) != SPH_OK) ||
+        (in->nu_particle.p[0] != NULL && sph__view_ok(in->nu_particle, 1) != SPH_OK) ||
+        (in->D_particle.p[0] != NULL && sph__view_ok(in->D_particle, 1) != SPH_OK))
+        return SPH_ENULL;
+    for (i = 0; i < n; ++i) {
+        sph_real h = in->h_particle.p[0] != NULL ? SPH__AT(in->h_particle, 0, i) : in->h, a2 = 0, t;
+        int r;
+        for (a = 0; in->acc.p[0] != NULL && a < dim; ++a) a2 += SPH__AT(in->acc, a, i) * SPH__AT(in->acc, a, i);
+        t = sph_dt_limit(&in->coef, h, in->vsig.p[0] != NULL ? SPH__AT(in->vsig, 0, i) : 0, sph__sqrt(a2),
+                         in->nu_particle.p[0] != NULL ? SPH__AT(in->nu_particle, 0, i) : in->nu,
+                         in->D_particle.p[0] != NULL ? SPH__AT(in->D_particle, 0, i) : in->D, &r);
+        if (r == SPH_DT_INVALID) {
+            if (which != NULL) *which = i;
+            return SPH_EINVAL;
+        }
+        if (r != SPH_DT_NONE && t < best) best = t, why = r, at = i;
+    }
+    *dt = best;
+    if (reason != NULL) *reason = why;
+    if (which != NULL) *which = at;
     return SPH_OK;
 }
 

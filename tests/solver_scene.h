@@ -18,7 +18,7 @@ typedef struct {
 
 /* n particles of a perturbed lattice (random cloud for n not a power of the
  * lattice side) filling the periodic unit box, and random fields. */
-static void ss_make(ss_cloud *s, int dim, int n, double vmax, uint64_t seed)
+static inline void ss_make(ss_cloud *s, int dim, int n, double vmax, uint64_t seed)
 {
     tp_rng g;
     int i, a, side = (int)floor(pow((double)n, 1.0 / dim) + 0.5);
@@ -53,7 +53,7 @@ static void ss_make(ss_cloud *s, int dim, int n, double vmax, uint64_t seed)
     s->ctx.box = &s->box;
 }
 
-static void ss_free(ss_cloud *s)
+static inline void ss_free(ss_cloud *s)
 {
     free(s->x), free(s->m), free(s->rho), free(s->V), free(s->h);
     free(s->c), free(s->v), free(s->a), free(s->du), free(s->vs);
@@ -62,7 +62,7 @@ static void ss_free(ss_cloud *s)
 
 /* dx = x_i - x_j (minimum image) and F_ij at h_ij = (h_i + h_j) / 2, from the
  * scalar kernel function: the tests' own pair geometry. */
-static double ss_pair(const ss_cloud *s, int i, int j, double *dx)
+static inline double ss_pair(const ss_cloud *s, int i, int j, double *dx)
 {
     double r2 = 0;
     int a;

@@ -224,8 +224,37 @@ static void test_errors(void)
     th_end();
 }
 
+static void test_empty_targets(void)
+{
+    /* a target whose list is empty gets zeros; no target at all writes nothing */
+    const sph_off off[3] = {0, 0, 2};
+    const sph_idx idx[2] = {0, 1};
+    sph_neighbours list = {2, 2, off, idx};
+    sph_real x[6] = {0, 0, 0, (sph_real)0.5, 0, 0}, v[6] = {1, 0, 0, -1, 0, 0}, m[2] = {1, 1}, rho[2] = {1, 1};
+    sph_real c[2] = {1, 1}, a[6] = {7, 7, 7, 7, 7, 7}, du[2] = {7, 7}, vs[2] = {7, 7};
+    sph_ctx ctx = sph_ctx_init(SPH_KERNEL_CUBIC, 3, 1, &list, sph_view_interleaved(x, 3));
+    int st;
+    th_begin("sph_artificial_viscosity: an empty list gives zeros, no targets write nothing");
+    ctx.m = sph_view_soa(m, NULL, NULL), ctx.rho = sph_view_soa(rho, NULL, NULL);
+    st = sph_artificial_viscosity(&ctx, &AV_S, sph_view_interleaved(v, 3), sph_view_none(), sph_view_soa(c, NULL, NULL),
+                                  sph_view_none(), sph_out_interleaved(a, 3), sph_out_soa(du, NULL, NULL),
+                                  sph_out_soa(vs, NULL, NULL));
+    TH_CHECK(st == SPH_OK, "status %d", st);
+    TH_CHECK(a[0] == 0 && a[1] == 0 && a[2] == 0 && du[0] == 0 && vs[0] == 0, "empty target: %g %g %g", a[0], du[0],
+             vs[0]);
+    TH_CHECK(a[3] > 0 && du[1] > 0 && vs[1] > 2, "approaching pair: a %g, du %g, v_sig %g", a[3], du[1], vs[1]);
+    list.n_targets = 0;
+    a[0] = 7;
+    st = sph_artificial_viscosity(&ctx, &AV_S, sph_view_interleaved(v, 3), sph_view_none(), sph_view_soa(c, NULL, NULL),
+                                  sph_view_none(), sph_out_interleaved(a, 3), sph_out_soa(du, NULL, NULL),
+                                  sph_out_soa(vs, NULL, NULL));
+    TH_CHECK(st == SPH_OK && a[0] == 7, "no targets: status %d, a %g", st, a[0]);
+    th_end();
+}
+
 int main(void)
 {
+    test_empty_targets();
     test_pair_values();
     test_random_pairs();
     test_operator_conservation();
