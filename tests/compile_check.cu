@@ -31,6 +31,17 @@ __global__ void eval_solver_terms(sph_real *out, int n)
               pw + sph_dt_limit(&k, 1, 1, 1, 1, 1, &why);
 }
 
+// The grad-h pair terms (section 9) in device code.
+__global__ void eval_gradh_terms(sph_real *out, int n)
+{
+    int i = blockIdx.x * blockDim.x + threadIdx.x;
+    if (i >= n) return;
+    sph_real dx[3] = {sph_real(0.01) * i + 1, 0, 0}, dv[3] = {-1, 0, 0}, acc[3] = {0, 0, 0};
+    const sph_real A = sph_gradh_factor(1, 1, sph_real(0.9));
+    sph_pair_gradh_pressure(3, 1, A, A, -1, -1, dx, acc);
+    out[i] = acc[0] + sph_pair_gradh_energy(3, 1, A, -1, dv, dx);
+}
+
 int host_side(void) { return sph_kernel_w(SPH_KERNEL_CUBIC, 3, 0.5, 1) > 0 ? 0 : 1; }
 
 // Host code of a CUDA translation unit builds neighbour lists and runs an
