@@ -3,7 +3,7 @@
  * artificial conductivity, against the exact Riemann solution
  * (docs/smoothing_length.md, "Shock tube").
  *
- * Set-up as SWIFT's sodShock_3D and Phantom's "Sod shock" set-up run it:
+ * States as in Phantom's "Sod shock" set-up and SWIFT's Sod initial conditions (periodic x in [-1, 1]):
  * gamma = 5/3, left state rho = 1, P = 1, right state rho = 0.125, P = 0.1,
  * v = 0, end time t = 0.2, equal-mass particles on two face-centred cubic
  * (close-packed, Phantom's default) lattices of cell a (left) and 2 a
