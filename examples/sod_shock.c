@@ -6,7 +6,7 @@
  * States as in Phantom's "Sod shock" set-up and SWIFT's Sod initial conditions (periodic x in [-1, 1]):
  * gamma = 5/3, left state rho = 1, P = 1, right state rho = 0.125, P = 0.1,
  * v = 0, end time t = 0.2, equal-mass particles on two face-centred cubic
- * (close-packed, Phantom's default) lattices of cell a (left) and 2 a
+ * (close-packed, as the default lattice of Phantom's set-up) lattices of cell a (left) and 2 a
  * (right: density ratio 8 in 3-D); --lattice cubic takes simple cubic
  * lattices instead, which are not a minimum-energy arrangement: the
  * particles re-mesh behind the waves and the left plateau ends up 20 %
