@@ -190,7 +190,7 @@ plots-flows: $(BUILD)/flows/taylor_green $(BUILD)/flows/heat_conduction
 	gnuplot -e "datadir='$(BUILD)/flows/data'; outdir='$(RESULTS)/plots'" studies/flows.gp
 
 # Shock tube (examples/sod_shock.c, docs/smoothing_length.md): one run at
-# nx = 32 (fcc cells per unit length), or the study at nx = 16, 24, 32 with
+# nx = 32 (fcc cells per unit length), or the study at nx = 16, 24, 32, 48 with
 # its table ($(RESULTS)/sod_shock.md) and plot ($(RESULTS)/plots/sod_shock.png).
 run-sod: $(BUILD)/flows/sod_shock
 	./$(BUILD)/flows/sod_shock --out $(BUILD)/sod_shock

@@ -44,7 +44,7 @@
  *
  *   ./sod_shock                     one run, nx = 32 (fcc cells per unit length, left)
  *   ./sod_shock --check             nx = 16 run with validation bounds (make test)
- *   ./sod_shock --study docs/results  nx = 16, 24, 32: L1 errors and orders into
+ *   ./sod_shock --study docs/results  nx = 16, 24, 32, 48: L1 errors and orders into
  *                                   docs/results/sod_shock.md, profiles into --out
  */
 #include "example_io.h"
@@ -547,15 +547,16 @@ static int sd_run_to(const sd_param *P, const char *out, sd_result *R)
     return st;
 }
 
-/* nx = 16, 24, 32: table with orders into dir/sod_shock.md. */
+/* nx = 16, 24, 32, 48: table with orders into dir/sod_shock.md. */
 static int sd_study(const sd_param *P0, const char *dir, const char *out)
 {
-    const int nxs[3] = {16, 24, 32};
-    sd_result R[3];
+    enum { NRES = 4 };
+    const int nxs[NRES] = {16, 24, 32, 48};
+    sd_result R[NRES];
     char path[1100];
     FILE *md;
     int r, st;
-    for (r = 0; r < 3; ++r) {
+    for (r = 0; r < NRES; ++r) {
         sd_param P = *P0;
         P.nx = nxs[r];
         if ((st = sd_run_to(&P, out, &R[r])) != SPH_OK) {
@@ -575,7 +576,7 @@ static int sd_study(const sd_param *P0, const char *dir, const char *out)
                 "|---|---|---|---|---|---|---|---|---|---|---|---|---|\n",
             dir, P0->gamma, P0->t_end, P0->kernel, P0->eta, P0->lattice, P0->ny, P0->ny, P0->cfl, P0->alpha_min, P0->alpha_max,
             P0->beta, P0->alpha_u);
-    for (r = 0; r < 3; ++r) {
+    for (r = 0; r < NRES; ++r) {
         char o[3][16] = {"-", "-", "-"};
         if (r > 0) {
             const double q = log((double)nxs[r] / nxs[r - 1]);
@@ -656,7 +657,7 @@ int main(int argc, char **argv)
     opt[11].name = "out", opt[11].help = "output directory (profiles, exact solution)", opt[11].text = &out;
     opt[12].name = "threads", opt[12].help = "OpenMP threads (0: the runtime's default)", opt[12].integer = &threads;
     opt[13].name = "check", opt[13].help = "nx = 16 run; exit 1 if it misses its validation bounds", opt[13].flag = &check;
-    opt[14].name = "study", opt[14].help = "nx = 16, 24, 32: the error table into this directory", opt[14].text = &study;
+    opt[14].name = "study", opt[14].help = "nx = 16, 24, 32, 48: the error table into this directory", opt[14].text = &study;
     st = ex_parse(argc, argv, "3-D Sod shock tube with adaptive h and grad-h terms against the exact Riemann solution",
                   opt, 16);
     if (st != 0) return st > 0 ? 0 : 2;
