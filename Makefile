@@ -41,7 +41,7 @@ check:
 # builds each (gcc -O2, OpenMP where gcc has it) and runs it with its
 # arguments, CHECK_ARGS_<name> (default --check); one case each.
 CHECK_EXAMPLES := examples/cloud_quickstart examples/dam_break examples/taylor_green \
-                  examples/heat_conduction studies/error_vs_runtime studies/stability
+                  examples/heat_conduction examples/sod_shock studies/error_vs_runtime studies/stability
 CHECK_ARGS     := --check
 
 print-check-examples:
@@ -180,7 +180,7 @@ clean:
 
 # Flow examples: run-taylor-green, run-heat-conduction, plots-flows
 # (examples/taylor_green.c, examples/heat_conduction.c; docs/examples.md).
-.PHONY: run-taylor-green run-heat-conduction plots-flows
+.PHONY: run-taylor-green run-heat-conduction plots-flows run-sod plots-sod
 
 $(BUILD)/flows/%: examples/%.c examples/example_io.h sph_kernel.h
 	@mkdir -p $(BUILD)/flows
@@ -198,6 +198,17 @@ plots-flows: $(BUILD)/flows/taylor_green $(BUILD)/flows/heat_conduction
 	./$(BUILD)/flows/taylor_green --study $(RESULTS) --out $(BUILD)/flows/data
 	./$(BUILD)/flows/heat_conduction --study $(RESULTS) --out $(BUILD)/flows/data
 	gnuplot -e "datadir='$(BUILD)/flows/data'; outdir='$(RESULTS)/plots'" studies/flows.gp
+
+# Shock tube (examples/sod_shock.c, docs/smoothing_length.md): one run at
+# nx = 32 (fcc cells per unit length), or the study at nx = 16, 24, 32, 48 with
+# its table ($(RESULTS)/sod_shock.md) and plot ($(RESULTS)/plots/sod_shock.png).
+run-sod: $(BUILD)/flows/sod_shock
+	./$(BUILD)/flows/sod_shock --out $(BUILD)/sod_shock
+
+plots-sod: $(BUILD)/flows/sod_shock
+	@command -v gnuplot > /dev/null 2>&1 || { echo "make plots-sod: gnuplot is not installed"; exit 1; }
+	./$(BUILD)/flows/sod_shock --study $(RESULTS) --out $(BUILD)/flows/sod
+	gnuplot -e "datadir='$(BUILD)/flows/sod'; outdir='$(RESULTS)/plots'" studies/sod_shock.gp
 
 # ---- fuzz: operator and neighbour-search invariants (tests/fuzz_body.h) ----
 # make fuzz [FUZZ_SECONDS=60]: libFuzzer (clang -fsanitize=fuzzer,address,

@@ -50,9 +50,12 @@
  *               (same lists); slower.
  *   SPH_ONLY_KERNELS   sections 1-3 only: the scalar kernel functions.
  *   SPH_ONLY_PAIRS     sections 1-5: kernels, views and pair terms, for a
- *               solver with its own neighbour loop (no operators, no search).
- *   SPH_NO_OPERATORS   everything but section 6 (the array operators).
+ *               solver with its own neighbour loop (no operators, no search),
+ *               and the pair terms of section 8.
+ *   SPH_NO_OPERATORS   everything but section 6 (the array operators) and
+ *               the array operators of section 8, which use it.
  *   SPH_NO_NSEARCH     everything but section 7 (the neighbour search).
+ *   SPH_NO_SOLVER      everything but section 8 (the solver terms).
  *               Each saves the compile time of what it leaves out
  *               (`make compile-cost`) and is compiled warning-free by make test.
  *
@@ -70,6 +73,11 @@
  *   5. pair terms           1-4: one neighbour's contribution to each operator
  *   6. array operators      1-5: the operators over a CSR list (deletable)
  *   7. neighbour search     1-4: builds the CSR lists (deletable)
+ *   8. solver terms         1-6: artificial viscosity, density diffusion, wall
+ *                           boundaries, viscosity, time step (deletable; pair
+ *                           terms 1-5)
+ *   9. smoothing length     1-5: adaptive h with grad-h terms, pair-once
+ *      and pair-once loops  loops over a half list (deletable)
  *
  * ==== API AT A GLANCE (every public function; k kernel, dim 1..3) ==========
  * Names with a double underscore (sph__, SPH__) are internal.
@@ -144,6 +152,34 @@
  *   sph_nsearch_permutation(&g, perm)            sources in cell order (N5)
  *   sph_permutation_invert(perm, n, inv)         inverse permutation (N6)
  *   sph_permute(in, ncomp, n, perm, out)         out[k] = in[perm[k]] (N5)
+ 8. Solver terms: pair terms, then operators (return SPH_OK or a status code)
+ *   sph_pair_av_monaghan(dim, alpha, beta, h, c_ij, rho_ij, dx, dv)  Pi_ij (S1)
+ *   sph_pair_signal_velocity(dim, beta, c_i, c_j, dx, dv)            v_sig,ij (S2)
+ *   sph_pair_av_signal(dim, alpha, beta, c_i, c_j, rho_ij, dx, dv)   Pi_ij (S3)
+ *   sph_pair_av_apply(dim, m_j, Pi_ij, F, dx, dv, acc)   acc += (S4), returns du_i/dt's term
+ *   sph_pair_viscosity(dim, m_j, mu_i, mu_j, rho_i, rho_j, h, F, dx, dv, acc)  acc += (S5)
+ *   sph_pair_density_diffusion(dim, V_j, rho_i, rho_j, g_i, g_j, F, dx)   (S6)
+ *   sph_pair_wall(dim, W, p_f, rho_f, v_f, g_eff, dx, sum)    sums of a wall particle (S8)
+ *   sph_wall_end(dim, slip, sum, v_wall, &p_w, v_w)          its pressure and velocity (S8)
+ *   sph_dt_coef_default()                        C of the time-step limits (S9)-(S12)
+ *   sph_dt_limit(&coef, h, vsig, |a|, nu, D, &reason)        one particle's dt (S9)-(S12)
+ *   sph_artificial_viscosity(c, &av, v, v_t, cs, cs_t, acc, dudt, vsig)   (S1)-(S4)
+ *   sph_viscosity(c, kind, mu_or_nu, coef_t, v, v_t, acc)    (S5)
+ *   sph_density_diffusion(c, delta, c0, grad_rho, grad_rho_t, out)        (S6), (S7)
+ *   sph_wall_init(dim, g)                        a wall model at rest, no-slip
+ *   sph_wall_adami(c, &wall, p, v, p_w, v_w, &n_empty)       (S8)
+ *   sph_dt_input_init(h)                         inputs of sph_time_step
+ *   sph_time_step(&in, dim, n, &dt, &reason, &which)         (S9)-(S12)
+ * 9. Smoothing length and pair-once loops (docs/smoothing_length.md)
+ *   sph_hctx_init(k, dim, list, x, m, h_list_max)  a context; eta 1.2, tol 1e-6
+ *   sph_h_solve(c, h, rho, omega, iters, state, &report)  h, rho, Omega per particle (H1)-(H4)
+ *   sph_gradh_factor(p, rho, omega)              A = p / (Omega rho^2) of (H5), (H6)
+ *   sph_pair_gradh_pressure(dim, m_j, A_i, A_j, F_i, F_j, dx, acc)  acc += (H5)
+ *   sph_pair_gradh_energy(dim, m_j, A_i, F_i, v_ij, dx)            (H6) term
+ *   sph_gradh_forces(c, v, h, A, dvdt, dudt)     (H5), (H6), gather form
+ *   sph_pairs_build(full, offset, index, cap, t_offset, t_slot, &pairs, &P)  half list + transpose (H8)
+ *   sph_pairs_reduce(&P, ncomp, to_i, to_j, out) per-particle sums of per-pair terms (H8)
+ *   sph_gradh_forces_pairs(c, &P, v, h, A, buf, dvdt, dudt)  (H5), (H6), pair-once
  *
  * ==== EQUATION LABELS (comments cite docs/ by these) ========================
  *   (K1)-(K8)   kernel quantities, docs/kernels.md section 1: W, F, dW/dr,
@@ -156,6 +192,11 @@
  *   (N1)-(N7)   neighbour search, docs/neighbours.md: criteria (N1)-(N3),
  *               grid (N4), permutation and inverse (N5)-(N6), periodic
  *               image of a run of cells (N7)
+ *   (S1)-(S12)  solver terms, docs/solver.md: artificial viscosity
+ *               (S1)-(S4), viscosity (S5), density diffusion (S6)-(S7),
+ *               walls (S8), time-step limits (S9)-(S12)
+ *   (H1)-(H8)   smoothing length, grad-h equations, pair-once sums,
+ *               docs/smoothing_length.md
  */
 #ifndef SPH_KERNEL_H
 #define SPH_KERNEL_H
@@ -859,7 +900,7 @@ SPH_API void sph_kernel_grad(sph_kernel k, int dim, const sph_real *dx, sph_real
     for (a = 0; a < dim; ++a) grad[a] = G != 0 ? G * s[a] : 0;
 }
 
-#if !defined(SPH_ONLY_KERNELS) /* sections 4-7 */
+#if !defined(SPH_ONLY_KERNELS) /* sections 4-9 */
 
 /* ======================================================================== */
 /* 4. Particle data: strided views, neighbour lists, periodic box            */
@@ -3842,7 +3883,1108 @@ SPH_API int sph_permute(sph_view in, int ncomp, sph_idx n, const sph_idx *perm, 
 
 
 #endif /* section 7 */
-#endif /* sections 4-7 */
+
+#if !defined(SPH_NO_SOLVER) /* section 8 */
+
+/* ======================================================================== */
+/* 8. Solver terms                                                           */
+/* ======================================================================== */
+
+/* The dissipative terms, boundary and time-step rules that a weakly
+ * compressible or compressible SPH solver adds to the operators of section 6
+ * (docs/solver.md, equations (S1)-(S12)). As in section 5, pair terms come
+ * first (usable under SPH_ONLY_PAIRS and in device code), then the array
+ * operators over a CSR list and a context (section 6). Conventions as in
+ * section 5: dx = x_ij = x_i - x_j, dv = v_ij = v_i - v_j, F = F_ij at the
+ * pair's h, grad_i W_ij = F dx; rho_ij = (rho_i + rho_j) / 2. The pair terms
+ * that divide return 0 instead of a division by zero (documented per term). */
+
+/* Monaghan's regularisation of 1 / r^2: eta^2 = 0.01 h^2 (Monaghan 1992;
+ * Morris, Fox & Zhu 1997). */
+#define SPH__ETA2 SPH__C(0.01)
+
+/* a . b over dim (1..3) components. */
+SPH__INLINE sph_real sph__dot(int dim, const sph_real *a, const sph_real *b)
+{
+    sph_real s = 0;
+    int k;
+    for (k = 0; k < dim && k < 3; ++k) s += a[k] * b[k];
+    return s;
+}
+
+/* (S1) Monaghan (1992) artificial viscosity Pi_ij = (-alpha c_ij mu_ij +
+ * beta mu_ij^2) / rho_ij, mu_ij = h v_ij.x_ij / (r^2 + 0.01 h^2), for
+ * approaching pairs (v_ij.x_ij < 0); 0 for receding ones, and 0 where
+ * rho_ij <= 0 or r^2 + 0.01 h^2 is 0. h and c_ij: the pair's (means). */
+SPH_API sph_real sph_pair_av_monaghan(int dim, sph_real alpha, sph_real beta, sph_real h, sph_real c_ij,
+                                      sph_real rho_ij, const sph_real *dx, const sph_real *dv)
+{
+    const sph_real vr = sph__dot(dim, dv, dx), den = sph__dot(dim, dx, dx) + SPH__ETA2 * h * h;
+    sph_real mu;
+    if (!(vr < 0 && den > 0 && rho_ij > 0)) return 0;
+    mu = h * vr / den;
+    return (beta * mu - alpha * c_ij) * mu / rho_ij;
+}
+
+/* w_ij = v_ij . x_ij / r for an approaching pair, else 0 (no division when
+ * the pair is not approaching or r^2 is 0). */
+SPH__INLINE sph_real sph__w_approach(int dim, const sph_real *dx, const sph_real *dv)
+{
+    const sph_real vr = sph__dot(dim, dv, dx), r2 = sph__dot(dim, dx, dx);
+    return vr < 0 && r2 > 0 ? vr / sph__sqrt(r2) : 0;
+}
+
+/* (S2) signal velocity v_sig,ij = c_i + c_j - beta w_ij, w_ij = min(0,
+ * v_ij . x_ij / r) (Monaghan 1997; Price 2012): the speed in the CFL limit
+ * (S9) and in the signal-velocity viscosity (S3). */
+SPH_API sph_real sph_pair_signal_velocity(int dim, sph_real beta, sph_real c_i, sph_real c_j, const sph_real *dx,
+                                          const sph_real *dv)
+{
+    return c_i + c_j - beta * sph__w_approach(dim, dx, dv);
+}
+
+/* (S3) signal-velocity artificial viscosity Pi_ij = -(alpha / 2) v_sig,ij
+ * w_ij / rho_ij (Monaghan 1997; Price 2012, eqs. 101-103; SWIFT's minimal SPH
+ * with beta = 3); 0 for receding pairs and where rho_ij <= 0. */
+SPH_API sph_real sph_pair_av_signal(int dim, sph_real alpha, sph_real beta, sph_real c_i, sph_real c_j,
+                                    sph_real rho_ij, const sph_real *dx, const sph_real *dv)
+{
+    const sph_real w = sph__w_approach(dim, dx, dv);
+    if (!(w < 0 && rho_ij > 0)) return 0;
+    return -(alpha / 2) * (c_i + c_j - beta * w) * w / rho_ij;
+}
+
+/* The artificial viscosity of sph_artificial_viscosity: (S1) or (S3), and
+ * its coefficients (usual values: Monaghan alpha = 1, beta = 2 for shocks,
+ * alpha ~ 0.01-0.1, beta = 0 for weakly compressible flow; signal velocity
+ * alpha = 1, beta = 3 as SWIFT, or beta = 2 as Price 2012). */
+typedef enum { SPH_AV_MONAGHAN = 0, SPH_AV_SIGNAL = 1 } sph_av_form;
+typedef struct {
+    sph_av_form form;
+    sph_real alpha, beta;
+} sph_av;
+
+/* (S4) applies Pi_ij to target i: acc += -m_j Pi_ij F dx (momentum) and
+ * returns du_i/dt's share (1/2) m_j Pi_ij F v_ij . x_ij (thermal energy):
+ * together they conserve momentum and total energy pair by pair, and the
+ * heating is >= 0 for Pi_ij >= 0 (F <= 0). */
+SPH_API sph_real sph_pair_av_apply(int dim, sph_real m_j, sph_real Pi_ij, sph_real F, const sph_real *dx,
+                                   const sph_real *dv, sph_real *acc)
+{
+    const sph_real c = m_j * Pi_ij * F;
+    sph__axpy(dim, -c, dx, acc);
+    return c * sph__dot(dim, dv, dx) / 2;
+}
+
+/* (S5) Morris, Fox & Zhu (1997) viscosity, (1/rho div(mu grad) v)_i: acc +=
+ * m_j (mu_i + mu_j) / (rho_i rho_j) F r^2 / (r^2 + 0.01 h^2) v_ij (dynamic
+ * viscosities mu, dv = v_ij). Nothing added where rho_i rho_j <= 0 or r^2 +
+ * 0.01 h^2 is 0. */
+SPH_API void sph_pair_viscosity(int dim, sph_real m_j, sph_real mu_i, sph_real mu_j, sph_real rho_i, sph_real rho_j,
+                                sph_real h, sph_real F, const sph_real *dx, const sph_real *dv, sph_real *acc)
+{
+    const sph_real r2 = sph__dot(dim, dx, dx), den = r2 + SPH__ETA2 * h * h, rr = rho_i * rho_j;
+    if (!(den > 0 && rr > 0)) return;
+    sph__axpy(dim, m_j * (mu_i + mu_j) / rr * F * (r2 / den), dv, acc);
+}
+
+/* (S6) density diffusion (delta-SPH) of target i, without its factor
+ * delta h c0: V_j F [2 (rho_i - rho_j) - (g_i + g_j) . x_ij], g the
+ * renormalised density gradients (Antuono et al. 2010); g_i or g_j NULL:
+ * 2 V_j (rho_i - rho_j) F (Molteni & Colagrossi 2009). */
+SPH_API sph_real sph_pair_density_diffusion(int dim, sph_real V_j, sph_real rho_i, sph_real rho_j, const sph_real *g_i,
+                                            const sph_real *g_j, sph_real F, const sph_real *dx)
+{
+    sph_real s = 2 * (rho_i - rho_j);
+    int a;
+    for (a = 0; g_i != NULL && g_j != NULL && a < dim && a < 3; ++a) s -= (g_i[a] + g_j[a]) * dx[a];
+    return V_j * F * s;
+}
+
+/* (S8) one fluid source f of wall particle w (Adami, Hu & Adams 2012): adds
+ * W_wf to sum[0], (p_f + rho_f g_eff . x_wf) W_wf to sum[1] and v_f W_wf to
+ * sum[2..1+dim] (dx = x_wf = x_w - x_f, g_eff = g - a_w); sph_wall_end turns
+ * the sums into the wall's pressure and velocity. */
+SPH_API void sph_pair_wall(int dim, sph_real W, sph_real p_f, sph_real rho_f, const sph_real *v_f,
+                           const sph_real *g_eff, const sph_real *dx, sph_real *sum)
+{
+    int a;
+    sum[0] += W;
+    sum[1] += (p_f + rho_f * sph__dot(dim, g_eff, dx)) * W;
+    for (a = 0; a < dim && a < 3; ++a) sum[2 + a] += v_f[a] * W;
+}
+
+/* Wall velocity models of (S8): no-slip (the wall's velocity extrapolated
+ * through the wall, 2 v_wall - v~) or free-slip (v~: no velocity jump for
+ * the viscous term to act on). */
+typedef enum { SPH_WALL_NOSLIP = 0, SPH_WALL_FREESLIP = 1 } sph_wall_slip;
+
+/* (S8) wall pressure p_w = sum[1] / sum[0] and velocity v_w = 2 v_wall - v~
+ * (no-slip) or v~ (free-slip), v~ = sum[2..] / sum[0]; returns 0, and p_w =
+ * 0, v_w = v_wall (NULL: 0), for a wall with no fluid in reach (sum[0] <= 0,
+ * or so small that 1 / sum[0] overflows), else 1. */
+SPH_API int sph_wall_end(int dim, sph_wall_slip slip, const sph_real *sum, const sph_real *v_wall, sph_real *p_w,
+                         sph_real *v_w)
+{
+    const sph_real inv = sum[0] > 0 ? 1 / sum[0] : 0;
+    const int ok = inv > 0 && inv <= SPH__REAL_MAX; /* a denormal sum: as no fluid */
+    int a;
+    *p_w = ok ? sum[1] * inv : 0;
+    for (a = 0; a < dim && a < 3; ++a) {
+        const sph_real vwall = v_wall != NULL ? v_wall[a] : 0, vt = ok ? sum[2 + a] * inv : 0;
+        v_w[a] = !ok ? vwall : slip == SPH_WALL_NOSLIP ? 2 * vwall - vt : vt;
+    }
+    return ok;
+}
+
+/* Reasons of the time-step limit (S9)-(S12), as sph_dt_limit returns them. */
+typedef enum {
+    SPH_DT_NONE = 0,      /* no limit applied (every rate 0) */
+    SPH_DT_CFL = 1,       /* (S9)  C_cfl h / v_sig */
+    SPH_DT_FORCE = 2,     /* (S10) C_force sqrt(h / |a|) */
+    SPH_DT_VISCOUS = 3,   /* (S11) C_visc h^2 / nu */
+    SPH_DT_DIFFUSION = 4, /* (S12) C_diff h^2 / D */
+    SPH_DT_INVALID = -1   /* h not positive and finite, or a rate negative or not finite */
+} sph_dt_reason;
+
+/* Coefficients of (S9)-(S12): sph_dt_coef_default() gives C_cfl = 0.25,
+ * C_force = 0.25, C_visc = 0.125 (Morris, Fox & Zhu 1997;
+ * Monaghan 1992), C_diff = 0.125 (the same stability bound for any
+ * diffusivity). With the signal velocity (S2) Price (2012) takes C_cfl = 0.3. */
+typedef struct {
+    sph_real cfl, force, viscous, diffusion;
+} sph_dt_coef;
+
+SPH_API sph_dt_coef sph_dt_coef_default(void)
+{
+    sph_dt_coef k;
+    k.cfl = SPH__C(0.25);
+    k.force = SPH__C(0.25);
+    k.viscous = SPH__C(0.125);
+    k.diffusion = SPH__C(0.125);
+    return k;
+}
+
+/* (S9)-(S12) the time step of one particle: the smallest of C_cfl h / vsig,
+ * C_force sqrt(h / amag), C_visc h^2 / nu and C_diff h^2 / D over the rates
+ * that are > 0, with the limiting one in *reason (may be NULL). SPH__REAL_MAX
+ * and SPH_DT_NONE when every rate is 0; 0 and SPH_DT_INVALID for h not
+ * positive and finite or a rate negative or not finite. */
+SPH_API sph_real sph_dt_limit(const sph_dt_coef *k, sph_real h, sph_real vsig, sph_real amag, sph_real nu, sph_real D,
+                              int *reason)
+{
+    const sph_real rate[4] = {vsig, amag, nu, D};
+    sph_real dt = SPH__REAL_MAX;
+    int why = SPH_DT_NONE, r;
+    for (r = 0; r < 4; ++r)
+        if (!(rate[r] >= 0 && rate[r] <= SPH__REAL_MAX)) why = SPH_DT_INVALID;
+    if (k == NULL || !(h > 0 && h <= SPH__REAL_MAX)) why = SPH_DT_INVALID;
+    for (r = 0; why != SPH_DT_INVALID && r < 4; ++r) {
+        sph_real t;
+        if (!(rate[r] > 0)) continue;
+        t = r == 0 ? k->cfl * h / rate[0]
+            : r == 1 ? k->force * sph__sqrt(h / rate[1])
+            : (r == 2 ? k->viscous : k->diffusion) * h * (h / rate[r]);
+        if (t < dt) dt = t, why = SPH_DT_CFL + r;
+    }
+    if (reason != NULL) *reason = why;
+    return why == SPH_DT_INVALID ? 0 : dt;
+}
+
+#if !defined(SPH_ONLY_PAIRS) && !defined(SPH_NO_OPERATORS) /* the operators of section 8 use section 6 */
+
+/* SPH_OK for an absent output (p[0] NULL: not written) or a usable one. */
+SPH_API int sph__out_opt(sph_out o, int ncomp) { return o.p[0] == NULL ? SPH_OK : sph__out_ok(o, ncomp); }
+
+/* call (using i) for every target i of 0..nt-1, count = the sum of what it returns. */
+#define SPH__EACH_TARGET(nt, count, call)                                                                         \
+    do {                                                                                                          \
+        sph_idx i, n = 0; /* n: the name SPH__OMP_FOR reduces; count must not be named n */                      \
+        SPH__OMP_FOR                                                                                              \
+        for (i = 0; i < (nt); ++i) n += (call);                                                                   \
+        (count) = n;                                                                                              \
+    } while (0)
+
+/* Start of target i of a term of a vector field v (velocity, gradient): its
+ * kernel data and v_i (A->ft; 0 where the field is absent). */
+SPH__INLINE void sph__vtarget(const sph__args *A, sph_idx i, sph__tgt *t, sph_real *vi)
+{
+    int k;
+    sph__tinit(A, i, t);
+    for (k = 0; k < 3; ++k) vi[k] = k < SPH__DIM(A) && A->ft.p[0] != NULL ? SPH__AT(A->ft, k, i) : 0;
+}
+
+/* Pair (i, j) of such a term: dx, F at h_ij, dv = v_i - v_j (A->f, 0 where
+ * absent); returns h_ij. */
+SPH__INLINE sph_real sph__vpair(const sph__args *A, const sph__tgt *t, const sph_real *vi, sph_idx j, sph_real *dx,
+                                sph_real *dv, sph_real *F)
+{
+    sph_real W;
+    int k;
+    sph__pair(A, t, j, SPH__WANT_F, dx, &W, F);
+    for (k = 0; k < 3; ++k) dv[k] = k < SPH__DIM(A) && A->f.p[0] != NULL ? vi[k] - SPH__AT(A->f, k, j) : 0;
+    return A->hv ? (t->hi + SPH__AT(A->hs, 0, j)) / 2 : A->h;
+}
+
+/* (S1)-(S4) at target i: acceleration, heating and the largest v_sig. */
+SPH_API int sph__av_target(const sph__args *A, const sph_av *av, sph_idx i, sph_out acc, sph_out dudt,
+                           sph_out vsig)
+{
+    const int D = SPH__DIM(A);
+    const sph_real ci = SPH__AT(A->kt, 0, i), rhoi = SPH__AT(A->rhot, 0, i);
+    sph_real vi[3], a[3] = {0, 0, 0}, du = 0, vs = 0, dx[3], dv[3], F;
+    sph__tgt t;
+    sph_off o;
+    int k;
+    sph__vtarget(A, i, &t, vi);
+    for (o = A->off[i]; o < A->off[i + 1]; ++o) {
+        const sph_idx j = A->idx[o];
+        const sph_real cj = SPH__AT(A->k, 0, j), rhoij = (rhoi + SPH__AT(A->rho, 0, j)) / 2;
+        const sph_real hij = sph__vpair(A, &t, vi, j, dx, dv, &F);
+        sph_real Pi, s;
+        Pi = av->form == SPH_AV_MONAGHAN ? sph_pair_av_monaghan(D, av->alpha, av->beta, hij, (ci + cj) / 2, rhoij, dx, dv)
+                                         : sph_pair_av_signal(D, av->alpha, av->beta, ci, cj, rhoij, dx, dv);
+        du += sph_pair_av_apply(D, SPH__AT(A->m, 0, j), Pi, F, dx, dv, a);
+        s = sph_pair_signal_velocity(D, av->beta, ci, cj, dx, dv);
+        vs = s > vs ? s : vs;
+    }
+    for (k = 0; k < D; ++k) SPH__AT(acc, k, i) = a[k];
+    if (dudt.p[0] != NULL) SPH__AT(dudt, 0, i) = du;
+    if (vsig.p[0] != NULL) SPH__AT(vsig, 0, i) = vs;
+    return 0;
+}
+
+/* (S1)-(S4) over the list: acc_i = -sum_j m_j Pi_ij grad_i W_ij (dim
+ * components), du_i/dt = (1/2) sum_j m_j Pi_ij v_ij . grad_i W_ij and
+ * vsig_i = max_j v_sig,ij (S2) with av's beta (0 for an empty list). v and c
+ * are velocities (dim components) and sound speeds, with target views as in
+ * sph_gradient; needs ctx.m and ctx.rho (and ctx.rho_target with targets of
+ * their own); h_ij as the derivative operators. dudt and vsig may be absent
+ * (not written). SPH_EINVAL for an unknown form or an alpha or beta not
+ * finite and >= 0. */
+SPH_API int sph_artificial_viscosity(const sph_ctx *c, const sph_av *av, sph_view v, sph_view v_target, sph_view cs,
+                                     sph_view cs_target, sph_out acc, sph_out dudt, sph_out vsig)
+{
+    sph__args A;
+    int st;
+    if (av == NULL) return SPH_ENULL;
+    if ((av->form != SPH_AV_MONAGHAN && av->form != SPH_AV_SIGNAL) || !(av->alpha >= 0 && sph__finite(av->alpha)) ||
+        !(av->beta >= 0 && sph__finite(av->beta)))
+        return SPH_EINVAL;
+    st = sph__setup(c, SPH__N_M | SPH__N_RHO | SPH__N_FI | SPH__N_K, c != NULL ? c->dim : 1, v, v_target, cs,
+                    cs_target, &A);
+    if (st == SPH_OK) st = sph__out_ok(acc, c->dim);
+    if (st == SPH_OK) st = sph__out_opt(dudt, 1);
+    if (st == SPH_OK) st = sph__out_opt(vsig, 1);
+    if (st != SPH_OK) return st;
+    SPH__EACH_TARGET(A.nt, st, sph__av_target(&A, av, i, acc, dudt, vsig));
+    return SPH_OK;
+}
+
+/* Which coefficient sph_viscosity is given per particle. */
+typedef enum {
+    SPH_VISC_DYNAMIC = 0,  /* mu (Pa s) */
+    SPH_VISC_KINEMATIC = 1 /* nu = mu / rho (m^2/s): mu_i = rho_i nu_i */
+} sph_visc_kind;
+
+/* (S5) at target i. */
+SPH_API int sph__visc_target(const sph__args *A, int kinematic, sph_idx i, sph_out acc)
+{
+    const int D = SPH__DIM(A);
+    const sph_real rhoi = SPH__AT(A->rhot, 0, i), mui = SPH__AT(A->kt, 0, i) * (kinematic ? rhoi : 1);
+    sph_real vi[3], a[3] = {0, 0, 0}, dx[3], dv[3], F;
+    sph__tgt t;
+    sph_off o;
+    int k;
+    sph__vtarget(A, i, &t, vi);
+    for (o = A->off[i]; o < A->off[i + 1]; ++o) {
+        const sph_idx j = A->idx[o];
+        const sph_real rhoj = SPH__AT(A->rho, 0, j), muj = SPH__AT(A->k, 0, j) * (kinematic ? rhoj : 1);
+        const sph_real hij = sph__vpair(A, &t, vi, j, dx, dv, &F);
+        sph_pair_viscosity(D, SPH__AT(A->m, 0, j), mui, muj, rhoi, rhoj, hij, F, dx, dv, a);
+    }
+    for (k = 0; k < D; ++k) SPH__AT(acc, k, i) = a[k];
+    return 0;
+}
+
+/* (S5) viscous acceleration acc_i = (1/rho div(mu grad) v)_i of the velocity
+ * v (dim components; for constant mu, nu lap v) with a dynamic (mu) or
+ * kinematic (nu) coefficient per particle (coef, coef_target; target views
+ * as in sph_gradient). Needs ctx.m and ctx.rho (rho_target with targets of
+ * their own); h_ij as the derivative operators. SPH_EINVAL for another kind. */
+SPH_API int sph_viscosity(const sph_ctx *c, sph_visc_kind kind, sph_view coef, sph_view coef_target, sph_view v,
+                          sph_view v_target, sph_out acc)
+{
+    sph__args A;
+    int st = kind != SPH_VISC_DYNAMIC && kind != SPH_VISC_KINEMATIC
+                 ? SPH_EINVAL
+                 : sph__setup(c, SPH__N_M | SPH__N_RHO | SPH__N_FI | SPH__N_K, c != NULL ? c->dim : 1, v, v_target,
+                              coef, coef_target, &A);
+    if (st == SPH_OK) st = sph__out_ok(acc, c->dim);
+    if (st != SPH_OK) return st;
+    SPH__EACH_TARGET(A.nt, st, sph__visc_target(&A, kind == SPH_VISC_KINEMATIC, i, acc));
+    return SPH_OK;
+}
+
+/* (S6), (S7) at target i: g in A->f / A->ft (absent: Molteni & Colagrossi). */
+SPH_API int sph__ddiff_target(const sph__args *A, sph_real dc0, sph_idx i, sph_out out)
+{
+    const int renorm = A->f.p[0] != NULL;
+    const sph_real rhoi = SPH__AT(A->rhot, 0, i);
+    sph_real gi[3], gj[3], dg[3], s = 0, dx[3], F;
+    sph__tgt t;
+    sph_off o;
+    int k;
+    sph__vtarget(A, i, &t, gi);
+    for (o = A->off[i]; o < A->off[i + 1]; ++o) {
+        const sph_idx j = A->idx[o];
+        const sph_real hij = sph__vpair(A, &t, gi, j, dx, dg, &F);
+        for (k = 0; k < 3; ++k) gj[k] = renorm && k < SPH__DIM(A) ? SPH__AT(A->f, k, j) : 0; /* not gi - dg: exact */
+        s += hij * sph_pair_density_diffusion(SPH__DIM(A), SPH__AT(A->V, 0, j), rhoi, SPH__AT(A->rho, 0, j),
+                                              renorm ? gi : NULL, renorm ? gj : NULL, F, dx);
+    }
+    SPH__AT(out, 0, i) = dc0 * s;
+    return 0;
+}
+
+/* (S7) density diffusion term of the continuity equation, drho_i/dt +=
+ * delta c0 sum_j h_ij (S6): Antuono et al. (2010) with grad_rho the
+ * renormalised density gradients (sph_gradient with SPH_SCHEME_CORRECTED of
+ * ctx.rho; dim components, target view as in sph_gradient), or Molteni &
+ * Colagrossi (2009) when grad_rho is absent. Density from ctx.rho (and
+ * rho_target), volumes ctx.V; h_ij as the derivative operators. Writes out.
+ * SPH_EINVAL for delta or c0 negative or not finite. */
+SPH_API int sph_density_diffusion(const sph_ctx *c, sph_real delta, sph_real c0, sph_view grad_rho,
+                                  sph_view grad_rho_target, sph_out out)
+{
+    sph__args A;
+    const int renorm = grad_rho.p[0] != NULL;
+    int st = !(delta >= 0 && delta <= SPH__REAL_MAX && c0 >= 0 && c0 <= SPH__REAL_MAX)
+                 ? SPH_EINVAL
+                 : sph__setup(c, SPH__N_V | SPH__N_RHO | (renorm ? SPH__N_FI : 0), renorm && c != NULL ? c->dim : 0,
+                              grad_rho, grad_rho_target, sph_view_none(), sph_view_none(), &A);
+    if (st == SPH_OK) st = sph__out_ok(out, 1);
+    if (st != SPH_OK) return st;
+    SPH__EACH_TARGET(A.nt, st, sph__ddiff_target(&A, delta * c0, i, out));
+    return SPH_OK;
+}
+
+/* The wall model of sph_wall_adami (S8). */
+typedef struct {
+    sph_real g[3];      /* body force per unit mass on the fluid (gravity) */
+    sph_wall_slip slip; /* SPH_WALL_NOSLIP or SPH_WALL_FREESLIP */
+    sph_view v_wall;    /* prescribed velocity per wall particle (dim components); absent: at rest */
+    sph_view a_wall;    /* prescribed acceleration per wall particle; absent: 0 */
+} sph_wall;
+
+/* A wall model at rest with gravity g (dim components, NULL: none) and no-slip. */
+SPH_API sph_wall sph_wall_init(int dim, const sph_real *g)
+{
+    sph_wall w;
+    int a;
+    for (a = 0; a < 3; ++a) w.g[a] = g != NULL && a < dim ? g[a] : 0;
+    w.slip = SPH_WALL_NOSLIP;
+    w.v_wall = w.a_wall = sph_view_none();
+    return w;
+}
+
+/* (S8) at wall target i. */
+SPH_API int sph__wall_target(const sph__args *A, const sph_wall *w, sph_view p, sph_idx i, sph_out p_w, sph_out v_w)
+{
+    const int D = SPH__DIM(A);
+    sph_real sum[5] = {0, 0, 0, 0, 0}, g[3] = {0, 0, 0}, vwall[3] = {0, 0, 0}, vf[3] = {0, 0, 0}, pw, vw[3], dx[3],
+             W, F;
+    sph__tgt t;
+    sph_off o;
+    int k, ok;
+    sph__tinit(A, i, &t);
+    for (k = 0; k < D; ++k) {
+        g[k] = w->g[k] - (w->a_wall.p[0] != NULL ? SPH__AT(w->a_wall, k, i) : 0);
+        vwall[k] = w->v_wall.p[0] != NULL ? SPH__AT(w->v_wall, k, i) : 0;
+    }
+    for (o = A->off[i]; o < A->off[i + 1]; ++o) {
+        const sph_idx j = A->idx[o];
+        sph__pair(A, &t, j, SPH__WANT_W, dx, &W, &F);
+        for (k = 0; k < D; ++k) vf[k] = SPH__AT(A->f, k, j);
+        sph_pair_wall(D, W, SPH__AT(p, 0, j), SPH__AT(A->rho, 0, j), vf, g, dx, sum);
+    }
+    ok = sph_wall_end(D, w->slip, sum, vwall, &pw, vw);
+    SPH__AT(p_w, 0, i) = pw;
+    for (k = 0; v_w.p[0] != NULL && k < D; ++k) SPH__AT(v_w, k, i) = vw[k];
+    return !ok;
+}
+
+/* SPH_OK when a view of the targets is absent or usable (values checked
+ * with full validation). */
+SPH_API int sph__target_opt(const sph_ctx *c, sph_view v, int ncomp)
+{
+    int st;
+    if (v.p[0] == NULL) return SPH_OK;
+    st = sph__view_ok(v, ncomp);
+    return st != SPH_OK || c->validate == SPH_VALIDATE_ARGS ? st : sph__scan(v, ncomp, c->list->n_targets, 0, c->dim);
+}
+
+/* (S8) generalised wall boundary (Adami, Hu & Adams 2012): for every wall
+ * particle (the targets: ctx.x_target, h_target with per-particle h) from its
+ * fluid neighbours (the sources: ctx.x, ctx.rho, p, v), the pressure p_w =
+ * [sum_f p_f W_wf + (g - a_w) . sum_f rho_f x_wf W_wf] / sum_f W_wf and the
+ * velocity for the viscous terms v_w (no-slip 2 v_wall - v~, free-slip v~,
+ * v~ = sum_f v_f W_wf / sum_f W_wf), W at the wall's h. A wall particle with
+ * no fluid in reach gets p_w = 0 and v_w = v_wall, counted in *n_empty (may
+ * be NULL). v_w may be absent (not written). The wall densities for the
+ * momentum equation follow from p_w by the solver's equation of state. */
+SPH_API int sph_wall_adami(const sph_ctx *c, const sph_wall *w, sph_view p, sph_view v, sph_out p_w, sph_out v_w,
+                           sph_idx *n_empty)
+{
+    sph__args A;
+    sph_view unused;
+    sph_idx empty = 0;
+    int st, a;
+    if (w == NULL) return SPH_ENULL;
+    if (w->slip != SPH_WALL_NOSLIP && w->slip != SPH_WALL_FREESLIP) return SPH_EINVAL;
+    for (a = 0; a < 3; ++a)
+        if (!sph__finite(w->g[a])) return SPH_EINVAL;
+    st = sph__setup(c, 0, c != NULL ? c->dim : 1, v, sph_view_none(), sph_view_none(), sph_view_none(), &A);
+    if (st == SPH_OK) st = sph__field(c, c->rho, sph_view_none(), 1, 0, 2, &A.rho, &unused); /* fluid only */
+    if (st == SPH_OK) st = sph__field(c, p, sph_view_none(), 1, 0, 0, &A.k, &unused);
+    if (st == SPH_OK) st = sph__target_opt(c, w->v_wall, c->dim);
+    if (st == SPH_OK) st = sph__target_opt(c, w->a_wall, c->dim);
+    if (st == SPH_OK) st = sph__out_ok(p_w, 1);
+    if (st == SPH_OK) st = sph__out_opt(v_w, c->dim);
+    if (st != SPH_OK) return st;
+    SPH__EACH_TARGET(A.nt, empty, sph__wall_target(&A, w, A.k, i, p_w, v_w));
+    if (n_empty != NULL) *n_empty = empty;
+    return SPH_OK;
+}
+
+/* Inputs of sph_time_step (S9)-(S12): per-particle views, each optional
+ * (absent: the scalar next to it, 0 = no such limit). */
+typedef struct {
+    sph_dt_coef coef;     /* the C of each limit */
+    sph_real h;           /* uniform h (when h_particle is absent) */
+    sph_view h_particle;  /* per-particle h */
+    sph_view vsig;        /* signal velocity (S2), or c + |v| */
+    sph_view acc;         /* acceleration (dim components): |a| */
+    sph_real nu;          /* uniform kinematic viscosity */
+    sph_view nu_particle; /* per-particle kinematic viscosity */
+    sph_real D;           /* uniform diffusivity */
+    sph_view D_particle;  /* per-particle diffusivity */
+} sph_dt_input;
+
+/* Inputs with the default coefficients, uniform h and no rate. */
+SPH_API sph_dt_input sph_dt_input_init(sph_real h)
+{
+    sph_dt_input in;
+    in.coef = sph_dt_coef_default();
+    in.h = h;
+    in.nu = in.D = 0;
+    in.h_particle = in.vsig = in.acc = in.nu_particle = in.D_particle = sph_view_none();
+    return in;
+}
+
+/* (S9)-(S12) the global time step: min over particles 0..n-1 of
+ * sph_dt_limit, with the limiting reason and particle (reason and which may
+ * be NULL; SPH_DT_NONE, -1 and SPH__REAL_MAX when no rate is given or all
+ * are 0). SPH_EINVAL (first such particle in *which) where sph_dt_limit is
+ * SPH_DT_INVALID (h not positive and finite, a rate negative or not finite);
+ * SPH_ENULL for in or dt NULL or a view without its components, SPH_EDIM,
+ * SPH_ESIZE for n < 0. */
+SPH_API int sph_time_step(const sph_dt_input *in, int dim, sph_idx n, sph_real *dt, int *reason, sph_idx *which)
+{
+    sph_real best = SPH__REAL_MAX;
+    int why = SPH_DT_NONE, a;
+    sph_idx i, at = -1;
+    if (in == NULL || dt == NULL) return SPH_ENULL;
+    if (dim < 1 || dim > 3) return SPH_EDIM;
+    if (n < 0) return SPH_ESIZE;
+    if ((in->h_particle.p[0] != NULL && sph__view_ok(in->h_particle, 1) != SPH_OK) ||
+        (in->vsig.p[0] != NULL && sph__view_ok(in->vsig, 1) != SPH_OK) ||
+        (in->acc.p[0] != NULL && sph__view_ok(in->acc, dim) != SPH_OK) ||
+        (in->nu_particle.p[0] != NULL && sph__view_ok(in->nu_particle, 1) != SPH_OK) ||
+        (in->D_particle.p[0] != NULL && sph__view_ok(in->D_particle, 1) != SPH_OK))
+        return SPH_ENULL;
+    for (i = 0; i < n; ++i) {
+        sph_real h = in->h_particle.p[0] != NULL ? SPH__AT(in->h_particle, 0, i) : in->h, a2 = 0, t;
+        int r;
+        for (a = 0; in->acc.p[0] != NULL && a < dim; ++a) a2 += SPH__AT(in->acc, a, i) * SPH__AT(in->acc, a, i);
+        t = sph_dt_limit(&in->coef, h, in->vsig.p[0] != NULL ? SPH__AT(in->vsig, 0, i) : 0, sph__sqrt(a2),
+                         in->nu_particle.p[0] != NULL ? SPH__AT(in->nu_particle, 0, i) : in->nu,
+                         in->D_particle.p[0] != NULL ? SPH__AT(in->D_particle, 0, i) : in->D, &r);
+        if (r == SPH_DT_INVALID) {
+            if (which != NULL) *which = i;
+            return SPH_EINVAL;
+        }
+        if (r != SPH_DT_NONE && t < best) best = t, why = r, at = i;
+    }
+    *dt = best;
+    if (reason != NULL) *reason = why;
+    if (which != NULL) *which = at;
+    return SPH_OK;
+}
+
+#endif /* operators of section 8 */
+#endif /* section 8 */
+
+#if !defined(SPH_ONLY_PAIRS) /* section 9 */
+
+/* ======================================================================== */
+/* 9. Smoothing length and pair-once loops                                   */
+/* ======================================================================== */
+/* docs/smoothing_length.md. Needs sections 1-5 only (kernels, views, CSR
+ * lists, pair terms); lists come from section 7 or the caller.
+ *
+ * Adaptive h (Springel & Hernquist 2002; Price 2012, J. Comput. Phys. 231,
+ * 759, section 2.4): h_i = eta (m_i / rho_i)^(1/d) (H1) and rho_i =
+ * sum_j m_j W(r_ij, h_i) (H2) solved together per particle by Newton-Raphson
+ * on f(h) = rho(h) - m_i (eta / h)^d (H3), kept inside a bracket [lo, hi]
+ * where f changes sign and bisected when a Newton step leaves it. h^d f(h) / m_i
+ * = sum_j (m_j / m_i) alpha_d w(r_ij / h) - eta^d rises with h (w falls
+ * with q), so the root is unique and f < 0 below it, provided eta^d exceeds
+ * the self term alpha_d w(0) (else SPH_EINVAL). Omega_i (H4) and the grad-h
+ * momentum and energy equations (H5), (H6) follow; they conserve momentum
+ * and total energy pair by pair (H7).
+ *
+ * Lists that grow with h: the solver reads only the list it is given, built
+ * with a search radius kappa h_list_i (per particle, ctx.h_list, or
+ * ctx.h_list_max for all). A particle whose h would exceed it gets
+ * SPH_H_BEYOND_LIST and, in h[i], the fixed-point estimate eta (m_i /
+ * rho_i(h_list))^(1/d) > h_list_i: search again with a larger radius (e.g.
+ * 1.2 times that) and call again.
+ *
+ * Pair-once loops: sph_pairs_build turns a symmetric full list (each pair in
+ * both rows: SPH_NSEARCH_SYMMETRIC, or a uniform h) into a half list, row i
+ * holding the sources j > i, and its transpose (for each j a range of slots,
+ * one per pair (i, j), ascending in i). A pair loop over the half list writes
+ * what pair k adds to i at k and what it adds to j at its slot, in two
+ * per-pair buffers; sph_pairs_reduce sums each particle's entries in a fixed
+ * order (its own row, then its slots), reading both buffers in sequence (H8): every pair evaluated once, no two threads
+ * writing one particle, and the result bitwise the same for any number of
+ * OpenMP threads. */
+
+/* Per-particle outcome of sph_h_solve. */
+enum {
+    SPH_H_CONVERGED = 0,     /* |h_next - h| <= tol h within max_iter density sums */
+    SPH_H_NOT_CONVERGED = 1, /* max_iter sums without meeting tol: h, rho, Omega of the last sum */
+    SPH_H_BEYOND_LIST = 2    /* the solution lies beyond kappa h_list_i: h holds a larger estimate; search again */
+};
+
+/* What the smoothing-length solver and the grad-h forces read. Fill with
+ * sph_hctx_init. Targets are the sources: list->n_targets == n_sources = n. */
+typedef struct {
+    sph_kernel kernel;
+    int dim;                    /* 1..3 */
+    const sph_neighbours *list; /* full CSR list; row i ascending (as the search gives) for sph_pairs_build */
+    const sph_box *box;         /* periodic box, or NULL */
+    sph_view x;                 /* positions (dim components) */
+    sph_view m;                 /* masses, positive */
+    sph_view h_list;            /* per particle: row i holds every j with r_ij < kappa h_list_i; absent: h_list_max */
+    sph_real h_list_max;        /* the same for every particle (when h_list is absent) */
+    sph_real eta;               /* (H1); default 1.2 (about 58 neighbours for the 3-D cubic spline) */
+    sph_real tol;               /* relative change of h that ends the iteration; default 1e-6 (float: 64 eps) */
+    int max_iter;               /* density sums per particle at most; default 50 */
+    int check_list;             /* 1 (default): one pass checks the list (offsets, indices); 0: the caller did */
+} sph_hctx;
+
+/* Totals of one sph_h_solve call. */
+typedef struct {
+    sph_idx n_not_converged; /* particles with SPH_H_NOT_CONVERGED */
+    sph_idx n_beyond_list;   /* particles with SPH_H_BEYOND_LIST */
+    int max_iterations;      /* most density sums of any particle */
+    sph_off iterations;      /* density sums of all particles */
+} sph_hreport;
+
+/* A half list and its transpose (sph_pairs_build). Pair k = (i, j), i < j,
+ * is position k of half.index (row i); its transposed slot t_slot[k] lies
+ * in j's range t_offset[j] .. t_offset[j+1]-1, whose slots are ordered by
+ * ascending i. A pair loop writes what pair k adds to i at k and what it
+ * adds to j at t_slot[k]: the reduction then reads both in sequence. */
+typedef struct {
+    sph_neighbours half;     /* row i: the sources j > i of the full list */
+    const sph_off *t_offset; /* [n + 1]: particle j's slots */
+    const sph_off *t_slot;   /* [pairs]: the transposed slot of pair k */
+} sph_pairs;
+
+/* A context with eta = 1.2, tol = 1e-6 (64 eps in float), max_iter = 50,
+ * the list checked, no box and no per-particle list radius. */
+SPH_API sph_hctx sph_hctx_init(sph_kernel kernel, int dim, const sph_neighbours *list, sph_view x, sph_view m,
+                               sph_real h_list_max)
+{
+    sph_hctx c;
+    c.kernel = kernel;
+    c.dim = dim;
+    c.list = list;
+    c.box = NULL;
+    c.x = x;
+    c.m = m;
+    c.h_list = sph_view_soa(NULL, NULL, NULL);
+    c.h_list_max = h_list_max;
+    c.eta = SPH__C(1.2);
+    c.tol = sizeof(sph_real) == sizeof(float) ? 64 * (sph_real)FLT_EPSILON : SPH__C(1e-6);
+    c.max_iter = 50;
+    c.check_list = 1;
+    return c;
+}
+
+/* Periods and their inverses per axis (0 where not periodic): the minimum
+ * image of (O0) without a division per pair. */
+typedef struct {
+    sph_real L[3], invL[3];
+} sph__period;
+
+SPH_API sph__period sph__period_of(const sph_box *box, int dim)
+{
+    sph__period P;
+    int a;
+    for (a = 0; a < 3; ++a) {
+        const int on = box != NULL && a < dim && box->periodic[a];
+        P.L[a] = on ? box->length[a] : 0;
+        P.invL[a] = on ? 1 / box->length[a] : 0;
+    }
+    return P;
+}
+
+/* (O0): dx = x_i - x_j (minimum image), returns r^2. */
+SPH__INLINE sph_real sph__h_dx(const sph__period *P, int dim, const sph_real *xi, sph_view x, sph_idx j,
+                               sph_real *dx)
+{
+    sph_real r2 = 0;
+    int a;
+    for (a = 0; a < 3; ++a) dx[a] = 0;
+    for (a = 0; a < dim && a < 3; ++a) {
+        sph_real d = xi[a] - x.p[a][(ptrdiff_t)j * x.stride];
+        if (P->L[a] != 0) d -= P->L[a] * sph__floor(d * P->invL[a] + (sph_real)0.5);
+        dx[a] = d;
+        r2 += d * d;
+    }
+    return r2;
+}
+
+/* Position of particle i into xi[3]. */
+SPH__INLINE void sph__h_xi(sph_view x, int dim, sph_idx i, sph_real *xi)
+{
+    int a;
+    for (a = 0; a < 3; ++a) xi[a] = a < dim ? x.p[a][(ptrdiff_t)i * x.stride] : 0;
+}
+
+/* Checks what sph_h_solve and the forces share: kernel, dimension, list
+ * (targets = sources; with check_list, offsets and indices), positions and
+ * masses present, periods positive, and kappa h_list within half a period. */
+SPH_API int sph__hctx_check(const sph_hctx *c)
+{
+    sph_idx i, n;
+    int a;
+    if (c == NULL || c->list == NULL || c->list->offset == NULL) return SPH_ENULL;
+    if (sph_kernel_check(c->kernel, c->dim) != SPH_OK) return sph_kernel_check(c->kernel, c->dim);
+    n = c->list->n_targets;
+    if (n < 0 || c->list->n_sources != n) return SPH_ESIZE;
+    if (n > 0 && c->m.p[0] == NULL) return SPH_ENULL;
+    for (a = 0; a < c->dim; ++a)
+        if (n > 0 && c->x.p[a] == NULL) return SPH_ENULL;
+    for (a = 0; c->box != NULL && a < c->dim; ++a)
+        if (c->box->periodic[a] && !(c->box->length[a] > 0 && c->box->length[a] <= SPH__REAL_MAX)) return SPH_EINVAL;
+    if (c->list->offset[n] > 0 && c->list->index == NULL) return SPH_ENULL;
+    if (c->check_list) {
+        sph_off o;
+        if (c->list->offset[0] != 0) return SPH_EINVAL;
+        for (i = 0; i < n; ++i)
+            if (c->list->offset[i + 1] < c->list->offset[i]) return SPH_EINVAL;
+        for (o = 0; o < c->list->offset[n]; ++o)
+            if (c->list->index[o] < 0 || c->list->index[o] >= n) return SPH_EINDEX;
+    }
+    return SPH_OK;
+}
+
+/* (H2) and its h-derivative at h for particle i: rho = sum_j m_j W(r_ij, h),
+ * drho = sum_j m_j dW/dh (K7), dW/dh = -alpha_d h^-(d+1) (d w + q w'). */
+SPH_API void sph__h_sums(const sph_hctx *c, const sph__kdim *kd, const sph__period *P, sph_idx i, sph_real h,
+                         sph_real *rho, sph_real *drho)
+{
+    const sph__nshape *s = &sph__nshapes[kd->shape];
+    const sph_real hinv = 1 / h, dd = (sph_real)c->dim;
+    sph_real xi[3], dx[3], sw = 0, sd = 0;
+    sph_off o;
+    sph__h_xi(c->x, c->dim, i, xi);
+    for (o = c->list->offset[i]; o < c->list->offset[i + 1]; ++o) {
+        const sph_idx j = c->list->index[o];
+        const sph_real q = sph__sqrt(sph__h_dx(P, c->dim, xi, c->x, j, dx)) * hinv;
+        const sph_real mj = c->m.p[0][(ptrdiff_t)j * c->m.stride];
+        const sph_real w = sph__nshape_w(s, q), g = sph__nshape_g(s, q);
+        sw += mj * w;
+        sd += mj * (dd * w + q * q * g);
+    }
+    *rho = sph__hpow(kd->alpha * sw, hinv, c->dim);
+    *drho = -sph__hpow(kd->alpha * sd, hinv, c->dim + 1);
+}
+
+/* (H1)-(H4) for particle i from the guess *h, bracketed Newton-Raphson:
+ * returns its state, writes h, rho(h), Omega(h) of the last sum and the
+ * number of sums. */
+SPH_API int sph__h_particle(const sph_hctx *c, const sph__kdim *kd, const sph__period *P, sph_idx i, sph_real hl,
+                            sph_real *h, sph_real *rho, sph_real *omega, int *iters)
+{
+    const sph_real mi = c->m.p[0][(ptrdiff_t)i * c->m.stride], dd = (sph_real)c->dim;
+    sph_real lo = 0, hi = hl, x = *h < hl ? *h : hl;
+    int hi_known = 0, it, state = SPH_H_NOT_CONVERGED;
+    for (it = 1; it <= c->max_iter; ++it) {
+        sph_real r, dr, rh, f, fp, xn;
+        sph__h_sums(c, kd, P, i, x, &r, &dr);
+        rh = sph__hpow(mi, c->eta / x, c->dim); /* m_i (eta / h)^d */
+        f = r - rh;
+        fp = dr + dd * rh / x;
+        *h = x;
+        *rho = r;
+        *omega = r > 0 ? 1 + x * dr / (dd * r) : 1; /* (H4): dh/drho = -h / (d rho); r = 0 only without the self term */
+        if (f < 0) lo = x;
+        else hi = x, hi_known = 1;
+        if (f < 0 && x >= hl) { /* the root lies beyond the list: the fixed point of (H1) beyond h_list */
+            *h = r > 0 ? c->eta * (sph_real)pow((double)(mi / r), 1.0 / c->dim) : 2 * hl;
+            state = SPH_H_BEYOND_LIST;
+            break;
+        }
+        xn = fp > 0 ? x - f / fp : lo; /* (H3) Newton step; lo forces the bracket below */
+        if (fp > 0 && (xn > x ? xn - x : x - xn) <= c->tol * x) { /* also a step below the rounding of x */
+            state = SPH_H_CONVERGED;
+            break;
+        }
+        if (!(xn > lo && xn < hi)) xn = hi_known ? (lo + hi) / 2 : xn >= hi ? hl : (lo + hl) / 2;
+        if ((xn > x ? xn - x : x - xn) <= c->tol * x) { /* a bracket narrower than tol */
+            state = SPH_H_CONVERGED;
+            break;
+        }
+        x = xn;
+    }
+    *iters = it <= c->max_iter ? it : c->max_iter;
+    return state;
+}
+
+/* (H1)-(H4): solves h_i and rho_i together for every particle, from the
+ * guesses in h (positive, finite; one above h_list_i starts at h_list_i),
+ * and writes h, rho, Omega (each [n]); iterations and state (optional,
+ * [n]): the density sums and SPH_H_* of each particle; report (optional):
+ * the totals. Returns SPH_OK (check report or state for particles not
+ * converged or beyond their list) or SPH_ENULL, SPH_EKERNEL, SPH_EDIM,
+ * SPH_ESIZE, SPH_EINDEX, SPH_EINVAL (eta^d <= alpha_d w(0): no solution;
+ * eta, tol not positive and finite, max_iter < 1, a bad box or list),
+ * SPH_EH (a guess or h_list not usable), SPH_ENONFINITE (a NaN or Inf
+ * position or a mass not positive and finite), before anything is written.
+ * Parallel over particles under OpenMP; the same result for any thread
+ * count. */
+SPH_API int sph_h_solve(const sph_hctx *c, sph_real *h, sph_real *rho, sph_real *omega, int *iterations, int *state,
+                        sph_hreport *report)
+{
+    const sph__kdim *kd;
+    sph__period P;
+    sph_idx i, n, nnc = 0, nbl = 0;
+    sph_off total = 0;
+    int st = sph__hctx_check(c), mx = 0, a;
+    if (st != SPH_OK) return st;
+    n = c->list->n_targets;
+    if (n > 0 && (h == NULL || rho == NULL || omega == NULL)) return SPH_ENULL;
+    kd = sph__kd(c->kernel, c->dim);
+    if (!(c->eta > 0 && c->eta <= SPH__REAL_MAX) || !(c->tol > 0 && c->tol <= SPH__REAL_MAX) || c->max_iter < 1 ||
+        !(sph__hpow(1, c->eta, c->dim) > kd->alpha * (sph_real)sph__shape_at(&sph__nshapes[kd->shape], SPH__SW, 0)))
+        return SPH_EINVAL;
+    if (c->h_list.p[0] == NULL && !sph__h_ok(c->h_list_max, c->dim)) return SPH_EH;
+    for (i = 0; i < n; ++i) {
+        const sph_real mi = c->m.p[0][(ptrdiff_t)i * c->m.stride];
+        if (!sph__h_ok(h[i], c->dim)) return SPH_EH;
+        if (c->h_list.p[0] != NULL && !sph__h_ok(c->h_list.p[0][(ptrdiff_t)i * c->h_list.stride], c->dim))
+            return SPH_EH;
+        if (!(mi > 0 && mi <= SPH__REAL_MAX)) return SPH_ENONFINITE;
+        for (a = 0; a < c->dim; ++a)
+            if (!sph__finite(c->x.p[a][(ptrdiff_t)i * c->x.stride])) return SPH_ENONFINITE;
+    }
+    P = sph__period_of(c->box, c->dim);
+#ifdef _OPENMP
+#pragma omp parallel for schedule(dynamic, 64) if (n >= 512) reduction(+ : nnc, nbl, total) reduction(max : mx)
+#endif
+    for (i = 0; i < n; ++i) {
+        const sph_real hl = c->h_list.p[0] != NULL ? c->h_list.p[0][(ptrdiff_t)i * c->h_list.stride] : c->h_list_max;
+        int it = 0;
+        const int s = sph__h_particle(c, kd, &P, i, hl, &h[i], &rho[i], &omega[i], &it);
+        if (iterations != NULL) iterations[i] = it;
+        if (state != NULL) state[i] = s;
+        nnc += s == SPH_H_NOT_CONVERGED;
+        nbl += s == SPH_H_BEYOND_LIST;
+        total += it;
+        mx = it > mx ? it : mx;
+    }
+    if (report != NULL) {
+        report->n_not_converged = nnc;
+        report->n_beyond_list = nbl;
+        report->max_iterations = mx;
+        report->iterations = total;
+    }
+    return SPH_OK;
+}
+
+/* A_i = p_i / (Omega_i rho_i^2), the per-particle factor of (H5), (H6).
+ * 0 where it is not a finite number (rho not positive, NaN or Inf input);
+ * an Omega not positive and finite counts as 1 (the equations without the
+ * grad-h term), so a degenerate neighbourhood cannot flip or blow up the
+ * force. */
+SPH_API sph_real sph_gradh_factor(sph_real p, sph_real rho, sph_real omega)
+{
+    const sph_real P = rho > 0 ? p / (rho * rho) : 0, A = omega > 0 && omega <= SPH__REAL_MAX ? P / omega : P;
+    return sph__finite(A) ? A : 0;
+}
+
+/* (H5) pair term: acc += m_j (A_i F_i + A_j F_j) dx, F_i = F(r, h_i),
+ * F_j = F(r, h_j); dv_i/dt = -acc. */
+SPH_API void sph_pair_gradh_pressure(int dim, sph_real m_j, sph_real A_i, sph_real A_j, sph_real F_i, sph_real F_j,
+                                     const sph_real *dx, sph_real *acc)
+{
+    sph__axpy(dim, m_j * (A_i * F_i + A_j * F_j), dx, acc);
+}
+
+/* (H6) pair term: m_j A_i F_i (v_i - v_j) . dx, summed into du_i/dt. */
+SPH_API sph_real sph_pair_gradh_energy(int dim, sph_real m_j, sph_real A_i, sph_real F_i, const sph_real *v_ij,
+                                       const sph_real *dx)
+{
+    sph_real s = 0;
+    int a;
+    for (a = 0; a < dim && a < 3; ++a) s += v_ij[a] * dx[a];
+    return m_j * A_i * F_i * s;
+}
+
+/* Checks the arrays of the forces: h usable, A finite, v present when du/dt is asked for. */
+SPH_API int sph__gradh_check(const sph_hctx *c, sph_view v, const sph_real *h, const sph_real *A, sph_real *dvdt,
+                             sph_real *dudt)
+{
+    sph_idx i, n;
+    int a, st = sph__hctx_check(c);
+    if (st != SPH_OK) return st;
+    n = c->list->n_targets;
+    if (n > 0 && (h == NULL || A == NULL || dvdt == NULL)) return SPH_ENULL;
+    for (a = 0; dudt != NULL && n > 0 && a < c->dim; ++a)
+        if (v.p[a] == NULL) return SPH_ENULL;
+    for (i = 0; i < n; ++i) {
+        if (!sph__h_ok(h[i], c->dim)) return SPH_EH;
+        if (!sph__finite(A[i])) return SPH_ENONFINITE;
+    }
+    return SPH_OK;
+}
+
+/* The common arithmetic of (H5), (H6) for pair (i, j), j != i: dx, the
+ * factor c = A_i F_i + A_j F_j and e = F_i (v_i - v_j) . dx, F_i and F_j
+ * at the particles' own h (1 / h_i given: one division per pair). */
+SPH__INLINE void sph__gradh_pair(const sph_hctx *c, const sph__kdim *kd, const sph__period *P, const sph_real *xi,
+                                 sph_real hiinv, sph_real Ai, const sph_real *vi, sph_idx j, sph_view v,
+                                 const sph_real *h, const sph_real *A, int want_e, sph_real *dx, sph_real *cf,
+                                 sph_real *Fi, sph_real *Fj)
+{
+    const sph__nshape *s = &sph__nshapes[kd->shape];
+    const sph_real r = sph__sqrt(sph__h_dx(P, c->dim, xi, c->x, j, dx)), hjinv = 1 / h[j];
+    int a;
+    *Fi = sph__hpow(kd->alpha * sph__nshape_g(s, r * hiinv), hiinv, c->dim + 2);
+    *Fj = sph__hpow(kd->alpha * sph__nshape_g(s, r * hjinv), hjinv, c->dim + 2);
+    *cf = Ai * *Fi + A[j] * *Fj;
+    if (want_e) {
+        sph_real e = 0;
+        for (a = 0; a < c->dim; ++a) e += (vi[a] - v.p[a][(ptrdiff_t)j * v.stride]) * dx[a];
+        *Fi *= e; /* F_i (v_ij . dx) */
+        *Fj *= e;
+    }
+}
+
+/* (H5), (H6) in gather form: every pair visited from both rows.
+ * dvdt[dim i + a] = -sum_j m_j (A_i F_i + A_j F_j) x_ij,a and, when dudt
+ * is not NULL, dudt[i] = A_i sum_j m_j F_i v_ij . x_ij, over a symmetric
+ * list (each pair in both rows, or the sums miss what the other side sees)
+ * with A from sph_gradh_factor. h [n], A [n]; v read only for dudt.
+ * Returns SPH_OK or a status of sph_h_solve's kinds, nothing written then. */
+SPH_API int sph_gradh_forces(const sph_hctx *c, sph_view v, const sph_real *h, const sph_real *A, sph_real *dvdt,
+                             sph_real *dudt)
+{
+    const sph__kdim *kd;
+    sph__period P;
+    sph_idx i, n;
+    int st = sph__gradh_check(c, v, h, A, dvdt, dudt);
+    if (st != SPH_OK) return st;
+    n = c->list->n_targets;
+    kd = sph__kd(c->kernel, c->dim);
+    P = sph__period_of(c->box, c->dim);
+#ifdef _OPENMP
+#pragma omp parallel for schedule(dynamic, 64) if (n >= 512)
+#endif
+    for (i = 0; i < n; ++i) {
+        sph_real xi[3], vi[3] = {0, 0, 0}, acc[3] = {0, 0, 0}, du = 0, dx[3], cf, Fi, Fj;
+        const sph_real hiinv = 1 / h[i];
+        sph_off o;
+        int a;
+        sph__h_xi(c->x, c->dim, i, xi);
+        if (dudt != NULL) sph__h_xi(v, c->dim, i, vi);
+        for (o = c->list->offset[i]; o < c->list->offset[i + 1]; ++o) {
+            const sph_idx j = c->list->index[o];
+            const sph_real mj = c->m.p[0][(ptrdiff_t)j * c->m.stride];
+            if (j == i) continue;
+            sph__gradh_pair(c, kd, &P, xi, hiinv, A[i], vi, j, v, h, A, dudt != NULL, dx, &cf, &Fi, &Fj);
+            sph__axpy(c->dim, mj * cf, dx, acc);
+            du += mj * Fi;
+        }
+        for (a = 0; a < c->dim; ++a) dvdt[(ptrdiff_t)c->dim * i + a] = -acc[a];
+        if (dudt != NULL) dudt[i] = A[i] * du;
+    }
+    return SPH_OK;
+}
+
+/* (H8) The half list of a symmetric full list and its transpose. offset
+ * [n + 1], index [cap], t_offset [n + 1], t_slot [cap]; pairs is set to the
+ * number of pairs (j > i) whatever happens. Rows of the full list must be
+ * in ascending index (the search's order). Returns SPH_OK and fills *P, or
+ * SPH_ESIZE (cap < pairs; offset complete), SPH_EINVAL when the list is not
+ * symmetric (a pair in one row only; the pair-once sums would differ from
+ * the gather ones) or a row not ascending, SPH_ENULL, SPH_EINDEX. */
+SPH_API int sph_pairs_build(const sph_neighbours *full, sph_off *offset, sph_idx *index, sph_off cap,
+                            sph_off *t_offset, sph_off *t_slot, sph_off *pairs, sph_pairs *P)
+{
+    sph_idx i, n;
+    sph_off o, k;
+    int bad = 0;
+    if (pairs != NULL) *pairs = 0;
+    if (full == NULL || full->offset == NULL || offset == NULL || t_offset == NULL || P == NULL) return SPH_ENULL;
+    n = full->n_targets;
+    if (n < 0 || full->n_sources != n || cap < 0) return SPH_ESIZE;
+    if (full->offset[0] != 0) return SPH_EINVAL;
+    if (full->offset[n] > 0 && full->index == NULL) return SPH_ENULL;
+    for (i = 0; i < n; ++i) {
+        if (full->offset[i + 1] < full->offset[i]) return SPH_EINVAL;
+        for (o = full->offset[i]; o < full->offset[i + 1]; ++o) {
+            if (full->index[o] < 0 || full->index[o] >= n) return SPH_EINDEX;
+            if (o > full->offset[i] && full->index[o] <= full->index[o - 1]) return SPH_EINVAL;
+        }
+    }
+    offset[0] = 0;
+    for (i = 0; i < n; ++i) { /* rows ascending: the sources j > i are the tail of row i */
+        o = full->offset[i + 1];
+        while (o > full->offset[i] && full->index[o - 1] > i) --o;
+        offset[i + 1] = offset[i] + (full->offset[i + 1] - o);
+    }
+    if (pairs != NULL) *pairs = offset[n];
+    if (cap < offset[n]) return SPH_ESIZE;
+    if (offset[n] > 0 && (index == NULL || t_slot == NULL)) return SPH_ENULL;
+    for (i = 0; i <= n; ++i) t_offset[i] = 0;
+    for (i = 0; i < n; ++i) {
+        const sph_off tail = full->offset[i + 1] - (offset[i + 1] - offset[i]);
+        for (k = offset[i], o = tail; k < offset[i + 1]; ++k, ++o) {
+            index[k] = full->index[o];
+            ++t_offset[index[k] + 1];
+        }
+    }
+    for (i = 0; i < n; ++i) t_offset[i + 1] += t_offset[i];
+    /* transpose: t_offset[j] serves as the cursor of j (rows in ascending i), then is shifted back */
+    for (i = 0; i < n; ++i)
+        for (k = offset[i]; k < offset[i + 1]; ++k) t_slot[k] = t_offset[index[k]]++;
+    for (i = n; i > 0; --i) t_offset[i] = t_offset[i - 1];
+    t_offset[0] = 0;
+    /* symmetry: the sources below j of full row j are, in order, the i whose half rows hold j */
+    for (i = 0; i < n && !bad; ++i) {
+        sph_off below = 0;
+        for (o = full->offset[i]; o < full->offset[i + 1] && full->index[o] < i; ++o) ++below;
+        bad = below != t_offset[i + 1] - t_offset[i];
+    }
+    for (i = 0; i < n && !bad; ++i)
+        for (k = offset[i]; k < offset[i + 1] && !bad; ++k) {
+            const sph_idx j = index[k];
+            bad = full->index[full->offset[j] + (t_slot[k] - t_offset[j])] != i;
+        }
+    if (bad) return SPH_EINVAL;
+    P->half.n_targets = P->half.n_sources = n;
+    P->half.offset = offset;
+    P->half.index = index;
+    P->t_offset = t_offset;
+    P->t_slot = t_slot;
+    return SPH_OK;
+}
+
+/* (H8) out[ncomp i + a] = sum over the pairs k of row i of to_i[ncomp k + a]
+ * + sum over the slots t of i of to_j[ncomp t + a], in that order: pair k =
+ * (i, j) adds to_i[k] to i and to_j[t_slot[k]] to j. ncomp 1..16. Parallel
+ * over particles; bitwise the same for any thread count. */
+SPH_API int sph_pairs_reduce(const sph_pairs *P, int ncomp, const sph_real *to_i, const sph_real *to_j, sph_real *out)
+{
+    sph_idx i, n;
+    if (P == NULL || P->half.offset == NULL || P->t_offset == NULL) return SPH_ENULL;
+    if (ncomp < 1 || ncomp > 16) return SPH_EINVAL;
+    n = P->half.n_targets;
+    if (n > 0 && out == NULL) return SPH_ENULL;
+    if (P->half.offset[n] > 0 && (to_i == NULL || to_j == NULL)) return SPH_ENULL;
+#ifdef _OPENMP
+#pragma omp parallel for schedule(static) if (n >= 2048)
+#endif
+    for (i = 0; i < n; ++i) {
+        sph_real s[16];
+        sph_off k, t;
+        int a;
+        for (a = 0; a < ncomp; ++a) s[a] = 0;
+        for (k = P->half.offset[i]; k < P->half.offset[i + 1]; ++k)
+            for (a = 0; a < ncomp; ++a) s[a] += to_i[(ptrdiff_t)ncomp * k + a];
+        for (t = P->t_offset[i]; t < P->t_offset[i + 1]; ++t)
+            for (a = 0; a < ncomp; ++a) s[a] += to_j[(ptrdiff_t)ncomp * t + a];
+        for (a = 0; a < ncomp; ++a) out[(ptrdiff_t)ncomp * i + a] = s[a];
+    }
+    return SPH_OK;
+}
+
+/* (H5), (H6) pair-once over the half list of sph_pairs_build (same
+ * arguments and results as sph_gradh_forces, to round-off): each pair
+ * evaluated once into buf, then reduced per particle by sph_pairs_reduce.
+ * buf holds 2 (dim + 1) pairs reals (pairs = P->half.offset[n]). c->list
+ * is not read. Bitwise the same for any thread count. */
+SPH_API int sph_gradh_forces_pairs(const sph_hctx *c, const sph_pairs *P, sph_view v, const sph_real *h,
+                                   const sph_real *A, sph_real *buf, sph_real *dvdt, sph_real *dudt)
+{
+    const sph__kdim *kd;
+    sph__period Pd;
+    sph_hctx ch;
+    sph_idx i, n;
+    sph_off np;
+    sph_real *vi_buf, *vj_buf, *ei_buf, *ej_buf;
+    int st, D;
+    if (c == NULL || P == NULL) return SPH_ENULL;
+    ch = *c;
+    ch.list = &P->half;
+    ch.check_list = 0; /* sph_pairs_build checked it */
+    if ((st = sph__gradh_check(&ch, v, h, A, dvdt, dudt)) != SPH_OK) return st;
+    n = P->half.n_targets;
+    np = P->half.offset[n];
+    if (np > 0 && (buf == NULL || P->t_slot == NULL)) return SPH_ENULL;
+    D = c->dim;
+    kd = sph__kd(c->kernel, D);
+    Pd = sph__period_of(c->box, D);
+    vi_buf = buf;
+    vj_buf = buf + (ptrdiff_t)D * np;
+    ei_buf = buf + (ptrdiff_t)2 * D * np;
+    ej_buf = ei_buf + np;
+#ifdef _OPENMP
+#pragma omp parallel for schedule(dynamic, 64) if (n >= 512)
+#endif
+    for (i = 0; i < n; ++i) {
+        sph_real xi[3], vi[3] = {0, 0, 0}, dx[3], cf, Fi, Fj;
+        const sph_real mi = c->m.p[0][(ptrdiff_t)i * c->m.stride], hiinv = 1 / h[i];
+        sph_off k;
+        int a;
+        sph__h_xi(c->x, D, i, xi);
+        if (dudt != NULL) sph__h_xi(v, D, i, vi);
+        for (k = P->half.offset[i]; k < P->half.offset[i + 1]; ++k) {
+            const sph_idx j = P->half.index[k];
+            const sph_real mj = c->m.p[0][(ptrdiff_t)j * c->m.stride];
+            const sph_off t = P->t_slot[k];
+            sph__gradh_pair(&ch, kd, &Pd, xi, hiinv, A[i], vi, j, v, h, A, dudt != NULL, dx, &cf, &Fi, &Fj);
+            for (a = 0; a < D; ++a) {
+                vi_buf[(ptrdiff_t)D * k + a] = -(mj * cf) * dx[a];
+                vj_buf[(ptrdiff_t)D * t + a] = (mi * cf) * dx[a];
+            }
+            ei_buf[k] = A[i] * (mj * Fi);
+            ej_buf[t] = A[j] * (mi * Fj);
+        }
+    }
+    if ((st = sph_pairs_reduce(P, D, vi_buf, vj_buf, dvdt)) != SPH_OK) return st;
+    return dudt != NULL ? sph_pairs_reduce(P, 1, ei_buf, ej_buf, dudt) : SPH_OK;
+}
+
+#endif /* section 9 */
+#endif /* sections 4-9 */
 
 #ifdef __cplusplus
 }

@@ -1,6 +1,6 @@
 /* C11 compile check: the header included from a C11 translation unit, and
  * each section switch (SPH_ONLY_KERNELS, SPH_ONLY_PAIRS, SPH_NO_OPERATORS,
- * SPH_NO_NSEARCH) still provides the sections it promises. */
+ * SPH_NO_NSEARCH, SPH_NO_SOLVER) still provides the sections it promises. */
 #include <stdio.h>
 #include "sph_kernel.h"
 
@@ -18,6 +18,17 @@ int main(void)
     }
 #if !defined(SPH_ONLY_PAIRS) && !defined(SPH_NO_OPERATORS)
     ok = ok && sph_density(NULL, sph_out_soa(NULL, NULL, NULL)) == SPH_ENULL; /* section 6 */
+#endif
+#if !defined(SPH_NO_SOLVER)
+    { /* section 8: pair terms (also under SPH_ONLY_PAIRS), then operators */
+        const sph_real dx[2] = {1, 0}, dv[2] = {-1, 0};
+        ok = ok && sph_pair_av_monaghan(2, 1, 2, 1, 1, 1, dx, dv) > 0;
+#if !defined(SPH_ONLY_PAIRS) && !defined(SPH_NO_OPERATORS)
+        ok = ok && sph_artificial_viscosity(NULL, NULL, sph_view_none(), sph_view_none(), sph_view_none(),
+                                            sph_view_none(), sph_out_soa(NULL, NULL, NULL),
+                                            sph_out_soa(NULL, NULL, NULL), sph_out_soa(NULL, NULL, NULL)) == SPH_ENULL;
+#endif
+    }
 #endif
 #if !defined(SPH_ONLY_PAIRS) && !defined(SPH_NO_NSEARCH)
     { /* section 7 */

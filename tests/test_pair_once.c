@@ -1,0 +1,237 @@
+/* Grad-h forces and pair-once loops (docs/smoothing_length.md (H5)-(H8)):
+ * on a random closed periodic cloud with unequal masses and h from
+ * sph_h_solve, the momentum equation (H5) sums to zero momentum change and
+ * (H5) with (H6) to zero change of the total energy, to round-off (H7);
+ * both equal a reference summed here over every pair with the scalar kernel;
+ * the pair-once form equals the gather form to round-off and is bitwise the
+ * same for 1 and 2 OpenMP threads; sph_pairs_build refuses a list that is
+ * not symmetric and reports the pair count when the arrays are short.
+ */
+#include "harness.h"
+#include "support/particles.h"
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+#define N 600
+
+static void set_threads(int n)
+{
+#ifdef _OPENMP
+    omp_set_num_threads(n);
+#else
+    (void)n;
+#endif
+}
+
+typedef struct {
+    sph_real x[3 * N], v[3 * N], m[N], h[N], rho[N], om[N], u[N], p[N], A[N];
+    sph_box box;
+    tp_list L; /* symmetric list at 1.25 h */
+    sph_hctx c;
+} scene;
+
+/* A random periodic cloud in the unit cube, h solved, u and v random; p = (gamma - 1) rho u. */
+static int make_scene(scene *s, int dim)
+{
+    tp_rng g = {2026};
+    sph_real hl[N];
+    sph_hreport rep;
+    int i, a, st;
+    memset(&s->box, 0, sizeof s->box);
+    for (a = 0; a < dim; ++a) s->box.length[a] = 1, s->box.periodic[a] = 1;
+    tp_uniform_cloud(dim, N, 1, &g, s->x);
+    for (i = 0; i < N; ++i) {
+        s->m[i] = (sph_real)(tp_range(&g, 0.5, 1.5) / N);
+        s->u[i] = (sph_real)tp_range(&g, 1, 2);
+        for (a = 0; a < 3; ++a) s->v[3 * i + a] = a < dim ? (sph_real)tp_range(&g, -1, 1) : 0;
+        s->h[i] = (sph_real)(1.2 * pow(1.0 / N, 1.0 / dim));
+        hl[i] = (sph_real)(dim == 3 ? 0.24 : 0.2);
+    }
+    if (tp_brute_list(dim, s->x, N, s->x, N, 0, hl, NULL, 2, TP_GATHER, &s->box, &s->L) != 0) return SPH_ESIZE;
+    s->c = sph_hctx_init(SPH_KERNEL_CUBIC, dim, &s->L.list, sph_view_interleaved(s->x, 3),
+                         sph_view_soa(s->m, NULL, NULL), 0);
+    s->c.h_list = sph_view_soa(hl, NULL, NULL);
+    s->c.box = &s->box;
+    st = sph_h_solve(&s->c, s->h, s->rho, s->om, NULL, NULL, &rep);
+    if (st != SPH_OK || rep.n_beyond_list > 0 || rep.n_not_converged > 0) return st != SPH_OK ? st : SPH_EINVAL;
+    tp_free_list(&s->L);
+    for (i = 0; i < N; ++i) hl[i] = (sph_real)1.25 * s->h[i]; /* the force list: symmetric, at 1.25 h */
+    if (tp_brute_list(dim, s->x, N, s->x, N, 0, hl, hl, 2, TP_SYMMETRIC, &s->box, &s->L) != 0) return SPH_ESIZE;
+    s->c.list = &s->L.list;
+    for (i = 0; i < N; ++i) {
+        s->p[i] = (sph_real)(2.0 / 3.0) * s->rho[i] * s->u[i];
+        s->A[i] = sph_gradh_factor(s->p[i], s->rho[i], s->om[i]);
+    }
+    return SPH_OK;
+}
+
+/* (H5), (H6) summed here over every pair (i, j != i) in double with sph_kernel_f. */
+static void reference(const scene *s, int dim, int i, double *acc, double *du)
+{
+    int j, a;
+    for (a = 0; a < 3; ++a) acc[a] = 0;
+    *du = 0;
+    for (j = 0; j < N; ++j) {
+        double dx[3] = {0, 0, 0}, r2 = 0, Fi, Fj, vdx = 0, A_i, A_j;
+        if (j == i) continue;
+        for (a = 0; a < dim; ++a) {
+            dx[a] = (double)sph_box_delta(&s->box, a, s->x[3 * i + a] - s->x[3 * j + a]);
+            r2 += dx[a] * dx[a];
+            vdx += ((double)s->v[3 * i + a] - (double)s->v[3 * j + a]) * dx[a];
+        }
+        Fi = (double)sph_kernel_f(SPH_KERNEL_CUBIC, dim, (sph_real)sqrt(r2), s->h[i]);
+        Fj = (double)sph_kernel_f(SPH_KERNEL_CUBIC, dim, (sph_real)sqrt(r2), s->h[j]);
+        A_i = (double)s->p[i] / ((double)s->om[i] * (double)s->rho[i] * (double)s->rho[i]);
+        A_j = (double)s->p[j] / ((double)s->om[j] * (double)s->rho[j] * (double)s->rho[j]);
+        for (a = 0; a < dim; ++a) acc[a] -= (double)s->m[j] * (A_i * Fi + A_j * Fj) * dx[a];
+        *du += (double)s->m[j] * A_i * Fi * vdx;
+    }
+}
+
+static int pairs_of(const scene *s, sph_off **mem, sph_pairs *P)
+{
+    const sph_off cap = s->L.list.offset[N];
+    sph_off pairs = 0;
+    *mem = malloc(sizeof(sph_off) * (size_t)(2 * (N + 1) + cap) + sizeof(sph_idx) * (size_t)cap);
+    if (*mem == NULL) return SPH_ESIZE;
+    return sph_pairs_build(&s->L.list, *mem, (sph_idx *)(void *)(*mem + 2 * (N + 1) + cap), cap, *mem + N + 1,
+                           *mem + 2 * (N + 1), &pairs, P);
+}
+
+static void conservation_case(int dim)
+{
+    static scene s;
+    static sph_real dv[3 * N], du[N], dv2[3 * N], du2[N], dv3[3 * N], du3[N], buf[8 * 4 * N * 60];
+    double P[3] = {0, 0, 0}, Pabs = 0, E = 0, Eabs = 0, err_ref = 0, err_pairs = 0, scale = 0, dscale = 0, e;
+    sph_off *mem = NULL;
+    sph_pairs pr;
+    int i, a, st, same;
+    th_begin("grad-h forces %dD: momentum and energy conserved, reference, pair-once, threads", dim);
+    st = make_scene(&s, dim);
+    TH_CHECK(st == SPH_OK, "scene: %s", sph_strerror(st));
+    if (st != SPH_OK) {
+        th_end();
+        return;
+    }
+    st = sph_gradh_forces(&s.c, sph_view_interleaved(s.v, 3), s.h, s.A, dv, du);
+    TH_CHECK(st == SPH_OK, "gather: %s", sph_strerror(st));
+    for (i = 0; i < N; ++i) {
+        double ref[3], dref;
+        reference(&s, dim, i, ref, &dref);
+        for (a = 0; a < dim; ++a) {
+            P[a] += (double)s.m[i] * (double)dv[dim * i + a];
+            Pabs += fabs((double)s.m[i] * (double)dv[dim * i + a]);
+            E += (double)s.m[i] * (double)s.v[3 * i + a] * (double)dv[dim * i + a];
+            Eabs += fabs((double)s.m[i] * (double)s.v[3 * i + a] * (double)dv[dim * i + a]);
+            e = fabs((double)dv[dim * i + a] - ref[a]);
+            err_ref = e > err_ref ? e : err_ref;
+            scale = fabs(ref[a]) > scale ? fabs(ref[a]) : scale;
+        }
+        E += (double)s.m[i] * (double)du[i];
+        Eabs += fabs((double)s.m[i] * (double)du[i]);
+        e = fabs((double)du[i] - dref);
+        err_ref = e / 1 > err_ref ? e : err_ref;
+        dscale = fabs(dref) > dscale ? fabs(dref) : dscale;
+    }
+    for (a = 0; a < dim; ++a) TH_CHECK(fabs(P[a]) <= 50 * TH_EPS * Pabs, "momentum change %.3g of %.3g", P[a], Pabs);
+    TH_CHECK(fabs(E) <= 50 * TH_EPS * Eabs, "energy change %.3g of %.3g", E, Eabs);
+    TH_CHECK(err_ref <= 1e3 * TH_EPS * (scale > dscale ? scale : dscale), "against the reference: %.3g (scale %.3g)",
+             err_ref, scale);
+    /* pair-once */
+    st = pairs_of(&s, &mem, &pr);
+    TH_CHECK(st == SPH_OK, "pairs: %s", sph_strerror(st));
+    TH_CHECK(2 * pr.half.offset[N] + N == s.L.list.offset[N], "half list %ld pairs, full %ld", (long)pr.half.offset[N],
+             (long)s.L.list.offset[N]);
+    TH_CHECK((size_t)(2 * (dim + 1)) * (size_t)pr.half.offset[N] <= sizeof buf / sizeof buf[0], "buffer");
+    set_threads(1);
+    st = sph_gradh_forces_pairs(&s.c, &pr, sph_view_interleaved(s.v, 3), s.h, s.A, buf, dv2, du2);
+    TH_CHECK(st == SPH_OK, "pair-once: %s", sph_strerror(st));
+    for (i = 0; i < dim * N; ++i) {
+        e = fabs((double)dv2[i] - (double)dv[i]);
+        err_pairs = e > err_pairs ? e : err_pairs;
+    }
+    for (i = 0; i < N; ++i) {
+        e = fabs((double)du2[i] - (double)du[i]);
+        err_pairs = e > err_pairs ? e : err_pairs;
+    }
+    TH_CHECK(err_pairs <= 100 * TH_EPS * (scale > dscale ? scale : dscale), "pair-once against gather: %.3g", err_pairs);
+    set_threads(2);
+    st = sph_gradh_forces_pairs(&s.c, &pr, sph_view_interleaved(s.v, 3), s.h, s.A, buf, dv3, du3);
+    same = memcmp(dv2, dv3, sizeof(sph_real) * (size_t)(dim * N)) == 0 && memcmp(du2, du3, sizeof du2) == 0;
+    TH_CHECK(st == SPH_OK && same, "pair-once with 1 and 2 threads differ");
+    st = sph_gradh_forces(&s.c, sph_view_interleaved(s.v, 3), s.h, s.A, dv3, du3);
+    same = memcmp(dv, dv3, sizeof(sph_real) * (size_t)(dim * N)) == 0 && memcmp(du, du3, sizeof du) == 0;
+    TH_CHECK(st == SPH_OK && same, "gather with 1 and 2 threads differ");
+    set_threads(1);
+    printf("    %dD: momentum %.1e, energy %.1e of the sums of magnitudes; reference %.1e, pair-once %.1e of %.2e\n", dim,
+           fabs(P[0]) / Pabs, fabs(E) / Eabs, err_ref, err_pairs, scale);
+    free(mem);
+    tp_free_list(&s.L);
+    th_end();
+}
+
+/* A list with pair (0, 1) in row 0 only: not symmetric. */
+static void build_errors_case(void)
+{
+    const sph_off off[4] = {0, 3, 5, 7};
+    const sph_idx idx[7] = {0, 1, 2, 1, 2, 1, 2}; /* row 2 lacks 0: (0, 2) in row 0 only */
+    const sph_idx sym[9] = {0, 1, 2, 0, 1, 2, 0, 1, 2};
+    const sph_off soff[4] = {0, 3, 6, 9};
+    sph_neighbours full = {3, 3, off, idx};
+    sph_off offset[4], t_offset[4], t_slot[9], pairs = -1;
+    sph_idx index[9];
+    sph_pairs P;
+    sph_real to_i[3] = {1, 2, 4}, to_j[3] = {8, 16, 32}, out[3];
+    int st;
+    th_begin("pairs: non-symmetric list refused, short arrays report the count, reduce order");
+    st = sph_pairs_build(&full, offset, index, 9, t_offset, t_slot, &pairs, &P);
+    TH_CHECK(st == SPH_EINVAL, "non-symmetric: %d", st);
+    full.offset = soff;
+    full.index = sym;
+    st = sph_pairs_build(&full, offset, index, 2, t_offset, t_slot, &pairs, &P);
+    TH_CHECK(st == SPH_ESIZE && pairs == 3, "cap 2: %d, pairs %ld", st, (long)pairs);
+    st = sph_pairs_build(&full, offset, index, 3, t_offset, t_slot, &pairs, &P);
+    TH_CHECK(st == SPH_OK && pairs == 3, "cap 3: %d", st);
+    /* pairs k: 0 = (0,1), 1 = (0,2), 2 = (1,2) */
+    TH_CHECK(index[0] == 1 && index[1] == 2 && index[2] == 2, "half list %d %d %d", index[0], index[1], index[2]);
+    st = sph_pairs_reduce(&P, 1, to_i, to_j, out);
+    TH_CHECK(st == SPH_OK && out[0] == 1 + 2 && out[1] == 4 + 8 && out[2] == 16 + 32, "reduce %g %g %g", (double)out[0],
+             (double)out[1], (double)out[2]);
+    TH_CHECK(sph_pairs_reduce(&P, 0, to_i, to_j, out) == SPH_EINVAL, "ncomp 0");
+    { /* 4 particles, every pair: k = (0,1) (0,2) (0,3) (1,2) (1,3) (2,3); slots of 1: [0], of 2: [1, 2] for
+         i = 0, 1, of 3: [3, 4, 5] for i = 0, 1, 2 */
+        const sph_off o4[5] = {0, 4, 8, 12, 16};
+        const sph_idx i4[16] = {0, 1, 2, 3, 0, 1, 2, 3, 0, 1, 2, 3, 0, 1, 2, 3};
+        const sph_off expect[6] = {0, 1, 3, 2, 4, 5};
+        sph_neighbours f4 = {4, 4, o4, i4};
+        sph_off ho[5], to[5], ts[16];
+        sph_idx hi[16];
+        int k, ok = 1;
+        st = sph_pairs_build(&f4, ho, hi, 16, to, ts, &pairs, &P);
+        for (k = 0; k < 6; ++k) ok &= ts[k] == expect[k];
+        TH_CHECK(st == SPH_OK && pairs == 6 && ok && to[4] == 6, "4 particles: slots %ld %ld %ld %ld %ld %ld",
+                 (long)ts[0], (long)ts[1], (long)ts[2], (long)ts[3], (long)ts[4], (long)ts[5]);
+    }
+    TH_CHECK(sph_pairs_build(NULL, offset, index, 3, t_offset, t_slot, &pairs, &P) == SPH_ENULL, "NULL list");
+    th_end();
+}
+
+static void factor_case(void)
+{
+    th_begin("sph_gradh_factor: p / (Omega rho^2), Omega <= 0 or NaN counts as 1, rho <= 0 gives 0");
+    TH_NEAR(sph_gradh_factor(2, 2, (sph_real)0.5), 1, 4 * TH_EPS);
+    TH_NEAR(sph_gradh_factor(2, 2, -1), (sph_real)0.5, 4 * TH_EPS);
+    TH_NEAR(sph_gradh_factor(2, 2, (sph_real)NAN), (sph_real)0.5, 4 * TH_EPS);
+    TH_CHECK(sph_gradh_factor(2, 0, 1) == 0 && sph_gradh_factor((sph_real)NAN, 1, 1) == 0, "fallback 0");
+    th_end();
+}
+
+int main(void)
+{
+    conservation_case(3);
+    conservation_case(2);
+    build_errors_case();
+    factor_case();
+    return th_summary();
+}

@@ -1,0 +1,253 @@
+/* Adaptive smoothing length (sph_h_solve, docs/smoothing_length.md (H1)-(H4)):
+ * h_i = eta (m_i / rho_i)^(1/d) with rho_i = sum_j m_j W(r_ij, h_i) met to
+ * 1e-6 relative (double) in a few density sums on lattices and on a Gaussian
+ * clump, against densities and Omega summed independently here over every
+ * particle with the scalar kernel functions; the beyond-the-list status and
+ * its re-search; non-convergence reported; bad input refused.
+ */
+#include "harness.h"
+#include "support/particles.h"
+
+/* Reference (H2) and (H4) for particle i at h: sums over all n particles. */
+static void ref_sums(sph_kernel k, int dim, const sph_real *x, const sph_real *m, int n, const sph_box *box, int i,
+                     double h, double *rho, double *omega)
+{
+    double s = 0, sd = 0;
+    int j;
+    for (j = 0; j < n; ++j) {
+        const double r = sqrt((double)tp_r2(dim, x + 3 * i, x + 3 * j, box));
+        s += (double)m[j] * (double)sph_kernel_w(k, dim, (sph_real)r, (sph_real)h);
+        sd += (double)m[j] * (double)sph_kernel_dwdh(k, dim, (sph_real)r, (sph_real)h);
+    }
+    *rho = s;
+    *omega = 1 + h / (dim * s) * sd;
+}
+
+/* Largest relative residual |h - eta (m / rho_ref(h))^(1/d)| / h and Omega error over the particles. */
+static void residuals(sph_kernel k, int dim, const sph_real *x, const sph_real *m, int n, const sph_box *box,
+                      double eta, const sph_real *h, const sph_real *rho, const sph_real *om, double *res_h,
+                      double *err_rho, double *err_om)
+{
+    int i;
+    *res_h = *err_rho = *err_om = 0;
+    for (i = 0; i < n; ++i) {
+        double r, o, e;
+        ref_sums(k, dim, x, m, n, box, i, (double)h[i], &r, &o);
+        e = fabs((double)h[i] - eta * pow((double)m[i] / r, 1.0 / dim)) / (double)h[i];
+        *res_h = e > *res_h ? e : *res_h;
+        e = fabs((double)rho[i] - r) / r;
+        *err_rho = e > *err_rho ? e : *err_rho;
+        e = fabs((double)om[i] - o);
+        *err_om = e > *err_om ? e : *err_om;
+    }
+}
+
+/* Tolerance asked of the solver and bound on the residual checked. */
+#define TOL (TH_IS_FLOAT ? 64 * (double)FLT_EPSILON : 1e-7)
+#define RES (TH_IS_FLOAT ? 3e-5 : 1e-6)
+
+static void lattice_case(sph_kernel k, int dim, int n1)
+{
+    const double dx = 1, eta = 1.2, h0 = 0.8 * eta * dx; /* the guess 20 % short */
+    const double kappa = (double)sph_kernel_support(k);
+    const int n = tp_lattice_count(dim, n1);
+    sph_real *x = malloc(sizeof(sph_real) * 3 * (size_t)n), *m = malloc(sizeof(sph_real) * (size_t)n);
+    sph_real *h = malloc(sizeof(sph_real) * (size_t)n), *rho = malloc(sizeof(sph_real) * (size_t)n);
+    sph_real *om = malloc(sizeof(sph_real) * (size_t)n);
+    int *it = malloc(sizeof(int) * (size_t)n), *state = malloc(sizeof(int) * (size_t)n), i, st;
+    sph_box box = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
+    tp_list L;
+    sph_hctx c;
+    sph_hreport rep;
+    double res, erho, eom;
+    th_begin("h solve: %dD %s lattice %d^%d, guess 0.8 eta dx", dim, sph_kernel_name(k), n1, dim);
+    for (i = 0; i < dim; ++i) box.length[i] = (sph_real)(n1 * dx), box.periodic[i] = 1;
+    tp_lattice(dim, n1, dx, x);
+    for (i = 0; i < n; ++i) m[i] = 1, h[i] = (sph_real)h0;
+    TH_CHECK(tp_brute_list(dim, x, n, x, n, (sph_real)(1.5 * eta * dx), NULL, NULL, (sph_real)kappa, TP_GATHER, &box,
+                           &L) == 0, "out of memory");
+    c = sph_hctx_init(k, dim, &L.list, sph_view_interleaved(x, 3), sph_view_soa(m, NULL, NULL),
+                      (sph_real)(1.5 * eta * dx));
+    c.box = &box;
+    c.tol = (sph_real)TOL;
+    st = sph_h_solve(&c, h, rho, om, it, state, &rep);
+    TH_CHECK(st == SPH_OK, "status %s", sph_strerror(st));
+    TH_CHECK(rep.n_not_converged == 0 && rep.n_beyond_list == 0, "%d not converged, %d beyond", (int)rep.n_not_converged,
+             (int)rep.n_beyond_list);
+    /* Newton from 20 % off converges quadratically: a handful of sums */
+    TH_CHECK(rep.max_iterations <= 6, "max iterations %d", rep.max_iterations);
+    for (i = 0; i < n; ++i) TH_CHECK(state[i] == SPH_H_CONVERGED && it[i] >= 2, "particle %d state %d it %d", i, state[i], it[i]);
+    residuals(k, dim, x, m, n, &box, eta, h, rho, om, &res, &erho, &eom);
+    TH_CHECK(res < RES, "residual of (H1) %.3g", res);
+    TH_CHECK(erho < 100 * TH_EPS, "rho against the reference sum: %.3g", erho);
+    TH_CHECK(eom < 100 * TH_EPS, "Omega against the reference sum: %.3g", eom);
+    /* a lattice is uniform: every particle gets the same h */
+    for (i = 1; i < n; ++i) TH_CHECK(fabs((double)h[i] - (double)h[0]) <= 1e-5 * (double)h[0], "h[%d] %g h[0] %g", i, (double)h[i], (double)h[0]);
+    printf("    %dD %s lattice: max %d, mean %.2f density sums; residual %.2e; h / dx %.6f, Omega %.6f\n", dim,
+           sph_kernel_name(k), rep.max_iterations, (double)rep.iterations / n, res, (double)h[0], (double)om[0]);
+    tp_free_list(&L);
+    free(x), free(m), free(h), free(rho), free(om), free(it), free(state);
+    th_end();
+}
+
+/* Gaussian clump: densities over several decades; lists searched with a per-particle
+ * radius of 1.3 h_guess, re-searched for the particles that report SPH_H_BEYOND_LIST. */
+static void clump_case(void)
+{
+    const int n = 1500, dim = 3;
+    const sph_kernel k = SPH_KERNEL_CUBIC;
+    const double eta = 1.2;
+    sph_real *x = malloc(sizeof(sph_real) * 3 * (size_t)n), *m = malloc(sizeof(sph_real) * (size_t)n);
+    sph_real *h = malloc(sizeof(sph_real) * (size_t)n), *rho = malloc(sizeof(sph_real) * (size_t)n);
+    sph_real *om = malloc(sizeof(sph_real) * (size_t)n), *hl = malloc(sizeof(sph_real) * (size_t)n);
+    int *it = malloc(sizeof(int) * (size_t)n), i, a, round, st = SPH_OK, sums = 0, maxit = 0;
+    tp_rng g = {12345};
+    tp_list L;
+    sph_hctx c;
+    sph_hreport rep;
+    double res, erho, eom, rmin = 1e300, rmax = 0;
+    th_begin("h solve: 3D Gaussian clump of %d particles, lists regrown where h outgrows them", n);
+    for (i = 0; i < n; ++i) {
+        for (a = 0; a < 3; ++a) { /* Box-Muller: a unit normal per axis */
+            const double u1 = 1 - tp_uniform(&g), u2 = tp_uniform(&g);
+            x[3 * i + a] = (sph_real)(sqrt(-2 * log(u1)) * cos(2 * 3.14159265358979323846 * u2));
+        }
+        m[i] = (sph_real)(1.0 / n);
+        h[i] = (sph_real)0.3; /* one guess for all: far off both in the core and in the halo */
+    }
+    rep.n_beyond_list = 1;
+    for (round = 0; round < 8 && rep.n_beyond_list > 0; ++round) {
+        for (i = 0; i < n; ++i) hl[i] = (sph_real)1.3 * h[i];
+        TH_CHECK(tp_brute_list(dim, x, n, x, n, 0, hl, NULL, 2, TP_GATHER, NULL, &L) == 0, "out of memory");
+        c = sph_hctx_init(k, dim, &L.list, sph_view_interleaved(x, 3), sph_view_soa(m, NULL, NULL), 0);
+        c.h_list = sph_view_soa(hl, NULL, NULL);
+        c.tol = (sph_real)TOL;
+        st = sph_h_solve(&c, h, rho, om, it, NULL, &rep);
+        TH_CHECK(st == SPH_OK, "status %s", sph_strerror(st));
+        tp_free_list(&L);
+        sums += (int)rep.iterations;
+        maxit = rep.max_iterations > maxit ? rep.max_iterations : maxit;
+        if (st != SPH_OK) break;
+    }
+    TH_CHECK(rep.n_beyond_list == 0 && rep.n_not_converged == 0, "after %d rounds: %d beyond, %d not converged", round,
+             (int)rep.n_beyond_list, (int)rep.n_not_converged);
+    TH_CHECK(round <= 4, "%d searches", round);
+    TH_CHECK(rep.max_iterations <= 8, "last round: max iterations %d", rep.max_iterations);
+    residuals(k, dim, x, m, n, NULL, eta, h, rho, om, &res, &erho, &eom);
+    TH_CHECK(res < RES, "residual of (H1) %.3g", res);
+    TH_CHECK(erho < 100 * TH_EPS && eom < 100 * TH_EPS, "rho error %.3g, Omega error %.3g", erho, eom);
+    for (i = 0; i < n; ++i) {
+        rmin = rho[i] < rmin ? rho[i] : rmin;
+        rmax = rho[i] > rmax ? rho[i] : rmax;
+    }
+    TH_CHECK(rmax / rmin > 100, "density contrast %.3g (the clump should span decades)", rmax / rmin);
+    printf("    clump: %d searches, last solve max %d, mean %.2f sums; all solves %d sums (%.2f per particle); "
+           "residual %.2e; density contrast %.0f\n",
+           round, rep.max_iterations, (double)rep.iterations / n, sums, (double)sums / n, res, rmax / rmin);
+    free(x), free(m), free(h), free(rho), free(om), free(hl), free(it);
+    th_end();
+}
+
+/* A list radius below the solution: every particle reports it with a larger h; then converges. */
+static void beyond_case(void)
+{
+    const int n1 = 8, n = n1 * n1 * n1;
+    sph_real x[3 * 512], m[512], h[512], rho[512], om[512];
+    int state[512], i, all = 1;
+    sph_box box = {{0, 0, 0}, {8, 8, 8}, {1, 1, 1}};
+    tp_list L;
+    sph_hctx c;
+    sph_hreport rep;
+    th_begin("h solve: list radius below the solution gives SPH_H_BEYOND_LIST and a larger h");
+    tp_lattice(3, n1, 1, x);
+    for (i = 0; i < n; ++i) m[i] = 1, h[i] = 1;
+    TH_CHECK(tp_brute_list(3, x, n, x, n, 1, NULL, NULL, 2, TP_GATHER, &box, &L) == 0, "out of memory");
+    c = sph_hctx_init(SPH_KERNEL_CUBIC, 3, &L.list, sph_view_interleaved(x, 3), sph_view_soa(m, NULL, NULL), 1);
+    c.box = &box;
+    TH_CHECK(sph_h_solve(&c, h, rho, om, NULL, state, &rep) == SPH_OK, "status");
+    TH_CHECK(rep.n_beyond_list == n, "%d beyond of %d", (int)rep.n_beyond_list, n);
+    for (i = 0; i < n; ++i) all &= state[i] == SPH_H_BEYOND_LIST && h[i] > 1 && h[i] < 2;
+    TH_CHECK(all, "state %d, h %g (expected beyond, 1 < h < 2)", state[0], (double)h[0]);
+    tp_free_list(&L);
+    TH_CHECK(tp_brute_list(3, x, n, x, n, (sph_real)1.3 * h[0], NULL, NULL, 2, TP_GATHER, &box, &L) == 0, "oom");
+    c.list = &L.list;
+    c.h_list_max = (sph_real)1.3 * h[0];
+    TH_CHECK(sph_h_solve(&c, h, rho, om, NULL, state, &rep) == SPH_OK && rep.n_beyond_list == 0 &&
+             rep.n_not_converged == 0 && rep.max_iterations <= 4,
+             "after the re-search: %d beyond, %d not converged, max %d sums", (int)rep.n_beyond_list,
+             (int)rep.n_not_converged, rep.max_iterations);
+    tp_free_list(&L);
+    th_end();
+}
+
+static void bad_input_case(void)
+{
+    sph_real x[3 * 27], m[27], h[27], rho[27], om[27];
+    int it[27], i, st;
+    sph_box box = {{0, 0, 0}, {3, 3, 3}, {1, 1, 1}};
+    tp_list L;
+    sph_hctx c;
+    sph_hreport rep;
+    th_begin("h solve: bad input refused before anything is written; max_iter reached is reported");
+    tp_lattice(3, 3, 1, x);
+    for (i = 0; i < 27; ++i) m[i] = 1, h[i] = 1, rho[i] = -7;
+    TH_CHECK(tp_brute_list(3, x, 27, x, 27, (sph_real)1.4, NULL, NULL, 2, TP_GATHER, &box, &L) == 0, "oom");
+    c = sph_hctx_init(SPH_KERNEL_CUBIC, 3, &L.list, sph_view_interleaved(x, 3), sph_view_soa(m, NULL, NULL),
+                      (sph_real)1.4);
+    c.box = &box;
+    c.eta = (sph_real)0.5; /* eta^3 = 0.125 < alpha_3 w(0) = 1/pi: the self term alone exceeds the target */
+    TH_CHECK((st = sph_h_solve(&c, h, rho, om, it, NULL, NULL)) == SPH_EINVAL, "small eta: %d", st);
+    c.eta = (sph_real)1.2;
+    c.tol = 0;
+    TH_CHECK((st = sph_h_solve(&c, h, rho, om, it, NULL, NULL)) == SPH_EINVAL, "tol 0: %d", st);
+    c.tol = (sph_real)1e-6;
+    TH_CHECK((st = sph_h_solve(&c, h, NULL, om, it, NULL, NULL)) == SPH_ENULL, "rho NULL: %d", st);
+    h[5] = 0;
+    TH_CHECK((st = sph_h_solve(&c, h, rho, om, it, NULL, NULL)) == SPH_EH, "h = 0: %d", st);
+    h[5] = 1;
+    m[3] = -1;
+    TH_CHECK((st = sph_h_solve(&c, h, rho, om, it, NULL, NULL)) == SPH_ENONFINITE, "m < 0: %d", st);
+    m[3] = 1;
+    x[7] = (sph_real)NAN;
+    TH_CHECK((st = sph_h_solve(&c, h, rho, om, it, NULL, NULL)) == SPH_ENONFINITE, "x NaN: %d", st);
+    x[7] = (sph_real)0.5;
+    c.h_list_max = -1;
+    TH_CHECK((st = sph_h_solve(&c, h, rho, om, it, NULL, NULL)) == SPH_EH, "h_list -1: %d", st);
+    c.h_list_max = (sph_real)1.4;
+    c.kernel = (sph_kernel)99;
+    TH_CHECK((st = sph_h_solve(&c, h, rho, om, it, NULL, NULL)) == SPH_EKERNEL, "kernel 99: %d", st);
+    c.kernel = SPH_KERNEL_CUBIC;
+    L.index[4] = 27;
+    TH_CHECK((st = sph_h_solve(&c, h, rho, om, it, NULL, NULL)) == SPH_EINDEX, "index 27: %d", st);
+    L.index[4] = 0;
+    for (i = 0; i < 27; ++i) TH_CHECK(rho[i] == -7, "rho[%d] written", i);
+    { /* a row without the particle itself and without neighbours: finite results, beyond the list */
+        const sph_off o1[2] = {0, 0};
+        sph_real x1[3] = {0, 0, 0}, m1 = 1, h1 = 1, r1 = -1, om1 = -1;
+        sph_neighbours e = {1, 1, o1, NULL};
+        sph_hctx c1 = sph_hctx_init(SPH_KERNEL_CUBIC, 3, &e, sph_view_interleaved(x1, 3), sph_view_soa(&m1, NULL, NULL),
+                                    (sph_real)1.5);
+        int s1 = -1;
+        TH_CHECK(sph_h_solve(&c1, &h1, &r1, &om1, NULL, &s1, NULL) == SPH_OK && s1 == SPH_H_BEYOND_LIST &&
+                 h1 == 3 && r1 == 0 && om1 == 1, "empty row: state %d h %g rho %g Omega %g", s1, (double)h1, (double)r1,
+                 (double)om1);
+    }
+    c.max_iter = 1;
+    TH_CHECK(sph_h_solve(&c, h, rho, om, it, NULL, &rep) == SPH_OK && rep.n_not_converged == 27 &&
+             rep.max_iterations == 1, "max_iter 1: %d not converged", (int)rep.n_not_converged);
+    tp_free_list(&L);
+    th_end();
+}
+
+int main(void)
+{
+    lattice_case(SPH_KERNEL_CUBIC, 1, 40);
+    lattice_case(SPH_KERNEL_CUBIC, 2, 16);
+    lattice_case(SPH_KERNEL_CUBIC, 3, 10);
+    lattice_case(SPH_KERNEL_WENDLAND_C4, 3, 10);
+    lattice_case(SPH_KERNEL_QUINTIC, 3, 12);
+    clump_case();
+    beyond_case();
+    bad_input_case();
+    return th_summary();
+}
