@@ -150,7 +150,7 @@
  *   sph_nsearch_permutation(&g, perm)            sources in cell order (N5)
  *   sph_permutation_invert(perm, n, inv)         inverse permutation (N6)
  *   sph_permute(in, ncomp, n, perm, out)         out[k] = in[perm[k]] (N5)
- 8. Solver terms: pair terms, then operators (return SPH_OK or a status code)
+ * 8. Solver terms: pair terms, then operators (return SPH_OK or a status code)
  *   sph_pair_av_monaghan(dim, alpha, beta, h, c_ij, rho_ij, dx, dv)  Pi_ij (S1)
  *   sph_pair_signal_velocity(dim, beta, c_i, c_j, dx, dv)            v_sig,ij (S2)
  *   sph_pair_av_signal(dim, alpha, beta, c_i, c_j, rho_ij, dx, dv)   Pi_ij (S3)
