@@ -152,7 +152,7 @@
  *   sph_nsearch_permutation(&g, perm)            sources in cell order (N5)
  *   sph_permutation_invert(perm, n, inv)         inverse permutation (N6)
  *   sph_permute(in, ncomp, n, perm, out)         out[k] = in[perm[k]] (N5)
- 8. Solver terms: pair terms, then operators (return SPH_OK or a status code)
+ * 8. Solver terms: pair terms, then operators (return SPH_OK or a status code)
  *   sph_pair_av_monaghan(dim, alpha, beta, h, c_ij, rho_ij, dx, dv)  Pi_ij (S1)
  *   sph_pair_signal_velocity(dim, beta, c_i, c_j, dx, dv)            v_sig,ij (S2)
  *   sph_pair_av_signal(dim, alpha, beta, c_i, c_j, rho_ij, dx, dv)   Pi_ij (S3)
@@ -4142,8 +4142,9 @@ SPH_API int sph__av_target(const sph__args *A, const sph_av *av, sph_idx i, sph_
         const sph_real cj = SPH__AT(A->k, 0, j), rhoij = (rhoi + SPH__AT(A->rho, 0, j)) / 2;
         const sph_real hij = sph__vpair(A, &t, vi, j, dx, dv, &F);
         sph_real Pi, s;
-        Pi = av->form == SPH_AV_MONAGHAN ? sph_pair_av_monaghan(D, av->alpha, av->beta, hij, (ci + cj) / 2, rhoij, dx, dv)
-                                         : sph_pair_av_signal(D, av->alpha, av->beta, ci, cj, rhoij, dx, dv);
+        Pi = av->form == SPH_AV_MONAGHAN
+                 ? sph_pair_av_monaghan(D, av->alpha, av->beta, hij, (ci + cj) / 2, rhoij, dx, dv)
+                 : sph_pair_av_signal(D, av->alpha, av->beta, ci, cj, rhoij, dx, dv);
         du += sph_pair_av_apply(D, SPH__AT(A->m, 0, j), Pi, F, dx, dv, a);
         s = sph_pair_signal_velocity(D, av->beta, ci, cj, dx, dv);
         vs = s > vs ? s : vs;

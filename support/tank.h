@@ -9,7 +9,8 @@
  * kick-drift-kick recipe of docs/solver.md: continuity (O10) with the walls at
  * rest, the wall pressure and no-slip velocity (S8), the pressure force (O8)
  * and Monaghan's viscosity (S1) (alpha = 0.02, beta = 0) over fluid and
- * walls, gravity, and the time step (S9)-(S10) with v_sig of (S2). Lists:
+ * walls, gravity, the time step (S9)-(S10) with v_sig of (S2), and with
+ * t->delta > 0 the density diffusion (S7) (Antuono et al. 2010). Lists:
  * O(N^2) reference lists (support/particles.h) with a skin of 0.2 kappa h,
  * rebuilt when a particle has moved half of it.
  */
@@ -25,8 +26,8 @@ enum { TANK_LAYERS = 3 };
 
 typedef struct {
     int nx, ny, nf, nw, n;
-    double rho0, g, c0, h, dx, H, L, alpha;
-    sph_real *x, *x0, *v, *vh, *vav, *rho, *p, *m, *V, *c, *a, *drho, *gp, *vs, *aav, *du;
+    double rho0, g, c0, h, dx, H, L, alpha, delta; /* delta: density diffusion (S7), 0 = none */
+    sph_real *x, *x0, *v, *vh, *vav, *rho, *p, *m, *V, *c, *a, *drho, *gp, *vs, *aav, *du, *grho, *dd;
     tp_list Lf, Lw; /* fluid targets -> every particle; wall targets -> fluid */
     int rebuilds;
 } tank;
@@ -35,7 +36,8 @@ typedef struct {
 static inline void tank_free(tank *t)
 {
     free(t->x), free(t->x0), free(t->v), free(t->vh), free(t->vav), free(t->rho), free(t->p), free(t->m), free(t->V);
-    free(t->c), free(t->a), free(t->drho), free(t->gp), free(t->vs), free(t->aav), free(t->du);
+    free(t->c), free(t->a), free(t->drho), free(t->gp), free(t->vs), free(t->aav), free(t->du), free(t->grho);
+    free(t->dd);
     tp_free_list(&t->Lf), tp_free_list(&t->Lw);
 }
 
@@ -73,8 +75,9 @@ static inline int tank_make(tank *t, int nx, int ny)
     t->vav = tank_vec(2 * t->n), t->rho = tank_vec(t->n), t->p = tank_vec(t->n), t->m = tank_vec(t->n);
     t->V = tank_vec(t->n), t->c = tank_vec(t->n), t->a = tank_vec(2 * t->nf), t->drho = tank_vec(t->nf);
     t->gp = tank_vec(2 * t->nf), t->vs = tank_vec(t->nf), t->aav = tank_vec(2 * t->nf), t->du = tank_vec(t->nf);
+    t->grho = tank_vec(2 * t->n), t->dd = tank_vec(t->nf);
     if (!t->x || !t->x0 || !t->v || !t->vh || !t->vav || !t->rho || !t->p || !t->m || !t->V || !t->c || !t->a ||
-        !t->drho || !t->gp || !t->vs || !t->aav || !t->du)
+        !t->drho || !t->gp || !t->vs || !t->aav || !t->du || !t->grho || !t->dd)
         return -1;
     for (i = 0; i < t->nf; ++i) {
         t->x[3 * i] = (sph_real)((i % nx + 0.5) * t->dx);
@@ -102,17 +105,35 @@ static inline int tank_make(tank *t, int nx, int ny)
 }
 
 /* drho/dt of the fluid at velocities vel (O10), walls at rest: drho_i/dt =
- * -rho_i sum_j V_j (v_j - v_i) . grad_i W_ij. */
+ * -rho_i sum_j V_j (v_j - v_i) . grad_i W_ij; with delta > 0 plus the
+ * Antuono density diffusion (S7) over fluid and walls (wall densities from
+ * (S8)), its renormalised gradients (O7) at fluid and wall particles. */
 static inline int tank_continuity(tank *t, const sph_real *vel)
 {
     sph_ctx cf = sph_ctx_init(SPH_KERNEL_CUBIC, 2, (sph_real)t->h, &t->Lf.list, sph_view_interleaved(t->x, 3));
+    sph_neighbours lw = t->Lw.list; /* walls -> fluid, indexed among every particle */
+    sph_ctx cw = sph_ctx_init(SPH_KERNEL_CUBIC, 2, (sph_real)t->h, &lw, sph_view_interleaved(t->x, 3));
+    const sph_view rho = sph_view_soa(t->rho, NULL, NULL), grho = sph_view_interleaved(t->grho, 2);
     int i, st;
     for (i = 0; i < 2 * t->n; ++i) t->vav[i] = i < 2 * t->nf ? vel[i] : 0;
     for (i = 0; i < t->n; ++i) t->V[i] = t->m[i] / t->rho[i];
     cf.V = sph_view_soa(t->V, NULL, NULL);
+    cf.rho = rho;
     st = sph_divergence(&cf, SPH_SCHEME_DIFFERENCE, sph_view_interleaved(t->vav, 2), sph_view_none(),
                         sph_out_soa(t->drho, NULL, NULL), NULL);
     for (i = 0; i < t->nf; ++i) t->drho[i] *= -t->rho[i];
+    if (st != SPH_OK || !(t->delta > 0)) return st;
+    lw.n_sources = t->n;
+    cw.x_target = sph_view_interleaved(t->x + 3 * t->nf, 3);
+    cw.V = cf.V;
+    st = sph_gradient(&cf, SPH_SCHEME_CORRECTED, rho, sph_view_none(), sph_out_interleaved(t->grho, 2), NULL);
+    if (st == SPH_OK)
+        st = sph_gradient(&cw, SPH_SCHEME_CORRECTED, rho, sph_view_soa(t->rho + t->nf, NULL, NULL),
+                          sph_out_interleaved(t->grho + 2 * t->nf, 2), NULL);
+    if (st == SPH_OK)
+        st = sph_density_diffusion(&cf, (sph_real)t->delta, (sph_real)t->c0, grho, sph_view_none(),
+                                   sph_out_soa(t->dd, NULL, NULL));
+    for (i = 0; i < t->nf; ++i) t->drho[i] += t->dd[i];
     return st;
 }
 

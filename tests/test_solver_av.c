@@ -1,7 +1,7 @@
 /* Solver terms: artificial viscosity (S1)-(S4), docs/solver.md.
  *
  * Reference values: (S1) and (S3) written out in double from their sources
- * (Monaghan 1992, sect. 4, as restated by Monaghan 2005, sect. 5; Price
+ * (Monaghan 1992, as restated by Monaghan 2005; Price
  * 2012, eqs. 101-103), evaluated here independently of the library's pair
  * terms; the conservation laws are exact identities of the pair sum:
  * Pi_ij = Pi_ji and F_ij = F_ji (symmetric h_ij) with x_ji = -x_ij make the

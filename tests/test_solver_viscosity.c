@@ -138,7 +138,8 @@ static void test_pair_and_errors(void)
     s.ctx.m = sph_view_none();
     TH_CHECK(sph_viscosity(&s.ctx, SPH_VISC_DYNAMIC, mu, sph_view_none(), v, sph_view_none(), a) == SPH_ENULL,
              "no masses");
-    TH_CHECK(sph_viscosity(NULL, SPH_VISC_DYNAMIC, mu, sph_view_none(), v, sph_view_none(), a) == SPH_ENULL, "ctx NULL");
+    TH_CHECK(sph_viscosity(NULL, SPH_VISC_DYNAMIC, mu, sph_view_none(), v, sph_view_none(), a) == SPH_ENULL,
+             "ctx NULL");
     ss_free(&s);
     th_end();
 }

@@ -40,7 +40,8 @@ static void test_extrapolation(void)
     int i, st;
     th_begin("(S8) hydrostatic extrapolation exact at wall particles; no-slip and free-slip velocities");
     for (i = 0; i < nf; ++i) {
-        xf[3 * i] = (sph_real)((i % NXF + 0.5) * dx), xf[3 * i + 1] = (sph_real)((i / NXF + 0.5) * dx), xf[3 * i + 2] = 0;
+        xf[3 * i] = (sph_real)((i % NXF + 0.5) * dx), xf[3 * i + 1] = (sph_real)((i / NXF + 0.5) * dx);
+        xf[3 * i + 2] = 0;
         rho[i] = (sph_real)rho0;
         p[i] = (sph_real)(rho0 * g * (H - xf[3 * i + 1]));
         v[2 * i] = (sph_real)0.75, v[2 * i + 1] = (sph_real)-0.5;
