@@ -1083,6 +1083,8 @@ int main(int argc, char **argv)
                    R.migrated, R.bytes_sent / 1e6 / (double)(R.steps > 0 ? R.steps : 1));
             printf("time %.3f s  exchange %.3f s (%.1f %%)  compute %.3f s  per step %.3g ms\n", R.t_total, R.t_exchange,
                    100 * R.t_exchange / R.t_total, R.t_compute, 1e3 * R.t_total / (double)(R.steps > 0 ? R.steps : 1));
+            printf("scaling: ranks %d threads %d particles %.0f halo %.0f steps %ld total %.6f exchange %.6f compute %.6f\n",
+                   size, nth, R.local_sum, R.halo_sum, R.steps, R.t_total, R.t_exchange, R.t_compute);
             if (R.fallbacks > 0) printf("note: %ld corrected-scheme fallbacks\n", R.fallbacks);
             if (P.frames > 0) printf("wrote %s/energy.csv and %d VTK frames %s/taylor_green_*.vtk\n", out, P.frames + 1, out);
         }
