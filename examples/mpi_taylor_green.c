@@ -53,6 +53,7 @@ typedef struct {
     int lagrangian;     /* 1: particles move (transport velocity); 0: fixed particles */
     int plain;          /* moving particles without the transport velocity (+ shifting) */
     int steps;          /* stop after this many steps of the t_end's dt (0: run to t_end) */
+    int unordered;      /* keep the search's order (locals, then halos): round-off equality only */
 } mtg_param;
 
 /* What a run measured: the physics (as taylor_green.c prints it) and the
@@ -90,6 +91,7 @@ typedef struct {
     sph_off merge_cap;
     double t_exchange, bytes_sent;
     long migrated;
+    int unordered; /* mtg_param.unordered */
 } mtg_state;
 
 #define X_(S, k) ((S)->f[k])
@@ -395,7 +397,7 @@ static int mtg_lists(mtg_state *S, double h, double kappa, const sph_box *box)
     sph_idx i;
     int st = ex_neighbours_update(&S->NL, 2, X, S->nl + S->nh, S->nl, h, kappa, box);
     sph_off o, longest = 0;
-    if (st != SPH_OK) return st;
+    if (st != SPH_OK || S->unordered) return st;
     for (i = 0; i < S->nl; ++i)
         if (S->NL.offset[i + 1] - S->NL.offset[i] > longest) longest = S->NL.offset[i + 1] - S->NL.offset[i];
     if (longest > S->merge_cap) {
@@ -729,6 +731,7 @@ static int mtg_run(MPI_Comm comm, const mtg_param *P, mtg_result *R, FILE *csv, 
     memset(&S, 0, sizeof S);
     memset(R, 0, sizeof *R);
     S.comm = comm;
+    S.unordered = P->unordered;
     MPI_Comm_rank(comm, &S.rank);
     MPI_Comm_size(comm, &S.size);
     S.scnt = (int *)calloc((size_t)S.size, sizeof(int)), S.rcnt = (int *)calloc((size_t)S.size, sizeof(int));
@@ -942,13 +945,13 @@ int main(int argc, char **argv)
     const char *out = "build/mpi_taylor_green";
     int threads = 0, check = 0, compare = 0, rank, size, st, bad = 0;
     double bound = 0;
-    ex_option opt[21];
+    ex_option opt[22];
     MPI_Init(&argc, &argv);
     MPI_Comm_rank(MPI_COMM_WORLD, &rank);
     MPI_Comm_size(MPI_COMM_WORLD, &size);
     P.n = 40, P.kernel = "wendland_c2", P.scheme = "pressure", P.hdx = 0, P.t_end = 1, P.re = 100, P.c0 = 10;
     P.pb = 0, P.pt = -1, P.perturb = 0, P.frames = 10, P.shift = 0.05, P.lagrangian = 0, P.plain = 0, P.cfl = 0.25;
-    P.steps = 0;
+    P.steps = 0, P.unordered = 0;
     memset(opt, 0, sizeof opt);
     opt[0].name = "n", opt[0].help = "particles per side of the unit square (4..46340)", opt[0].integer = &P.n;
     opt[1].name = "kernel", opt[1].help = "cubic, lucy, new_quartic, quintic, wendland_c2/c4/c6", opt[1].text = &P.kernel;
@@ -981,8 +984,11 @@ int main(int argc, char **argv)
     opt[19].flag = &compare;
     opt[20].name = "bound", opt[20].help = "--compare: largest relative difference accepted (0: bitwise)",
     opt[20].real = &bound;
+    opt[21].name = "unordered", opt[21].help = "sum each target's neighbours in the search's order (locals, then "
+                                               "halos): equal to one process to round-off only";
+    opt[21].flag = &P.unordered;
     st = ex_parse(argc, argv, "2-D Taylor-Green vortex (taylor_green.c) over MPI ranks, slab decomposition",
-                  opt, 21);
+                  opt, 22);
     if (st != 0) {
         MPI_Finalize();
         return st > 0 ? 0 : 2;
