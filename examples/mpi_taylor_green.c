@@ -97,7 +97,7 @@ typedef struct {
     int unordered; /* mtg_param.unordered */
 } mtg_state;
 
-#define X_(S, k) ((S)->f[k])
+#define FIELD(S, k) ((S)->f[k])
 
 /* The analytic velocity at (x, y, t) (taylor_green.c's tg_exact). */
 static void mtg_exact(double x, double y, double t, double nu, double *u, double *v)
@@ -109,16 +109,25 @@ static void mtg_exact(double x, double y, double t, double nu, double *u, double
 
 /* ---- storage ---------------------------------------------------------------- */
 
-/* Grows a buffer to hold n elements of size bytes (contents kept). 0 on success. */
-static int mtg_grow(void **p, size_t *cap, size_t n, size_t size)
+/* p grown to hold n elements of size bytes (contents kept, *cap updated),
+ * or NULL when out of memory (p then unchanged and still valid). */
+static void *mtg_grow(void *p, size_t *cap, size_t n, size_t size)
 {
     void *q;
-    if (n <= *cap) return 0;
-    if (n > ((size_t)-1) / 2 / size) return -1;
+    if (n <= *cap) return p;
+    if (n > ((size_t)-1) / 2 / size) return NULL;
     n += n / 2 + 16;
-    q = realloc(*p, n * size);
-    if (q == NULL) return -1;
-    *p = q, *cap = n;
+    if ((q = realloc(p, n * size)) == NULL) return NULL;
+    *cap = n;
+    return q;
+}
+
+/* A message buffer of at least n doubles. 0 on success. */
+static int mtg_room(double **buf, size_t *cap, size_t n)
+{
+    double *b = (double *)mtg_grow(*buf, cap, n, sizeof(double));
+    if (b == NULL) return -1;
+    *buf = b;
     return 0;
 }
 
@@ -129,7 +138,11 @@ static int mtg_reserve(mtg_state *S, sph_idx n)
     int k;
     if (n <= S->cap) return SPH_OK;
     c = cap;
-    if (mtg_grow((void **)&S->gid, &c, (size_t)n, sizeof *S->gid) != 0) return SPH_ESIZE;
+    {
+        int64_t *g = (int64_t *)mtg_grow(S->gid, &c, (size_t)n, sizeof *S->gid);
+        if (g == NULL) return SPH_ESIZE;
+        S->gid = g;
+    }
     if (c > (size_t)INT32_MAX / 4) return SPH_ESIZE;
     for (k = 0; k < MTG_NF; ++k) {
         sph_real *q = (sph_real *)realloc(S->f[k], c * sizeof(sph_real));
@@ -147,6 +160,7 @@ static int mtg_reserve(mtg_state *S, sph_idx n)
     return SPH_OK;
 }
 
+/* Releases everything a rank's state holds. */
 static void mtg_free(mtg_state *S)
 {
     int k;
@@ -174,12 +188,13 @@ static double mtg_slab_distance(double x, int q, int P)
     return fmin(a, b);
 }
 
-/* Orders locals by global id (after migration appended the arrivals). */
+/* A particle's global id and its position before sorting. */
 typedef struct {
     int64_t g;
     sph_idx i;
 } mtg_key;
 
+/* qsort order of mtg_key: ascending global id. */
 static int mtg_key_cmp(const void *a, const void *b)
 {
     const int64_t x = ((const mtg_key *)a)->g, y = ((const mtg_key *)b)->g;
@@ -190,13 +205,13 @@ static int mtg_key_cmp(const void *a, const void *b)
  * order of keys (sorted). Uses the work fields F_P.. as scratch. */
 static void mtg_apply_order(mtg_state *S, sph_idx lo, const mtg_key *key, sph_idx n)
 {
-    sph_real *tmp = X_(S, F_P);
+    sph_real *tmp = FIELD(S, F_P);
     int64_t *gt = (int64_t *)(void *)S->T; /* 4 reals per particle: room for an int64 each */
     sph_idx i;
     int k;
     for (k = 0; k < MTG_NX; ++k) {
-        for (i = 0; i < n; ++i) tmp[i] = X_(S, k)[lo + key[i].i];
-        memcpy(X_(S, k) + lo, tmp, (size_t)n * sizeof(sph_real));
+        for (i = 0; i < n; ++i) tmp[i] = FIELD(S, k)[lo + key[i].i];
+        memcpy(FIELD(S, k) + lo, tmp, (size_t)n * sizeof(sph_real));
     }
     for (i = 0; i < n; ++i) gt[i] = S->gid[lo + key[i].i];
     memcpy(S->gid + lo, gt, (size_t)n * sizeof(int64_t));
@@ -227,7 +242,7 @@ static void mtg_pack(const mtg_state *S, const sph_idx *idx, sph_idx n, unsigned
     for (i = 0; i < n; ++i) {
         if (with_gid) *buf++ = (double)S->gid[idx[i]];
         for (k = 0; k < MTG_NX; ++k)
-            if (mask & (1u << k)) *buf++ = (double)X_(S, k)[idx[i]];
+            if (mask & (1u << k)) *buf++ = (double)FIELD(S, k)[idx[i]];
     }
 }
 
@@ -238,9 +253,10 @@ static void mtg_unpack(mtg_state *S, const double *buf, sph_idx r, int nrec, uns
     int k;
     if (with_gid) S->gid[i] = (int64_t)*p++;
     for (k = 0; k < MTG_NX; ++k)
-        if (mask & (1u << k)) X_(S, k)[i] = (sph_real)*p++;
+        if (mask & (1u << k)) FIELD(S, k)[i] = (sph_real)*p++;
 }
 
+/* The number of fields in mask. */
 static int mtg_bits(unsigned mask)
 {
     int c = 0;
@@ -263,7 +279,7 @@ static int mtg_alltoall(mtg_state *S, const int *scnt, int nrec, sph_idx *n_recv
         tot += S->rcnt[q], stot += scnt[q];
         if (tot * nrec > INT32_MAX || stot * nrec > INT32_MAX) return SPH_ESIZE;
     }
-    if (mtg_grow((void **)&S->rbuf, &S->rbuf_cap, (size_t)(tot * nrec + 1), sizeof(double)) != 0) return SPH_ESIZE;
+    if (mtg_room(&S->rbuf, &S->rbuf_cap, (size_t)(tot * nrec + 1)) != 0) return SPH_ESIZE;
     MPI_Alltoallv(S->sbuf, sc, sd, MPI_DOUBLE, S->rbuf, rc, rd, MPI_DOUBLE, S->comm);
     S->bytes_sent += (double)stot * nrec * sizeof(double);
     *n_recv = (sph_idx)tot;
@@ -280,15 +296,15 @@ static int mtg_migrate(mtg_state *S)
     int *cnt = S->scnt;
     for (q = 0; q < P; ++q) cnt[q] = 0;
     for (i = 0; i < S->nl; ++i)
-        if (mtg_owner(X_(S, F_X)[i], P) != S->rank) ++cnt[mtg_owner(X_(S, F_X)[i], P)], ++ns;
-    if (mtg_grow((void **)&S->sbuf, &S->sbuf_cap, (size_t)ns * nrec + 1, sizeof(double)) != 0) return SPH_ESIZE;
+        if (mtg_owner(FIELD(S, F_X)[i], P) != S->rank) ++cnt[mtg_owner(FIELD(S, F_X)[i], P)], ++ns;
+    if (mtg_room(&S->sbuf, &S->sbuf_cap, (size_t)ns * nrec + 1) != 0) return SPH_ESIZE;
     { /* records grouped by destination: positions from a running offset per rank */
         int *at = S->sdsp;
         sph_idx one;
         at[0] = 0;
         for (q = 1; q < P; ++q) at[q] = at[q - 1] + cnt[q - 1];
         for (i = 0; i < S->nl; ++i) {
-            const int o = mtg_owner(X_(S, F_X)[i], P);
+            const int o = mtg_owner(FIELD(S, F_X)[i], P);
             if (o == S->rank) continue;
             one = i;
             mtg_pack(S, &one, 1, MTG_ALL, 1, S->sbuf + (size_t)at[o]++ * nrec);
@@ -297,9 +313,9 @@ static int mtg_migrate(mtg_state *S)
     if ((st = mtg_alltoall(S, cnt, nrec, &nr)) != SPH_OK) return st;
     for (i = 0; i < S->nl; ++i) { /* compact the kept locals, order unchanged */
         int k;
-        if (mtg_owner(X_(S, F_X)[i], P) != S->rank) continue;
+        if (mtg_owner(FIELD(S, F_X)[i], P) != S->rank) continue;
         if (keep != i) {
-            for (k = 0; k < MTG_NX; ++k) X_(S, k)[keep] = X_(S, k)[i];
+            for (k = 0; k < MTG_NX; ++k) FIELD(S, k)[keep] = FIELD(S, k)[i];
             S->gid[keep] = S->gid[i];
         }
         ++keep;
@@ -322,7 +338,7 @@ static int mtg_select_halo(mtg_state *S, double reach)
     for (a = 0; a < S->n_near; ++a) {
         q = S->near[a];
         for (i = 0; i < S->nl; ++i)
-            if (mtg_slab_distance(X_(S, F_X)[i], q, P) < reach) ++S->scnt[q];
+            if (mtg_slab_distance(FIELD(S, F_X)[i], q, P) < reach) ++S->scnt[q];
     }
     for (q = 0; q < P; ++q) n += S->scnt[q];
     if (n > S->send_cap) {
@@ -338,7 +354,7 @@ static int mtg_select_halo(mtg_state *S, double reach)
         for (a = 0; a < S->n_near; ++a) near |= S->near[a] == q;
         if (!near) continue;
         for (i = 0; i < S->nl; ++i)
-            if (mtg_slab_distance(X_(S, F_X)[i], q, P) < reach) S->send_idx[at++] = i;
+            if (mtg_slab_distance(FIELD(S, F_X)[i], q, P) < reach) S->send_idx[at++] = i;
     }
     return SPH_OK;
 }
@@ -353,7 +369,7 @@ static int mtg_send_halo(mtg_state *S, unsigned mask, int with_gid)
     const double t0 = MPI_Wtime();
     sph_idx nr, k;
     int st;
-    if (mtg_grow((void **)&S->sbuf, &S->sbuf_cap, (size_t)nsend * nrec + 1, sizeof(double)) != 0) return SPH_ESIZE;
+    if (mtg_room(&S->sbuf, &S->sbuf_cap, (size_t)nsend * nrec + 1) != 0) return SPH_ESIZE;
     mtg_pack(S, S->send_idx, nsend, mask, with_gid, S->sbuf);
     if ((st = mtg_alltoall(S, S->scnt, nrec, &nr)) != SPH_OK) return st;
     if (with_gid) {
@@ -396,7 +412,7 @@ static int mtg_exchange(mtg_state *S, double reach, int reselect)
  * one merge of the two runs gives the single-process order. */
 static int mtg_lists(mtg_state *S, double h, double kappa, const sph_box *box)
 {
-    const sph_view X = sph_view_soa(X_(S, F_X), X_(S, F_Y), NULL);
+    const sph_view X = sph_view_soa(FIELD(S, F_X), FIELD(S, F_Y), NULL);
     sph_idx i;
     int st = ex_neighbours_update(&S->NL, 2, X, S->nl + S->nh, S->nl, h, kappa, box);
     sph_off o, longest = 0;
@@ -431,19 +447,19 @@ static void mtg_eos(mtg_state *S, const mtg_param *P)
     const double rho0 = 1;
     sph_idx i;
     for (i = 0; i < S->nl + S->nh; ++i) {
-        X_(S, F_P)[i] = P->c0 * P->c0 * (X_(S, F_RHO)[i] - rho0) + P->pb;
-        X_(S, F_VOL)[i] = X_(S, F_M)[i] / X_(S, F_RHO)[i];
+        FIELD(S, F_P)[i] = P->c0 * P->c0 * (FIELD(S, F_RHO)[i] - rho0) + P->pb;
+        FIELD(S, F_VOL)[i] = FIELD(S, F_M)[i] / FIELD(S, F_RHO)[i];
     }
 }
 
 /* A context over the sources (locals + halos) for the local targets. */
 static sph_ctx mtg_ctx(const mtg_state *S, sph_kernel k, double h, const sph_box *box)
 {
-    sph_ctx c = sph_ctx_init(k, 2, h, &S->NL.list, sph_view_soa(X_(S, F_X), X_(S, F_Y), NULL));
+    sph_ctx c = sph_ctx_init(k, 2, h, &S->NL.list, sph_view_soa(FIELD(S, F_X), FIELD(S, F_Y), NULL));
     c.box = box;
-    c.V = sph_view_soa(X_(S, F_VOL), NULL, NULL);
-    c.m = sph_view_soa(X_(S, F_M), NULL, NULL);
-    c.rho = sph_view_soa(X_(S, F_RHO), NULL, NULL);
+    c.V = sph_view_soa(FIELD(S, F_VOL), NULL, NULL);
+    c.m = sph_view_soa(FIELD(S, F_M), NULL, NULL);
+    c.rho = sph_view_soa(FIELD(S, F_RHO), NULL, NULL);
     c.validate = SPH_VALIDATE_ARGS; /* the search's lists are well formed by construction */
     return c;
 }
@@ -457,7 +473,7 @@ static int mtg_rates(mtg_state *S, const mtg_param *P, sph_kernel k, double h, d
     const int corr = strcmp(P->scheme, "corrected") == 0, pres = strcmp(P->scheme, "pressure") == 0;
     const sph_scheme gs = corr ? SPH_SCHEME_CORRECTED : pres ? SPH_SCHEME_PRESSURE : SPH_SCHEME_DIFFERENCE;
     const sph_scheme ds = corr ? SPH_SCHEME_CORRECTED : SPH_SCHEME_DIFFERENCE;
-    sph_real *u = X_(S, F_U), *v = X_(S, F_V), *rho = X_(S, F_RHO), *du = X_(S, F_DU), *dv = X_(S, F_DV);
+    sph_real *u = FIELD(S, F_U), *v = FIELD(S, F_V), *rho = FIELD(S, F_RHO), *du = FIELD(S, F_DU), *dv = FIELD(S, F_DV);
     const sph_view vel = sph_view_soa(u, v, NULL);
     sph_ctx c;
     sph_idx i, nf = 0;
@@ -468,10 +484,10 @@ static int mtg_rates(mtg_state *S, const mtg_param *P, sph_kernel k, double h, d
         return st;
     c = mtg_ctx(S, k, h, box);
     if (phase == 0) {
-        sph_real *drho = X_(S, F_DRHO);
-        if ((st = sph_divergence(&c, ds, vel, sph_view_none(), sph_out_soa(X_(S, F_DIV), NULL, NULL), &nf)) != SPH_OK)
+        sph_real *drho = FIELD(S, F_DRHO);
+        if ((st = sph_divergence(&c, ds, vel, sph_view_none(), sph_out_soa(FIELD(S, F_DIV), NULL, NULL), &nf)) != SPH_OK)
             return st;
-        for (i = 0; i < S->nl; ++i) drho[i] = -rho[i] * X_(S, F_DIV)[i];
+        for (i = 0; i < S->nl; ++i) drho[i] = -rho[i] * FIELD(S, F_DIV)[i];
         if (!P->lagrangian) {
             if ((st = sph_gradient(&c, ds, sph_view_soa(rho, NULL, NULL), sph_view_none(),
                                    sph_out_interleaved(S->gp, 2), NULL)) != SPH_OK)
@@ -481,16 +497,16 @@ static int mtg_rates(mtg_state *S, const mtg_param *P, sph_kernel k, double h, d
         *n_fallback += nf;
         return SPH_OK;
     }
-    if ((st = sph_gradient(&c, gs, sph_view_soa(X_(S, F_P), NULL, NULL), sph_view_none(),
+    if ((st = sph_gradient(&c, gs, sph_view_soa(FIELD(S, F_P), NULL, NULL), sph_view_none(),
                            sph_out_interleaved(S->gp, 2), NULL)) != SPH_OK ||
-        (st = sph_laplacian(&c, sph_view_soa(u, NULL, NULL), sph_view_none(), sph_out_soa(X_(S, F_LU), NULL, NULL))) !=
+        (st = sph_laplacian(&c, sph_view_soa(u, NULL, NULL), sph_view_none(), sph_out_soa(FIELD(S, F_LU), NULL, NULL))) !=
             SPH_OK ||
-        (st = sph_laplacian(&c, sph_view_soa(v, NULL, NULL), sph_view_none(), sph_out_soa(X_(S, F_LV), NULL, NULL))) !=
+        (st = sph_laplacian(&c, sph_view_soa(v, NULL, NULL), sph_view_none(), sph_out_soa(FIELD(S, F_LV), NULL, NULL))) !=
             SPH_OK)
         return st;
     for (i = 0; i < S->nl; ++i) {
-        du[i] = -S->gp[2 * i] / rho[i] + nu * X_(S, F_LU)[i];
-        dv[i] = -S->gp[2 * i + 1] / rho[i] + nu * X_(S, F_LV)[i];
+        du[i] = -S->gp[2 * i] / rho[i] + nu * FIELD(S, F_LU)[i];
+        dv[i] = -S->gp[2 * i + 1] / rho[i] + nu * FIELD(S, F_LV)[i];
     }
     if (!P->lagrangian) {
         if ((st = sph_gradient_vector(&c, ds, vel, sph_view_none(), S->T, 4, NULL)) != SPH_OK) return st;
@@ -513,8 +529,8 @@ static void mtg_tvf_pairs(mtg_state *S, sph_kernel k, double h, double eta, doub
                           const sph_box *box)
 {
     const sph_neighbours *list = &S->NL.list;
-    const sph_real *x = X_(S, F_X), *y = X_(S, F_Y), *u = X_(S, F_U), *v = X_(S, F_V), *m = X_(S, F_M);
-    const sph_real *rho = X_(S, F_RHO), *p = X_(S, F_P), *T = S->T;
+    const sph_real *x = FIELD(S, F_X), *y = FIELD(S, F_Y), *u = FIELD(S, F_U), *v = FIELD(S, F_V), *m = FIELD(S, F_M);
+    const sph_real *rho = FIELD(S, F_RHO), *p = FIELD(S, F_P), *T = S->T;
     sph_idx i;
     for (i = 0; i < S->nl; ++i) {
         const double Vi = m[i] / rho[i];
@@ -539,8 +555,8 @@ static void mtg_tvf_pairs(mtg_state *S, sph_kernel k, double h, double eta, doub
             acc[1] += eta * sph_pair_laplacian(0.5 * w, v[i], v[j], pk.F);
             sph_pair_grad_standard(2, w, 1, pk.F, dx, b); /* (O4), f = 1 */
         }
-        X_(S, F_DU)[i] = acc[0] / m[i], X_(S, F_DV)[i] = acc[1] / m[i];
-        X_(S, F_BU)[i] = -p_t * b[0] / m[i], X_(S, F_BV)[i] = -p_t * b[1] / m[i];
+        FIELD(S, F_DU)[i] = acc[0] / m[i], FIELD(S, F_DV)[i] = acc[1] / m[i];
+        FIELD(S, F_BU)[i] = -p_t * b[0] / m[i], FIELD(S, F_BV)[i] = -p_t * b[1] / m[i];
     }
 }
 
@@ -552,7 +568,7 @@ static int mtg_tvf_rates(mtg_state *S, const mtg_param *P, sph_kernel k, double 
 {
     const double rho0 = 1, p_t = P->pt >= 0 ? P->pt : rho0 * P->c0 * P->c0;
     const int pres = strcmp(P->scheme, "pressure") == 0;
-    sph_real *rho = X_(S, F_RHO), *u = X_(S, F_U), *v = X_(S, F_V);
+    sph_real *rho = FIELD(S, F_RHO), *u = FIELD(S, F_U), *v = FIELD(S, F_V);
     sph_ctx c;
     sph_idx i, nf = 0;
     int st;
@@ -562,20 +578,20 @@ static int mtg_tvf_rates(mtg_state *S, const mtg_param *P, sph_kernel k, double 
     if ((st = mtg_send_halo(S, 1u << F_RHO, 0)) != SPH_OK) return st;
     mtg_eos(S, P);
     for (i = 0; i < S->nl + S->nh; ++i) {
-        const double tu = 0.5 * dt * X_(S, F_BU)[i], tv = 0.5 * dt * X_(S, F_BV)[i];
+        const double tu = 0.5 * dt * FIELD(S, F_BU)[i], tv = 0.5 * dt * FIELD(S, F_BV)[i];
         sph_real *T = S->T + 4 * i;
         T[0] = rho[i] * u[i] * tu, T[1] = rho[i] * u[i] * tv;
         T[2] = rho[i] * v[i] * tu, T[3] = rho[i] * v[i] * tv;
     }
     if (!pres && (st = sph_gradient(&c, strcmp(P->scheme, "corrected") == 0 ? SPH_SCHEME_CORRECTED
                                                                              : SPH_SCHEME_DIFFERENCE,
-                                    sph_view_soa(X_(S, F_P), NULL, NULL), sph_view_none(),
+                                    sph_view_soa(FIELD(S, F_P), NULL, NULL), sph_view_none(),
                                     sph_out_interleaved(S->gp, 2), &nf)) != SPH_OK)
         return st;
     mtg_tvf_pairs(S, k, h, rho0 * nu, p_t, pres, box);
     if (!pres)
         for (i = 0; i < S->nl; ++i)
-            X_(S, F_DU)[i] -= S->gp[2 * i] / rho[i], X_(S, F_DV)[i] -= S->gp[2 * i + 1] / rho[i];
+            FIELD(S, F_DU)[i] -= S->gp[2 * i] / rho[i], FIELD(S, F_DV)[i] -= S->gp[2 * i + 1] / rho[i];
     *n_fallback += nf;
     return SPH_OK;
 }
@@ -586,15 +602,15 @@ static int mtg_tvf_rates(mtg_state *S, const mtg_param *P, sph_kernel k, double 
  * the last exchange). */
 static int mtg_shift(mtg_state *S, sph_kernel k, double h, double dx, double D, const sph_box *box)
 {
-    sph_real *f[3], *lu = X_(S, F_LU), *lv = X_(S, F_LV);
+    sph_real *f[3], *lu = FIELD(S, F_LU), *lv = FIELD(S, F_LV);
     sph_ctx c;
     sph_idx i;
     int st, q;
     if ((st = mtg_send_halo(S, (1u << F_U) | (1u << F_V) | (1u << F_RHO), 0)) != SPH_OK) return st;
-    for (i = 0; i < S->nl + S->nh; ++i) X_(S, F_ONE)[i] = 1;
+    for (i = 0; i < S->nl + S->nh; ++i) FIELD(S, F_ONE)[i] = 1;
     c = mtg_ctx(S, k, h, box);
-    f[0] = X_(S, F_U), f[1] = X_(S, F_V), f[2] = X_(S, F_RHO);
-    if ((st = sph_gradient(&c, SPH_SCHEME_STANDARD, sph_view_soa(X_(S, F_ONE), NULL, NULL), sph_view_none(),
+    f[0] = FIELD(S, F_U), f[1] = FIELD(S, F_V), f[2] = FIELD(S, F_RHO);
+    if ((st = sph_gradient(&c, SPH_SCHEME_STANDARD, sph_view_soa(FIELD(S, F_ONE), NULL, NULL), sph_view_none(),
                            sph_out_soa(lu, lv, NULL), NULL)) != SPH_OK)
         return st;
     for (i = 0; i < S->nl; ++i) {
@@ -609,8 +625,8 @@ static int mtg_shift(mtg_state *S, sph_kernel k, double h, double dx, double D, 
         for (i = 0; i < S->nl; ++i) f[q][i] += S->gp[2 * i] * lu[i] + S->gp[2 * i + 1] * lv[i];
     }
     for (i = 0; i < S->nl; ++i) {
-        X_(S, F_X)[i] += lu[i], X_(S, F_Y)[i] += lv[i];
-        X_(S, F_X)[i] -= floor(X_(S, F_X)[i]), X_(S, F_Y)[i] -= floor(X_(S, F_Y)[i]);
+        FIELD(S, F_X)[i] += lu[i], FIELD(S, F_Y)[i] += lv[i];
+        FIELD(S, F_X)[i] -= floor(FIELD(S, F_X)[i]), FIELD(S, F_Y)[i] -= floor(FIELD(S, F_Y)[i]);
     }
     return SPH_OK;
 }
@@ -624,9 +640,9 @@ static double mtg_energy(const mtg_state *S, double t, double nu, double *l2)
     double s[3] = {0, 0, 0}, g[3], ua, va;
     sph_idx i;
     for (i = 0; i < S->nl; ++i) {
-        const double u = X_(S, F_U)[i], v = X_(S, F_V)[i];
-        s[0] += 0.5 * X_(S, F_M)[i] * (u * u + v * v);
-        mtg_exact(X_(S, F_X)[i], X_(S, F_Y)[i], t, nu, &ua, &va);
+        const double u = FIELD(S, F_U)[i], v = FIELD(S, F_V)[i];
+        s[0] += 0.5 * FIELD(S, F_M)[i] * (u * u + v * v);
+        mtg_exact(FIELD(S, F_X)[i], FIELD(S, F_Y)[i], t, nu, &ua, &va);
         s[1] += (u - ua) * (u - ua) + (v - va) * (v - va);
         s[2] += ua * ua + va * va;
     }
@@ -665,7 +681,7 @@ static void mtg_gather(mtg_state *S, sph_idx N, double *out)
     mtg_ok(S, st, "gathering the particles on rank 0");
     for (i = 0; i < S->nl; ++i) {
         buf[(size_t)i * nrec] = (double)S->gid[i];
-        for (q = 0; q < MTG_NOUT; ++q) buf[(size_t)i * nrec + 1 + q] = (double)X_(S, fk[q])[i];
+        for (q = 0; q < MTG_NOUT; ++q) buf[(size_t)i * nrec + 1 + q] = (double)FIELD(S, fk[q])[i];
     }
     MPI_Gather(&n, 1, MPI_INT, cnt, 1, MPI_INT, 0, S->comm);
     if (S->rank == 0)
@@ -766,20 +782,20 @@ static int mtg_run(MPI_Comm comm, const mtg_param *P, mtg_result *R, FILE *csv, 
         mtg_ok(&S, mtg_reserve(&S, S.nl + 1), "allocating the particles");
         mtg_exact(px, py, 0, nu, &pa, &pb);
         S.gid[S.nl] = i;
-        X_(&S, F_X)[S.nl] = px, X_(&S, F_Y)[S.nl] = py, X_(&S, F_U)[S.nl] = pa, X_(&S, F_V)[S.nl] = pb;
-        X_(&S, F_RHO)[S.nl] = rho0 - rho0 * U * U / 4 * (cos(4 * PI * px) + cos(4 * PI * py)) / (P->c0 * P->c0);
-        X_(&S, F_M)[S.nl] = rho0 * dx * dx;
-        X_(&S, F_BU)[S.nl] = X_(&S, F_BV)[S.nl] = 0;
+        FIELD(&S, F_X)[S.nl] = px, FIELD(&S, F_Y)[S.nl] = py, FIELD(&S, F_U)[S.nl] = pa, FIELD(&S, F_V)[S.nl] = pb;
+        FIELD(&S, F_RHO)[S.nl] = rho0 - rho0 * U * U / 4 * (cos(4 * PI * px) + cos(4 * PI * py)) / (P->c0 * P->c0);
+        FIELD(&S, F_M)[S.nl] = rho0 * dx * dx;
+        FIELD(&S, F_BU)[S.nl] = FIELD(&S, F_BV)[S.nl] = 0;
         ++S.nl;
     }
     MPI_Barrier(comm);
     t_start = MPI_Wtime();
     mtg_ok(&S, mtg_exchange(&S, reach, 1), "the first halo exchange");
     if (tvf) { /* the rates of the start, in taylor_green.c's order; masses so that the summation density starts at the analytic rho */
-        for (i = 0; i < S.nl; ++i) X_(&S, F_DIV)[i] = X_(&S, F_RHO)[i];
+        for (i = 0; i < S.nl; ++i) FIELD(&S, F_DIV)[i] = FIELD(&S, F_RHO)[i];
         mtg_ok(&S, mtg_tvf_rates(&S, P, k, h, nu, dt, &box, &nfb), "the rates");
         for (i = 0; i < S.nl; ++i)
-            X_(&S, F_M)[i] *= X_(&S, F_DIV)[i] / X_(&S, F_RHO)[i], X_(&S, F_BU)[i] = X_(&S, F_BV)[i] = 0;
+            FIELD(&S, F_M)[i] *= FIELD(&S, F_DIV)[i] / FIELD(&S, F_RHO)[i], FIELD(&S, F_BU)[i] = FIELD(&S, F_BV)[i] = 0;
         mtg_ok(&S, mtg_exchange(&S, reach, 0), "the halo exchange");
         mtg_ok(&S, mtg_tvf_rates(&S, P, k, h, nu, dt, &box, &nfb), "the rates");
     } else {
@@ -797,7 +813,7 @@ static int mtg_run(MPI_Comm comm, const mtg_param *P, mtg_result *R, FILE *csv, 
             break;
         }
         for (i = 0; i < S.nl; ++i) /* CFL number of the step: dt (c0 + max |v|) / h, MPI_MAX */
-            vmax = fmax(vmax, sqrt(X_(&S, F_U)[i] * X_(&S, F_U)[i] + X_(&S, F_V)[i] * X_(&S, F_V)[i]));
+            vmax = fmax(vmax, sqrt(FIELD(&S, F_U)[i] * FIELD(&S, F_U)[i] + FIELD(&S, F_V)[i] * FIELD(&S, F_V)[i]));
         MPI_Allreduce(&vmax, &vg, 1, MPI_DOUBLE, MPI_MAX, comm);
         R->cfl_max = fmax(R->cfl_max, dt * (P->c0 + vg) / h);
         st_t += t, st_y += log(e / e0), st_tt += t * t, st_ty += t * log(e / e0), cnt += 1;
@@ -810,23 +826,23 @@ static int mtg_run(MPI_Comm comm, const mtg_param *P, mtg_result *R, FILE *csv, 
         if (s == last) break;
         t0 = MPI_Wtime();
         for (i = 0; i < S.nl; ++i) { /* kick v by dt/2, drift x by dt with v~ = v + (dt/2) b (tvf) or v */
-            X_(&S, F_U)[i] += 0.5 * dt * X_(&S, F_DU)[i], X_(&S, F_V)[i] += 0.5 * dt * X_(&S, F_DV)[i];
+            FIELD(&S, F_U)[i] += 0.5 * dt * FIELD(&S, F_DU)[i], FIELD(&S, F_V)[i] += 0.5 * dt * FIELD(&S, F_DV)[i];
             if (!P->lagrangian) continue;
-            X_(&S, F_X)[i] += dt * (X_(&S, F_U)[i] + (tvf ? 0.5 * dt * X_(&S, F_BU)[i] : 0));
-            X_(&S, F_Y)[i] += dt * (X_(&S, F_V)[i] + (tvf ? 0.5 * dt * X_(&S, F_BV)[i] : 0));
-            X_(&S, F_X)[i] -= floor(X_(&S, F_X)[i]), X_(&S, F_Y)[i] -= floor(X_(&S, F_Y)[i]);
+            FIELD(&S, F_X)[i] += dt * (FIELD(&S, F_U)[i] + (tvf ? 0.5 * dt * FIELD(&S, F_BU)[i] : 0));
+            FIELD(&S, F_Y)[i] += dt * (FIELD(&S, F_V)[i] + (tvf ? 0.5 * dt * FIELD(&S, F_BV)[i] : 0));
+            FIELD(&S, F_X)[i] -= floor(FIELD(&S, F_X)[i]), FIELD(&S, F_Y)[i] -= floor(FIELD(&S, F_Y)[i]);
         }
         mtg_ok(&S, mtg_exchange(&S, reach, P->lagrangian), "the halo exchange");
         if (tvf) {
             mtg_ok(&S, mtg_tvf_rates(&S, P, k, h, nu, dt, &box, &nfb), "the rates");
         } else {
             mtg_ok(&S, mtg_rates(&S, P, k, h, nu, &box, 0, &nfb), "the rates");
-            for (i = 0; i < S.nl; ++i) X_(&S, F_RHO)[i] += dt * X_(&S, F_DRHO)[i]; /* rho by dt, mid-step velocity */
+            for (i = 0; i < S.nl; ++i) FIELD(&S, F_RHO)[i] += dt * FIELD(&S, F_DRHO)[i]; /* rho by dt, mid-step velocity */
             mtg_ok(&S, mtg_send_halo(&S, 1u << F_RHO, 0), "the density refresh");
             mtg_ok(&S, mtg_rates(&S, P, k, h, nu, &box, 1, &nfb), "the rates");
         }
         for (i = 0; i < S.nl; ++i) /* kick v by dt/2 */
-            X_(&S, F_U)[i] += 0.5 * dt * X_(&S, F_DU)[i], X_(&S, F_V)[i] += 0.5 * dt * X_(&S, F_DV)[i];
+            FIELD(&S, F_U)[i] += 0.5 * dt * FIELD(&S, F_DU)[i], FIELD(&S, F_V)[i] += 0.5 * dt * FIELD(&S, F_DV)[i];
         if (P->lagrangian && P->plain && P->shift > 0) mtg_ok(&S, mtg_shift(&S, k, h, dx, P->shift, &box), "shifting");
         R->t_compute += MPI_Wtime() - t0;
     }
