@@ -16,8 +16,8 @@
  *      operators on the same list); fields that change inside a step
  *      (continuity or summation density, the kicked velocity before
  *      shifting) are refreshed in the halo from the same send lists;
- *   4. reductions (kinetic energy, L2 error, the CFL number of the step, the
- *      status of every rank) with MPI_Allreduce.
+ *   4. reductions (kinetic energy, L2 error, the CFL number of the step)
+ *      with MPI_Allreduce; a rank that fails stops the job (MPI_Abort).
  * Identical answers: the search returns each target's sources in ascending
  * index; here the lists are reordered by global id (a merge of the local and
  * the halo run), which is the order of the single-process run (index =
