@@ -9,6 +9,7 @@
 #   make report     error against run time of every operator: docs/results/report.md, docs/results/report/
 #   make install PREFIX=/usr/local   header + pkg-config file
 #   make bench      operator and neighbour-search timings (bench/benchmark.c)
+#   make run-mpi    the Taylor-Green vortex over MPI ranks (mpicc, mpirun; docs/mpi.md)
 #
 # Tree: examples/ what a user copies (quickstarts, solvers); bench/ timings and
 # size probes; studies/ the programs and gnuplot scripts that write the results
