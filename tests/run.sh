@@ -3,8 +3,9 @@
 # "check", the developer's quick run). Builds every tests/test_*.c in every
 # configuration of the table below, runs them, runs the examples' --check
 # modes (listed in the Makefile), the compile checks (C11, C++, nvcc, CMake,
-# float warnings) and tests/check_tables.sh where it exists, and ends with one
-# line "N passed, N failed" summing the cases of every program.
+# float warnings), the MPI example on 2 ranks (where mpicc and mpirun exist)
+# and tests/check_tables.sh where it exists, and ends with one line
+# "N passed, N failed" summing the cases of every program.
 #
 # Every (configuration, program) pair is one job: build, then run. The jobs
 # go through one queue, longest first (the times of the previous run in
@@ -573,6 +574,14 @@ if [ "${EXTRAS:-1}" != 0 ]; then
                 "CMake target sph_kernel::sph_kernel (add_subdirectory and installed find_package)" sh tests/cmake_check.sh
         else
             echo "SKIPPED: CMake check (cmake is not installed)"
+        fi
+        # the MPI example on 2 ranks: bitwise the single-process run and taylor_green.c's frames
+        if command -v mpicc > /dev/null 2>&1 && command -v mpirun > /dev/null 2>&1; then
+            enqueue "$(estimate checks/mpi 300)" checks/mpi checks check \
+                "MPI: examples/mpi_taylor_green.c on 2 ranks, bitwise equal to one process and to taylor_green.c (tests/mpi_check.sh)" \
+                sh tests/mpi_check.sh
+        else
+            echo "SKIPPED: MPI check (mpicc or mpirun is not on the PATH; Debian/Ubuntu: apt-get install openmpi-bin libopenmpi-dev)"
         fi
     fi
     # other checks that are scripts: one case each (they print their own SKIPPED)
