@@ -42,7 +42,8 @@ check:
 # builds each (gcc -O2, OpenMP where gcc has it) and runs it with its
 # arguments, CHECK_ARGS_<name> (default --check); one case each.
 CHECK_EXAMPLES := examples/cloud_quickstart examples/dam_break examples/taylor_green \
-                  examples/heat_conduction examples/sod_shock studies/error_vs_runtime studies/stability
+                  examples/heat_conduction examples/sod_shock studies/error_vs_runtime studies/stability \
+                  studies/hydrostatic_tank
 CHECK_ARGS     := --check
 
 print-check-examples:
@@ -52,7 +53,7 @@ $(BUILD)/%: examples/%.c sph_kernel.h
 	@mkdir -p $(BUILD)
 	$(CC) $(CFLAGS) -I. $< -o $@ $(LDLIBS)
 
-$(BUILD)/%: studies/%.c sph_kernel.h support/particles.h
+$(BUILD)/%: studies/%.c sph_kernel.h support/particles.h support/tank.h
 	@mkdir -p $(BUILD)
 	$(CC) $(CFLAGS) -I. $< -o $@ $(LDLIBS)
 

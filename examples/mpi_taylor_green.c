@@ -699,10 +699,9 @@ static void mtg_gather(mtg_state *S, sph_idx N, double *out)
 /* One VTK frame on rank 0, particles in global-id order: the file
  * taylor_green.c writes for the same state. A file that cannot be written
  * is reported and the run goes on (as in taylor_green.c). */
-static void mtg_vtk(mtg_state *S, sph_idx N, double *G, const char *dir, int frame)
+static void mtg_vtk(mtg_state *S, sph_idx N, double *G, ex_series *frames, double t, int frame)
 {
     sph_real *R = NULL;
-    char path[1100];
     ex_field f[3];
     size_t i;
     mtg_gather(S, N, G);
@@ -715,19 +714,19 @@ static void mtg_vtk(mtg_state *S, sph_idx N, double *G, const char *dir, int fra
     f[0].name = "velocity", f[0].v = sph_view_soa(R + 2 * (size_t)N, R + 3 * (size_t)N, NULL), f[0].ncomp = 2;
     f[1].name = "pressure", f[1].v = sph_view_soa(R + 5 * (size_t)N, NULL, NULL), f[1].ncomp = 1;
     f[2].name = "density", f[2].v = sph_view_soa(R + 4 * (size_t)N, NULL, NULL), f[2].ncomp = 1;
-    snprintf(path, sizeof path, "%s/taylor_green_%04d.vtk", dir, frame);
-    if (ex_write_vtk(path, N, 2, sph_view_soa(R, R + N, NULL), f, 3) != 0) fprintf(stderr, "cannot write VTK into %s\n", dir);
+    if (ex_series_write(frames, t, N, 2, sph_view_soa(R, R + N, NULL), f, 3) != 0)
+        fprintf(stderr, "cannot write VTK frame %d into %s\n", frame, frames->dir);
     free(R);
 }
 
 /* ---- one run ---------------------------------------------------------------------- */
 
 /* One run on the ranks of comm. csv (rank 0, may be NULL): t, E/E0, exact
- * E/E0, L2 error as taylor_green.c writes it; vtkdir (may be NULL): frames;
+ * E/E0, L2 error as taylor_green.c writes it; frames (may be NULL; opened on rank 0): VTK series;
  * with gather_final, final (rank 0) receives the fields of mtg_gather at the
  * end. Returns SPH_OK, or SPH_ENONFINITE (on every rank) when the energy
  * stops being finite; a failed allocation or search stops the job (mtg_ok). */
-static int mtg_run(MPI_Comm comm, const mtg_param *P, mtg_result *R, FILE *csv, const char *vtkdir, int gather_final,
+static int mtg_run(MPI_Comm comm, const mtg_param *P, mtg_result *R, FILE *csv, ex_series *frames, int gather_final,
                    double *final)
 {
     const int n = P->n, kid = sph_kernel_from_name(P->kernel);
@@ -757,7 +756,7 @@ static int mtg_run(MPI_Comm comm, const mtg_param *P, mtg_result *R, FILE *csv, 
     S.sdsp = (int *)calloc((size_t)S.size * 3, sizeof(int)), S.rdsp = (int *)calloc((size_t)S.size * 3, sizeof(int));
     S.near = (int *)calloc((size_t)S.size, sizeof(int));
     if (S.scnt == NULL || S.rcnt == NULL || S.sdsp == NULL || S.rdsp == NULL || S.near == NULL) st = SPH_ESIZE;
-    if (st == SPH_OK && (vtkdir != NULL || gather_final) && S.rank == 0 &&
+    if (st == SPH_OK && (frames != NULL || gather_final) && S.rank == 0 &&
         (G = (double *)malloc((size_t)N * MTG_NOUT * sizeof(double))) == NULL)
         st = SPH_ESIZE;
     mtg_ok(&S, st, "allocating the decomposition");
@@ -819,8 +818,8 @@ static int mtg_run(MPI_Comm comm, const mtg_param *P, mtg_result *R, FILE *csv, 
         st_t += t, st_y += log(e / e0), st_tt += t * t, st_ty += t * log(e / e0), cnt += 1;
         if (csv != NULL && S.rank == 0 && (s % (steps / 200 + 1) == 0 || s == steps))
             fprintf(csv, "%.6g,%.9g,%.9g,%.6g\n", t, e / e0, exp(-16 * PI * PI * nu * t), l2);
-        if (vtkdir != NULL && P->frames > 0 && (s * P->frames) / steps >= frame) {
-            mtg_vtk(&S, N, G, vtkdir, frame);
+        if (frames != NULL && P->frames > 0 && (s * P->frames) / steps >= frame) {
+            mtg_vtk(&S, N, G, frames, t, frame);
             ++frame;
         }
         if (s == last) break;
@@ -1084,7 +1083,8 @@ int main(int argc, char **argv)
     {
         char path[1100];
         FILE *csv = NULL;
-        int ok = rank != 0 || ex_mkdir_p(out) == 0;
+        ex_series frames;
+        int ok = rank != 0 || ex_series_open(&frames, out, "taylor_green", 0) == 0;
         MPI_Bcast(&ok, 1, MPI_INT, 0, MPI_COMM_WORLD);
         if (!ok) {
             if (rank == 0) fprintf(stderr, "cannot create %s\n", out);
@@ -1095,8 +1095,12 @@ int main(int argc, char **argv)
             snprintf(path, sizeof path, "%s/energy.csv", out);
             if ((csv = fopen(path, "w")) != NULL) fprintf(csv, "t,E/E0,exact E/E0,L2 velocity error\n");
         }
-        st = mtg_run(MPI_COMM_WORLD, &P, &R, csv, out, 0, NULL);
+        st = mtg_run(MPI_COMM_WORLD, &P, &R, csv, &frames, 0, NULL);
         if (csv != NULL) fclose(csv);
+        if (rank == 0) {
+            if (st == SPH_OK) ex_series_report(&frames);
+            ex_series_close(&frames);
+        }
     }
     if (rank == 0) {
         if (st != SPH_OK) {
@@ -1122,7 +1126,7 @@ int main(int argc, char **argv)
             printf("scaling: ranks %d threads %d particles %.0f halo %.0f steps %ld total %.6f exchange %.6f compute %.6f\n",
                    size, nth, R.local_sum, R.halo_sum, R.steps, R.t_total, R.t_exchange, R.t_compute);
             if (R.fallbacks > 0) printf("note: %ld corrected-scheme fallbacks\n", R.fallbacks);
-            printf("wrote %s/energy.csv and %d VTK frames %s/taylor_green_*.vtk\n", out, R.frames, out);
+            printf("wrote %s/energy.csv\n", out);
         }
     }
     MPI_Finalize();
