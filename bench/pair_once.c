@@ -7,12 +7,14 @@
  *
  *   gcc -O2 -std=c99 -I. bench/pair_once.c -o build/pair_once -lm
  *   gcc -O2 -std=c99 -fopenmp -I. bench/pair_once.c -o build/pair_once_omp -lm
- *   ./build/pair_once [side] [repeats]     (default 40: 40^3 particles, 5 repeats)
+ *   ./build/pair_once [side] [repeats]     (default 40: 40^3 particles, 9 repeats)
  *
  * 3-D perturbed lattice in a periodic unit box, h solved by sph_h_solve
  * (eta 1.2, cubic spline: about 58 neighbours), one symmetric list at
- * 1.1 h. Prints the best of the repeats in ns per pair (pairs = unordered
- * pairs i < j of the list) and the one-time cost of sph_pairs_build.
+ * 1.1 h. The three forms run one after another in each repeat; prints the
+ * median over the repeats in ns per pair (pairs = unordered pairs i < j of
+ * the list), the median of the per-repeat gather / pair-once ratios, and the
+ * one-time cost of sph_pairs_build.
  */
 #define _POSIX_C_SOURCE 199309L
 #include <stdio.h>
@@ -21,6 +23,19 @@
 #include <time.h>
 
 #include "support/particles.h"
+
+static int by_value(const void *a, const void *b)
+{
+    const double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+/* Median of t[0..n-1] (sorts t). */
+static double median(double *t, int n)
+{
+    qsort(t, (size_t)n, sizeof(double), by_value);
+    return n % 2 ? t[n / 2] : 0.5 * (t[n / 2 - 1] + t[n / 2]);
+}
 
 static double now(void)
 {
@@ -54,7 +69,7 @@ static int lists(const sph_real *x, int n, const sph_real *hl, const sph_box *bo
 
 int main(int argc, char **argv)
 {
-    const int side = argc > 1 ? atoi(argv[1]) : 40, reps = argc > 2 ? atoi(argv[2]) : 5;
+    const int side = argc > 1 ? atoi(argv[1]) : 40, reps = argc > 2 ? atoi(argv[2]) : 9;
     const int n = side * side * side;
     const double dx = 1.0 / side;
     sph_real *x, *v, *m, *h, *hl, *rho, *om, *p, *A, *P, *dv, *du, *buf, *V;
@@ -66,7 +81,7 @@ int main(int argc, char **argv)
     sph_hctx c;
     sph_hreport rep;
     tp_rng g = {7};
-    double best[3] = {1e300, 1e300, 1e300}, tb;
+    double *t[4], med[4], tb;
     int i, r, st;
     if (side < 8 || side > 400 || reps < 1 || reps > 1000) {
         fprintf(stderr, "usage: %s [side 8..400] [repeats 1..1000]\n", argv[0]);
@@ -79,7 +94,9 @@ int main(int argc, char **argv)
     A = malloc(sizeof(sph_real) * (size_t)n), P = malloc(sizeof(sph_real) * (size_t)n);
     V = malloc(sizeof(sph_real) * (size_t)n);
     dv = malloc(sizeof(sph_real) * 3 * (size_t)n), du = malloc(sizeof(sph_real) * (size_t)n);
+    for (i = 0; i < 4; ++i) t[i] = malloc(sizeof(double) * (size_t)reps);
     if (!x || !v || !m || !h || !hl || !rho || !om || !p || !A || !P || !V || !dv || !du) return 1;
+    if (!t[0] || !t[1] || !t[2] || !t[3]) return 1;
     tp_lattice(3, side, dx, x);
     tp_perturb(3, n, 0.2 * dx, &g, x);
     for (i = 0; i < n; ++i) {
@@ -134,18 +151,18 @@ int main(int argc, char **argv)
                            sph_out_interleaved(dv, 3), NULL);
         t3 = now();
         if (st != SPH_OK) return fprintf(stderr, "forces: %s\n", sph_strerror(st)), 1;
-        best[0] = t1 - t0 < best[0] ? t1 - t0 : best[0];
-        best[1] = t2 - t1 < best[1] ? t2 - t1 : best[1];
-        best[2] = t3 - t2 < best[2] ? t3 - t2 : best[2];
+        t[0][r] = t1 - t0, t[1][r] = t2 - t1, t[2][r] = t3 - t2, t[3][r] = (t1 - t0) / (t2 - t1);
     }
-    printf("%d particles, %ld pairs (i < j), %.1f neighbours per particle, %s, best of %d\n", n, (long)pairs,
+    for (i = 0; i < 4; ++i) med[i] = median(t[i], reps);
+    printf("%d particles, %ld pairs (i < j), %.1f neighbours per particle, %s, median of %d\n", n, (long)pairs,
            (double)off[n] / n, sizeof(sph_real) == sizeof(float) ? "float" : "double", reps);
-    printf("  grad-h force + du/dt, gather    (sph_gradh_forces)        %7.2f ns/pair\n", 1e9 * best[0] / (double)pairs);
+    printf("  grad-h force + du/dt, gather    (sph_gradh_forces)        %7.2f ns/pair\n", 1e9 * med[0] / (double)pairs);
     printf("  grad-h force + du/dt, pair-once (sph_gradh_forces_pairs)  %7.2f ns/pair (speed-up %.2f)\n",
-           1e9 * best[1] / (double)pairs, best[0] / best[1]);
-    printf("  pressure gradient (O8), gather  (sph_gradient PRESSURE)   %7.2f ns/pair\n", 1e9 * best[2] / (double)pairs);
+           1e9 * med[1] / (double)pairs, med[3]);
+    printf("  pressure gradient (O8), gather  (sph_gradient PRESSURE)   %7.2f ns/pair\n", 1e9 * med[2] / (double)pairs);
     printf("  sph_pairs_build once per list                             %7.2f ns/pair\n", 1e9 * tb / (double)pairs);
     free(x), free(v), free(m), free(h), free(hl), free(rho), free(om), free(p), free(A), free(P), free(V), free(dv);
     free(du), free(off), free(idx), free(hoff), free(toff), free(hidx), free(tpair), free(buf);
+    for (i = 0; i < 4; ++i) free(t[i]);
     return 0;
 }

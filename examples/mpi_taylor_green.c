@@ -532,6 +532,9 @@ static void mtg_tvf_pairs(mtg_state *S, sph_kernel k, double h, double eta, doub
     const sph_real *x = FIELD(S, F_X), *y = FIELD(S, F_Y), *u = FIELD(S, F_U), *v = FIELD(S, F_V), *m = FIELD(S, F_M);
     const sph_real *rho = FIELD(S, F_RHO), *p = FIELD(S, F_P), *T = S->T;
     sph_idx i;
+#ifdef _OPENMP
+#pragma omp parallel for schedule(static) /* a gather: each target its own sums, any thread count gives the same bits */
+#endif
     for (i = 0; i < S->nl; ++i) {
         const double Vi = m[i] / rho[i];
         sph_real acc[2] = {0, 0}, b[2] = {0, 0};

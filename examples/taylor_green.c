@@ -156,6 +156,9 @@ static void tg_tvf_pairs(const tg_state *S, const sph_neighbours *list, sph_kern
                          double p_t, int pressure, const sph_box *box)
 {
     sph_idx i;
+#ifdef _OPENMP
+#pragma omp parallel for schedule(static) /* a gather: each target its own sums, any thread count gives the same bits */
+#endif
     for (i = 0; i < S->n; ++i) {
         const double Vi = S->m[i] / S->rho[i];
         sph_real acc[2] = {0, 0}, b[2] = {0, 0};
