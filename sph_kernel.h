@@ -56,6 +56,8 @@
  *               the array operators of section 8, which use it.
  *   SPH_NO_NSEARCH     everything but section 7 (the neighbour search).
  *   SPH_NO_SOLVER      everything but section 8 (the solver terms).
+ *   SPH_NO_SMOOTHING_LENGTH  everything but section 9 (adaptive h, grad-h
+ *               forces, pair-once loops).
  *               Each saves the compile time of what it leaves out
  *               (`make compile-cost`) and is compiled warning-free by make test.
  *
@@ -4426,7 +4428,7 @@ SPH_API int sph_time_step(const sph_dt_input *in, int dim, sph_idx n, sph_real *
 #endif /* operators of section 8 */
 #endif /* section 8 */
 
-#if !defined(SPH_ONLY_PAIRS) /* section 9 */
+#if !defined(SPH_ONLY_PAIRS) && !defined(SPH_NO_SMOOTHING_LENGTH) /* section 9 */
 
 /* ======================================================================== */
 /* 9. Smoothing length and pair-once loops                                   */

@@ -44,3 +44,6 @@ row "every operator + search, run-time kernel and dim" "-DCOST_UNIT=4 -march=x86
 row "every operator + search, run-time kernel and dim" "-DCOST_UNIT=4 -DSPH_OP_REFERENCE" bench/compile_units.c
 row "every operator + search, pinned" "-DCOST_UNIT=4 $PIN" bench/compile_units.c
 row "every operator + search, pinned" "-DCOST_UNIT=4 $PIN -march=native" bench/compile_units.c
+row "every operator + search, run-time kernel and dim" "-DCOST_UNIT=4 -DSPH_NO_SOLVER" bench/compile_units.c
+row "solver terms (section 8) + h solve, grad-h, pair-once (9)" "-DCOST_UNIT=5" bench/compile_units.c
+row "solver terms (section 8) + h solve, grad-h, pair-once (9)" "-DCOST_UNIT=5 -march=native" bench/compile_units.c

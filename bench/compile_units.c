@@ -7,6 +7,9 @@
  *   3  a small 3-D WCSPH step: neighbour search, density, pressure-form
  *      gradient, viscous Laplacian (three array operators)
  *   4  every array operator once, and the neighbour search
+ *   5  the solver level: section 8's artificial viscosity, viscosity,
+ *      density diffusion, Adami walls and time step, and section 9's
+ *      h solve, grad-h forces in gather and pair-once form
  * Kernel and dimension are run-time arguments unless the build pins them
  * with SPH_KERNEL / SPH_DIM. Nothing here is run. */
 #include "sph_kernel.h"
@@ -115,6 +118,43 @@ int cost_unit(sph_kernel k, int dim, sph_real h, sph_idx n, const sph_real *x, c
     st |= sph_correction_matrix(&c, T, dim * dim, &nf);
     return st;
 }
+#elif COST_UNIT == 5
+int cost_unit(sph_kernel k, int dim, const sph_neighbours *L, const sph_real *x, const sph_real *m, sph_real *rho,
+              sph_real *h, sph_real *om, const sph_real *v, const sph_real *cs, const sph_real *A, sph_real *acc,
+              sph_real *out, sph_real *buf, sph_off *off, sph_idx *idx, sph_off cap, sph_off *t_off, sph_off *t_slot);
+int cost_unit(sph_kernel k, int dim, const sph_neighbours *L, const sph_real *x, const sph_real *m, sph_real *rho,
+              sph_real *h, sph_real *om, const sph_real *v, const sph_real *cs, const sph_real *A, sph_real *acc,
+              sph_real *out, sph_real *buf, sph_off *off, sph_idx *idx, sph_off cap, sph_off *t_off, sph_off *t_slot)
+{
+    const sph_view xv = sph_view_interleaved(x, dim), vv = sph_view_interleaved(v, dim), none = sph_view_none();
+    const sph_view sv = sph_view_soa(cs, NULL, NULL);
+    const sph_out o1 = sph_out_soa(out, NULL, NULL), o3 = sph_out_interleaved(acc, dim);
+    const sph_real g[3] = {0, -9.81, 0};
+    const sph_av av = {SPH_AV_SIGNAL, 1, 3};
+    const sph_wall w = sph_wall_init(dim, g);
+    sph_hctx hc = sph_hctx_init(k, dim, L, xv, sph_view_soa(m, NULL, NULL), 0);
+    sph_ctx c = sph_ctx_init(k, dim, h[0], L, xv);
+    sph_dt_input in = sph_dt_input_init(h[0]);
+    sph_hreport rep;
+    sph_pairs P;
+    sph_off pairs;
+    sph_real dt;
+    sph_idx empty, which;
+    int reason, st;
+    c.m = sph_view_soa(m, NULL, NULL);
+    c.rho = sph_view_soa(rho, NULL, NULL);
+    st = sph_h_solve(&hc, h, rho, om, NULL, NULL, &rep);
+    st |= sph_gradh_forces(&hc, vv, h, A, acc, out);
+    st |= sph_pairs_build(L, off, idx, cap, t_off, t_slot, &pairs, &P);
+    st |= sph_gradh_forces_pairs(&hc, &P, vv, h, A, buf, acc, out);
+    st |= sph_artificial_viscosity(&c, &av, vv, none, sv, none, o3, o1, o1);
+    st |= sph_viscosity(&c, SPH_VISC_KINEMATIC, sv, none, vv, none, o3);
+    st |= sph_density_diffusion(&c, 0.1, 10, vv, none, o1);
+    st |= sph_wall_adami(&c, &w, sv, vv, o1, o3, &empty);
+    in.vsig = sv;
+    st |= sph_time_step(&in, dim, L->n_targets, &dt, &reason, &which);
+    return st;
+}
 #else
-#error "COST_UNIT 1..4"
+#error "COST_UNIT 1..5"
 #endif

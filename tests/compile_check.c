@@ -1,6 +1,7 @@
 /* C11 compile check: the header included from a C11 translation unit, and
  * each section switch (SPH_ONLY_KERNELS, SPH_ONLY_PAIRS, SPH_NO_OPERATORS,
- * SPH_NO_NSEARCH, SPH_NO_SOLVER) still provides the sections it promises. */
+ * SPH_NO_NSEARCH, SPH_NO_SOLVER, SPH_NO_SMOOTHING_LENGTH) still provides the
+ * sections it promises. */
 #include <stdio.h>
 #include "sph_kernel.h"
 
@@ -29,6 +30,9 @@ int main(void)
                                             sph_out_soa(NULL, NULL, NULL), sph_out_soa(NULL, NULL, NULL)) == SPH_ENULL;
 #endif
     }
+#endif
+#if !defined(SPH_ONLY_PAIRS) && !defined(SPH_NO_SMOOTHING_LENGTH)
+    ok = ok && sph_pairs_reduce(NULL, 1, NULL, NULL, NULL) == SPH_ENULL; /* section 9 */
 #endif
 #if !defined(SPH_ONLY_PAIRS) && !defined(SPH_NO_NSEARCH)
     { /* section 7 */

@@ -102,7 +102,8 @@ gcc-reference    | gcc   | double | -O1 -DSPH_OP_REFERENCE       |              
 # function body of the header whether or not it is called, and the tests
 # compute their references in double from float values on purpose.
 HEADER_VARIANTS=("" -march=native -DSPH_NO_INTRINSICS -DSPH_OP_REFERENCE "-DSPH_DIM=3 -DSPH_KERNEL=SPH_KERNEL_CUBIC"
-                 -DSPH_ONLY_KERNELS -DSPH_ONLY_PAIRS -DSPH_NO_OPERATORS -DSPH_NO_NSEARCH -DSPH_NO_SOLVER)
+                 -DSPH_ONLY_KERNELS -DSPH_ONLY_PAIRS -DSPH_NO_OPERATORS -DSPH_NO_NSEARCH -DSPH_NO_SOLVER
+                 -DSPH_NO_SMOOTHING_LENGTH)
 FLOAT_WARN="-Wdouble-promotion -Wfloat-conversion"
 
 trim() { # trim "text": without leading and trailing blanks
