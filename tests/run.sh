@@ -53,7 +53,7 @@ gcc-float-avx2   | gcc   | float  | -O2 +avx2                    |              
 gcc-omp          | gcc   | double | -O1 +omp -DSPH_NO_INTRINSICS | OMP_NUM_THREADS=2 | test_*                     | -
 clang-double     | clang | double | -O0 +san +native             |                   | test_* test_neighbours:-O1 | test_* !test_op_fused test_neighbours:-O1
 clang-float      | clang | float  | -O0 +san                     |                   | test_* test_neighbours:-O1 | -
-clang-omp        | clang | double | -O2 +omp                     | OMP_NUM_THREADS=2 | test_extremes test_op_dispatch test_op_fused test_op_omp test_op_reference | -
+clang-omp        | clang | double | -O2 +omp                     | OMP_NUM_THREADS=2 | test_extremes test_op_dispatch test_op_fused test_op_omp test_op_reference test_pair_once | -
 gcc-reference    | gcc   | double | -O1 -DSPH_OP_REFERENCE       |                   | test_op_* !test_op_reference | -
 '
 # make check: every test, sanitised, for the host CPU, but the fused pass
@@ -78,7 +78,7 @@ gcc-reference    | gcc   | double | -O1 -DSPH_OP_REFERENCE       |              
 #                     not vectorise (-Wpass-failed, an error under -Werror): the units
 #                     that instantiate every operator loop (test_extremes,
 #                     test_op_dispatch, test_op_fused, test_op_reference), and
-#                     the OpenMP test
+#                     the OpenMP tests (operators, pair-once loops)
 #   gcc-reference     the operator tests on the reference loops alone (SPH_OP_REFERENCE)
 # Where the time goes: the operator tests are minutes of compiling and seconds
 # of running, and the sanitizers' instrumentation of the always-inlined
