@@ -1332,7 +1332,7 @@ static int probe_report(FILE *md, const pseries *meas, int nm, const pseries *si
     return missed;
 }
 
-static void probe_csv(const char *dir, const pseries *sim)
+static void probe_csv(const char *dir, const params *pm, const pseries *sim)
 {
     char path[1200];
     FILE *f;
@@ -1344,7 +1344,7 @@ static void probe_csv(const char *dir, const pseries *sim)
     }
     fprintf(f, "# dam break of Buchner (2002), column 2H x H, H = %g m, tank %g H; pressure at P1 (far wall, %g .. %g m), "
                "averaged over bins of %g\nT_t_sqrt_g_over_H,p_over_rhogH\n",
-            BUCHNER_H, BUCHNER_TANK, BUCHNER_P1_TOP - BUCHNER_P1_SIZE, BUCHNER_P1_TOP, PROBE_BIN);
+            BUCHNER_H, BUCHNER_TANK, pm->probe_y0, pm->probe_y1, PROBE_BIN);
     for (k = 0; k < sim->n; ++k) fprintf(f, "%.4f,%.5f\n", sim->T[k], sim->p[k]);
     fclose(f);
     printf("wrote %s\n", path);
@@ -1373,6 +1373,7 @@ int main(int argc, char **argv)
     params pm, def;
     char variant[256], label[4][64], path[1200];
     int check = 0, columns = 0, c, r, fail = 0, side = 0, refine = 0, probe = 0, nrun = 0, threads = 0, probe_res = 40;
+    double probe_top = BUCHNER_P1_TOP;
     const char *data = NULL, *report = NULL, *summary = NULL, *walls;
     mm_run runs[4];
     protocol pr[4];
@@ -1418,6 +1419,8 @@ int main(int argc, char **argv)
         {"probe", "instead: the wall-pressure probe of Buchner (2002), column 2H x H in a 5.366 H tank", NULL, NULL,
          NULL, &probe, 0, 0, 0, NULL},
         {"probe-res", "--probe: particles across the column height H", NULL, &probe_res, NULL, NULL, 10, 400, 0, NULL},
+        {"probe-top", "--probe: top edge of the 9 mm sensor on the far wall, m (Buchner's P1: 0.16)", &probe_top, NULL,
+         NULL, NULL, BUCHNER_P1_SIZE, BUCHNER_WALL * BUCHNER_H, 0, NULL},
         {"check", "the protocol at the default resolution, a x 2a to tau 2.5, a x a to 3.35; exit 1 on a miss", NULL,
          NULL, NULL, &check, 0, 0, 0, NULL},
     };
@@ -1476,6 +1479,8 @@ int main(int argc, char **argv)
     if (probe) {
         pseries meas[PROBE_SERIES], sim;
         history h;
+        char top_arg[64];
+        double arrival;
         int nm;
         snprintf(path, sizeof path, "%s/buchner2002_P1_pressure_digitised.csv", data);
         if ((nm = read_buchner(path, meas)) < PROBE_SERIES) {
@@ -1488,9 +1493,12 @@ int main(int argc, char **argv)
         pm.tank = BUCHNER_TANK / 2;
         pm.wall_h = BUCHNER_WALL;
         pm.end_tau = BUCHNER_END / sqrt(2.0);
-        pm.probe_y0 = BUCHNER_P1_TOP - BUCHNER_P1_SIZE, pm.probe_y1 = BUCHNER_P1_TOP;
+        pm.probe_y0 = probe_top - BUCHNER_P1_SIZE, pm.probe_y1 = probe_top;
+        top_arg[0] = '\0';
+        if (probe_top != BUCHNER_P1_TOP) snprintf(top_arg, sizeof top_arg, " --probe-top %g", probe_top);
         if (pm.out) {
-            snprintf(variant, sizeof variant, "buchner_res%d%s", probe_res, pm.stokes ? "" : "_nofriction");
+            snprintf(variant, sizeof variant, "buchner_res%d%s%s", probe_res, pm.stokes ? "" : "_nofriction",
+                     probe_top != BUCHNER_P1_TOP ? "_top" : "");
             run_dir(pm.out, variant, path, sizeof path);
             pm.out = path;
         }
@@ -1509,12 +1517,17 @@ int main(int argc, char **argv)
             return 2;
         }
         if (md)
-            fprintf(md, "Written by `dam_break --probe --probe-res %d%s`: %d particles across H, %ld steps, %.1f s on %d "
+            fprintf(md, "Written by `dam_break --probe --probe-res %d%s%s`: %d particles across H, %ld steps, %.1f s on %d "
                         "thread(s).\n",
-                    probe_res, pm.stokes ? "" : " --stokes 0", probe_res, h.steps, h.seconds, threads);
+                    probe_res, pm.stokes ? "" : " --stokes 0", top_arg, probe_res, h.steps, h.seconds, threads);
         fail = probe_report(md, meas, nm, &sim);
+        /* the surge front (measure) within one spacing of the far wall's face (setup: x = ceil(L / dx) dx) */
+        arrival = sqrt(2.0) * reach_time(&h, h.Z, (ceil(pm.tank * pm.a / (pm.a / pm.res)) - 1) / pm.res);
+        printf("surge front within one spacing of the far wall at t sqrt(g/H) = %.3f\n", arrival);
+        if (md) fprintf(md, "\nThe surge front (the layer's furthest particle on the floor) comes within one particle spacing "
+                            "of the far wall at t sqrt(g/H) = %.3f.\n", arrival);
         if (md) fclose(md);
-        if (pm.out) probe_csv(pm.out, &sim);
+        if (pm.out) probe_csv(pm.out, &pm, &sim);
         history_free(&h);
         return fail ? 1 : 0;
     }
