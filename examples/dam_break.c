@@ -125,13 +125,13 @@ typedef struct {
     int n, nf;          /* particles, of which fluid 0..nf-1, walls nf..n-1 */
     double a, n2;       /* column width a, height n2 a */
     double dx, h, c0, mass0;
-    double *x, *v, *rho, *p, *P, *m, *acc, *drho, *vh;
+    sph_real *x, *v, *rho, *p, *P, *m, *acc, *drho, *vh;
     sph_kernel k;
     double kappa, alpha, delta;
     double nu;     /* laminar kinematic viscosity (m^2/s), 0: none */
     int noslip;    /* walls: 1 no-slip (viscous term with the extrapolated wall velocity), 0 free slip */
     int front_k;   /* front: fluid neighbours a floor particle needs to count (measure) */
-    double *vw;    /* wall velocity for the viscous term (Adami et al. 2012) */
+    sph_real *vw;    /* wall velocity for the viscous term (Adami et al. 2012) */
     int stokes;    /* 1: friction of the unresolved laminar layer on the floor and back wall (wall_friction) */
     double xwall;  /* face of the far wall (the tank length) */
     int ncell;     /* floor cells of width dx ... */
@@ -144,9 +144,9 @@ typedef struct {
     sph_idx *index;
     sph_off capacity;
     sph_neighbours list;
-    double *W, *F; /* kernel of each listed pair, computed once per step (O1) */
+    sph_real *W, *F; /* kernel of each listed pair, computed once per step (O1) */
     double skin;   /* lists hold pairs within (kappa + skin) h ... */
-    double *x0;    /* ... and are rebuilt when a particle has moved skin h / 2 from x0 */
+    sph_real *x0;    /* ... and are rebuilt when a particle has moved skin h / 2 from x0 */
     long searches;
 } sim;
 
@@ -184,22 +184,22 @@ static void setup(sim *s, int res, double a, double n2, double tank_len, double 
         exit(1);
     s->nf = nx * ny;
     s->n = count;
-    s->x = (double *)xalloc(2 * (size_t)s->n, sizeof(double), "particle vectors");
-    s->v = (double *)xalloc(2 * (size_t)s->n, sizeof(double), "particle vectors");
-    s->vh = (double *)xalloc(2 * (size_t)s->n, sizeof(double), "particle vectors");
-    s->acc = (double *)xalloc(2 * (size_t)s->n, sizeof(double), "particle vectors");
-    s->rho = (double *)xalloc((size_t)s->n, sizeof(double), "particle scalars");
-    s->p = (double *)xalloc((size_t)s->n, sizeof(double), "particle scalars");
-    s->P = (double *)xalloc((size_t)s->n, sizeof(double), "particle scalars");
-    s->m = (double *)xalloc((size_t)s->n, sizeof(double), "particle scalars");
-    s->drho = (double *)xalloc((size_t)s->n, sizeof(double), "particle scalars");
-    s->vw = (double *)xalloc(2 * (size_t)s->n, sizeof(double), "particle vectors");
+    s->x = (sph_real *)xalloc(2 * (size_t)s->n, sizeof(sph_real), "particle vectors");
+    s->v = (sph_real *)xalloc(2 * (size_t)s->n, sizeof(sph_real), "particle vectors");
+    s->vh = (sph_real *)xalloc(2 * (size_t)s->n, sizeof(sph_real), "particle vectors");
+    s->acc = (sph_real *)xalloc(2 * (size_t)s->n, sizeof(sph_real), "particle vectors");
+    s->rho = (sph_real *)xalloc((size_t)s->n, sizeof(sph_real), "particle scalars");
+    s->p = (sph_real *)xalloc((size_t)s->n, sizeof(sph_real), "particle scalars");
+    s->P = (sph_real *)xalloc((size_t)s->n, sizeof(sph_real), "particle scalars");
+    s->m = (sph_real *)xalloc((size_t)s->n, sizeof(sph_real), "particle scalars");
+    s->drho = (sph_real *)xalloc((size_t)s->n, sizeof(sph_real), "particle scalars");
+    s->vw = (sph_real *)xalloc(2 * (size_t)s->n, sizeof(sph_real), "particle vectors");
     s->ncell = nfloor;
     s->xwall = nfloor * dx;
     s->wet = (double *)xalloc((size_t)nfloor, sizeof(double), "floor cells");
     for (i = 0; i < nfloor; ++i) s->wet[i] = i < nx ? 0 : -1; /* under the column: wet from the start */
     s->offset = (sph_off *)xalloc((size_t)s->n + 1, sizeof(sph_off), "neighbour-list offsets");
-    s->x0 = (double *)xalloc(2 * (size_t)s->n, sizeof(double), "particle vectors");
+    s->x0 = (sph_real *)xalloc(2 * (size_t)s->n, sizeof(sph_real), "particle vectors");
     for (j = 0; j < ny; ++j)
         for (i = 0; i < nx; ++i, ++c) {
             s->x[2 * c] = (i + 0.5) * dx;
@@ -244,7 +244,7 @@ static void search(sim *s)
         if (sqrt(moved) < 0.5 * s->skin * s->h) return;
     }
     ++s->searches;
-    memcpy(s->x0, s->x, 2 * sizeof(double) * (size_t)s->n);
+    memcpy(s->x0, s->x, 2 * sizeof(sph_real) * (size_t)s->n);
     size_t bytes;
     int st = sph_nsearch_workspace_size(2, xs, s->n, sph_view_none(), cell, NULL, &bytes);
     if (st == SPH_OK && bytes > s->work_bytes) {
@@ -264,8 +264,8 @@ static void search(sim *s)
         s->capacity = pairs + pairs / 4;
         s->index = (sph_idx *)xalloc((size_t)s->capacity, sizeof(sph_idx), "neighbour lists");
         free(s->W), free(s->F);
-        s->W = (double *)xalloc((size_t)s->capacity, sizeof(double), "pair kernels");
-        s->F = (double *)xalloc((size_t)s->capacity, sizeof(double), "pair kernels");
+        s->W = (sph_real *)xalloc((size_t)s->capacity, sizeof(sph_real), "pair kernels");
+        s->F = (sph_real *)xalloc((size_t)s->capacity, sizeof(sph_real), "pair kernels");
         st = sph_nsearch_fill(&s->g, xs, s->n, sph_view_none(), s->h, kappa, SPH_NSEARCH_GATHER, s->offset, s->index,
                               s->capacity);
     }
@@ -277,7 +277,7 @@ static void search(sim *s)
 }
 
 /* dx = x_i - x_j (O0, no periodic box). */
-static void delta(const sim *s, sph_idx i, sph_idx j, double *dx)
+static void delta(const sim *s, sph_idx i, sph_idx j, sph_real *dx)
 {
     dx[0] = s->x[2 * i] - s->x[2 * j];
     dx[1] = s->x[2 * i + 1] - s->x[2 * j + 1];
@@ -298,7 +298,7 @@ static void pair_kernels(sim *s)
         sph_off o;
         for (o = s->list.offset[i]; o < s->list.offset[i + 1]; ++o) {
             const sph_idx j = s->list.index[o];
-            double dx[2];
+            sph_real dx[2];
             sph_pair pr;
             delta(s, i, j, dx);
             if ((i >= s->nf && j >= s->nf) || dx[0] * dx[0] + dx[1] * dx[1] >= rmax2) {
@@ -316,7 +316,7 @@ static void pair_kernels(sim *s)
  * drho_i = -sum_j m_j (v_j - v_i) . x_ij F_ij          (O10, m_j for V_j)
  *          + delta h c0 * 2 sum_j V_j (rho_i - rho_j) F_ij   (O12, fluid pairs).
  * Wall particles take part with their velocity (zero). */
-static void continuity(sim *s, const double *vel)
+static void continuity(sim *s, const sph_real *vel)
 {
     sph_idx i;
 #ifdef _OPENMP
@@ -327,7 +327,7 @@ static void continuity(sim *s, const double *vel)
         sph_off o;
         for (o = s->list.offset[i]; o < s->list.offset[i + 1]; ++o) {
             const sph_idx j = s->list.index[o];
-            double dx[2];
+            sph_real dx[2];
             if (j == i) continue;
             delta(s, i, j, dx);
             d -= sph_pair_div_difference(2, s->m[j], vel + 2 * i, vel + 2 * j, s->F[o], dx);
@@ -343,7 +343,7 @@ static void continuity(sim *s, const double *vel)
  * clamped at 0 (no suction) and turned into a density by the inverse EOS.
  * Wall velocity for the viscous term (same paper, no-slip at a wall at rest):
  * v_w = -sum_f v_f W_wf / sum_f W_wf (fluid velocities vel). */
-static void wall_pressure(sim *s, const double *vel)
+static void wall_pressure(sim *s, const sph_real *vel)
 {
     sph_idx w;
 #ifdef _OPENMP
@@ -354,7 +354,7 @@ static void wall_pressure(sim *s, const double *vel)
         sph_off o;
         for (o = s->list.offset[w]; o < s->list.offset[w + 1]; ++o) {
             const sph_idx f = s->list.index[o];
-            double dx[2];
+            sph_real dx[2];
             if (f >= s->nf) continue;
             delta(s, w, f, dx);
             sw += sph_pair_interpolate(1, 1, s->W[o]);
@@ -376,7 +376,7 @@ static void wall_pressure(sim *s, const double *vel)
  * m_j Pi_ij grad_i W_ij), laminar viscosity nu lap v (Morris, Fox & Zhu 1997:
  * (O12) per component, V_j = m_j / rho_j; with no-slip walls also over the
  * wall particles with their velocity v_w), gravity. Returns max |a|. */
-static double momentum(sim *s, const double *vel)
+static double momentum(sim *s, const sph_real *vel)
 {
     double amax = 0;
     sph_idx i;
@@ -384,15 +384,18 @@ static double momentum(sim *s, const double *vel)
 #pragma omp parallel for schedule(static) reduction(max : amax)
 #endif
     for (i = 0; i < s->nf; ++i) {
-        double acc[2] = {0, 0}, visc[2] = {0, 0}, an;
+        sph_real acc[2] = {0, 0};
+        double visc[2] = {0, 0}, an;
         sph_off o;
         for (o = s->list.offset[i]; o < s->list.offset[i + 1]; ++o) {
             const sph_idx j = s->list.index[o];
-            double dx[2], Pi = 0;
+            sph_real dx[2];
+            double Pi = 0;
             if (j == i) continue;
             delta(s, i, j, dx);
             if (s->nu > 0 && (j < s->nf || s->noslip)) {
-                const double *vj = j < s->nf ? vel + 2 * j : s->vw + 2 * j, Vj = s->m[j] / s->rho[j];
+                const sph_real *vj = j < s->nf ? vel + 2 * j : s->vw + 2 * j;
+                const double Vj = s->m[j] / s->rho[j];
                 visc[0] += sph_pair_laplacian(Vj, vel[2 * i], vj[0], s->F[o]); /* (O12) */
                 visc[1] += sph_pair_laplacian(Vj, vel[2 * i + 1], vj[1], s->F[o]);
             }
@@ -425,7 +428,7 @@ static double momentum(sim *s, const double *vel)
  * fluid reached the particle's floor cell (since the release for the back
  * wall and the floor under the column), at least one time step. Only
  * physical constants: nu (water) and the real scale a. */
-static void wall_friction(sim *s, const double *vel, double t, double dt)
+static void wall_friction(sim *s, const sph_real *vel, double t, double dt)
 {
     sph_idx i;
     for (i = 0; i < s->nf; ++i) { /* floor cells reached by the fluid */
@@ -498,7 +501,7 @@ static double probe_pressure(const sim *s, double y0, double y1)
         double sw = 0, sp = 0;
         sph_idx i;
         for (i = 0; i < s->nf; ++i) {
-            double dx[2];
+            sph_real dx[2];
             sph_pair pr;
             dx[0] = s->xwall - s->x[2 * i];
             dx[1] = y - s->x[2 * i + 1];
