@@ -562,11 +562,6 @@ if [ "${EXTRAS:-1}" != 0 ]; then
         else
             echo "SKIPPED: nvcc compile check (nvcc is not on the PATH)"
         fi
-        # the examples a user copies also build in float (SPH_REAL=float), compiled only
-        enqueue "$(estimate checks/examples-float 100)" checks/examples-float checks check \
-            "examples/*.c but MPI in float (gcc -O2 -DSPH_REAL=float $WARN -c)" \
-            sh -c 'for f in examples/*.c; do case $f in *mpi_*) continue ;; esac
-                   echo "$f"; gcc -O2 '"$WARN"' -DSPH_REAL=float -c "$f" -o /dev/null || exit 1; done'
         # the timed build of make bench (-O3, where gcc's flow warnings differ from -O2's)
         if probe "gcc omp" openmp_runs gcc; then
             enqueue "$(estimate checks/bench 200)" checks/bench checks check \
