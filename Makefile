@@ -13,8 +13,9 @@
 #
 # Tree: examples/ what a user copies (quickstarts, solvers); bench/ timings and
 # size probes; studies/ the programs and gnuplot scripts that write the results
-# in docs/results/; support/ particle clouds shared by tests, bench and studies;
-# docs/ the reference pages. Every program includes "sph_kernel.h" with -I.
+# in docs/results/; support/ particle clouds shared by tests, bench and studies,
+# and the clock and median of the timing programs; docs/ the reference pages.
+# Every program includes "sph_kernel.h" with -I.
 CC      ?= cc
 CFLAGS  ?= -O2 -std=c99 -Wall -Wextra -pedantic -Werror
 LDLIBS  ?= -lm
@@ -53,11 +54,11 @@ $(BUILD)/%: examples/%.c sph_kernel.h
 	@mkdir -p $(BUILD)
 	$(CC) $(CFLAGS) -I. $< -o $@ $(LDLIBS)
 
-$(BUILD)/%: studies/%.c sph_kernel.h support/particles.h support/tank.h
+$(BUILD)/%: studies/%.c sph_kernel.h support/particles.h support/tank.h support/timing.h
 	@mkdir -p $(BUILD)
 	$(CC) $(CFLAGS) -I. $< -o $@ $(LDLIBS)
 
-$(BUILD)/%: bench/%.c sph_kernel.h support/particles.h
+$(BUILD)/%: bench/%.c sph_kernel.h support/particles.h support/timing.h
 	@mkdir -p $(BUILD)
 	$(CC) $(CFLAGS) -I. $< -o $@ $(LDLIBS)
 
@@ -268,11 +269,11 @@ BENCH_ARCH  ?= native
 BENCH_FLAGS := -O3 -march=$(BENCH_ARCH) -fopenmp -std=c99 -Wall -Wextra -pedantic -Werror -I.
 BENCH_PIN   := -DSPH_DIM=3 -DSPH_KERNEL=SPH_KERNEL_CUBIC
 
-$(BUILD)/bench/%_double.o: bench/benchmark.c sph_kernel.h
+$(BUILD)/bench/%_double.o: bench/benchmark.c sph_kernel.h support/timing.h
 	@mkdir -p $(BUILD)/bench
 	$(CC) $(BENCH_FLAGS) $(BENCH_$*) -c $< -o $@
 
-$(BUILD)/bench/%_float.o: bench/benchmark.c sph_kernel.h
+$(BUILD)/bench/%_float.o: bench/benchmark.c sph_kernel.h support/timing.h
 	@mkdir -p $(BUILD)/bench
 	$(CC) $(BENCH_FLAGS) -DSPH_REAL=float $(BENCH_$*) -c $< -o $@
 

@@ -18,13 +18,7 @@
 #include <time.h>
 
 #include "support/particles.h"
-
-static double now(void)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
-}
+#include "support/timing.h"
 
 static void run(const char *label, const sph_real *x, int n, sph_real h, sph_real kappa, double cell_over_R,
                 const sph_box *box, sph_idx *perm_out)
@@ -41,18 +35,18 @@ static void run(const char *label, const sph_real *x, int n, sph_real h, sph_rea
     memset(&g, 0, sizeof g); /* printed even when the build fails */
     sph_nsearch_workspace_size(3, v, n, sph_view_none(), cell, box, &bytes);
     work = malloc(bytes);
-    t0 = now();
+    t0 = tm_now();
     st = sph_nsearch_build(&g, 3, v, n, sph_view_none(), cell, box, work, bytes);
-    t1 = now();
+    t1 = tm_now();
     st |= sph_nsearch_count(&g, v, n, sph_view_none(), h, kappa, SPH_NSEARCH_GATHER, off);
-    t2 = now();
+    t2 = tm_now();
     cap = (sph_off)(1.2 * (double)off[n]);
     idx = (sph_idx *)malloc(sizeof(sph_idx) * (size_t)cap);
     st |= sph_nsearch_fill(&g, v, n, sph_view_none(), h, kappa, SPH_NSEARCH_GATHER, off, idx, off[n]);
-    t3 = now();
+    t3 = tm_now();
     st |= sph_nsearch_lists(&g, v, n, sph_view_none(), h, kappa, SPH_NSEARCH_GATHER, off, idx, cap,
                             &pairs);
-    t4 = now();
+    t4 = tm_now();
     st |= sph_nsearch_stats(&g, v, n, sph_view_none(), h, kappa, SPH_NSEARCH_GATHER, &pairs, &cand, NULL);
     printf("%-12s cell %.3f R  cells %7d  build %.4f s  count %.4f s  fill %.4f s  lists %.4f s  "
            "neighbours/particle %.1f  candidates/neighbour %.3f  workspace %.1f MB%s\n",

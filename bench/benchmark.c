@@ -38,25 +38,13 @@ int BENCH_PART(const sph_ctx *c, sph_view f, sph_out rho, sph_out grad)
 #endif
 
 #include "sph_kernel.h"
+#include "support/timing.h"
 
 typedef int (*dens_grad_fn)(const sph_ctx *, sph_view, sph_out, sph_out);
 #if defined(BENCH_LINK_PARTS)
 int bench_pinned(const sph_ctx *c, sph_view f, sph_out rho, sph_out grad);
 int bench_reference(const sph_ctx *c, sph_view f, sph_out rho, sph_out grad);
 #endif
-
-static double now(void)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
-}
-
-static int cmp_double(const void *a, const void *b)
-{
-    const double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
 
 /* ---- the scene ---- */
 typedef struct {
@@ -384,19 +372,13 @@ typedef struct {
 
 static const double *samples(const timings *T, int ti, int op) { return T->s + ((size_t)ti * T_COUNT + (size_t)op) * (size_t)T->reps; }
 
-static double median(double *v, int n)
-{
-    qsort(v, (size_t)n, sizeof(double), cmp_double);
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
 /* Median time of (ti, op). */
 static double med_time(const timings *T, int ti, int op)
 {
     double v[64];
     const int n = T->reps < 64 ? T->reps : 64;
     memcpy(v, samples(T, ti, op), (size_t)n * sizeof(double));
-    return median(v, n);
+    return tm_median(v, n);
 }
 
 /* Median over the repetitions of time(ti_a, a) / time(ti_b, b): the two were
@@ -413,7 +395,7 @@ static double med_ratio(const timings *T, int ti_a, int a, int ti_b, int b)
         if (x[r] <= 0 || y[r] <= 0) return 0;
         v[r] = x[r] / y[r];
     }
-    return median(v, n);
+    return tm_median(v, n);
 }
 
 /* One row of the ratio list: label, value, printf format, goal ("" if none). */
@@ -546,9 +528,9 @@ int main(int argc, char **argv)
 #if !defined(BENCH_LINK_PARTS)
                 if (op == T_PINNED || op == T_REFERENCE) continue;
 #endif
-                t0 = now();
+                t0 = tm_now();
                 run_op(&s, op, hbuf);
-                if (r >= 0) T.s[((size_t)ti * T_COUNT + (size_t)op) * (size_t)reps + (size_t)r] = now() - t0;
+                if (r >= 0) T.s[((size_t)ti * T_COUNT + (size_t)op) * (size_t)reps + (size_t)r] = tm_now() - t0;
             }
         }
     put_tables(stdout, 0, &T, pairs, s.n, side, (double)ncand / (double)npairs, (double)(s.h / s.dx));

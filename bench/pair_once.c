@@ -23,26 +23,7 @@
 #include <time.h>
 
 #include "support/particles.h"
-
-static int by_value(const void *a, const void *b)
-{
-    const double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
-/* Median of t[0..n-1] (sorts t). */
-static double median(double *t, int n)
-{
-    qsort(t, (size_t)n, sizeof(double), by_value);
-    return n % 2 ? t[n / 2] : 0.5 * (t[n / 2 - 1] + t[n / 2]);
-}
-
-static double now(void)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
-}
+#include "support/timing.h"
 
 /* Symmetric list at radius kappa hl into *off / *idx (malloc'd). */
 static int lists(const sph_real *x, int n, const sph_real *hl, const sph_box *box, sph_off **off, sph_idx **idx)
@@ -130,17 +111,17 @@ int main(int argc, char **argv)
     hidx = malloc(sizeof(sph_idx) * (size_t)off[n]), tpair = malloc(sizeof(sph_off) * (size_t)off[n]);
     buf = malloc(sizeof(sph_real) * 8 * (size_t)off[n]);
     if (!hoff || !toff || !hidx || !tpair || !buf) return 1;
-    tb = now();
+    tb = tm_now();
     st = sph_pairs_build(&full, hoff, hidx, off[n], toff, tpair, &pairs, &pr);
-    tb = now() - tb;
+    tb = tm_now() - tb;
     if (st != SPH_OK) return fprintf(stderr, "pairs: %s\n", sph_strerror(st)), 1;
     for (r = 0; r < reps; ++r) {
-        double t0 = now(), t1, t2, t3;
+        double t0 = tm_now(), t1, t2, t3;
         sph_ctx oc = sph_ctx_init(SPH_KERNEL_CUBIC, 3, 0, &full, sph_view_interleaved(x, 3));
         st = sph_gradh_forces(&c, sph_view_interleaved(v, 3), h, A, dv, du);
-        t1 = now();
+        t1 = tm_now();
         st |= sph_gradh_forces_pairs(&c, &pr, sph_view_interleaved(v, 3), h, A, buf, dv, du);
-        t2 = now();
+        t2 = tm_now();
         oc.box = &box;
         oc.h_source = sph_view_soa(h, NULL, NULL);
         oc.m = sph_view_soa(m, NULL, NULL);
@@ -149,11 +130,11 @@ int main(int argc, char **argv)
         oc.validate = SPH_VALIDATE_ARGS;
         st |= sph_gradient(&oc, SPH_SCHEME_PRESSURE, sph_view_soa(p, NULL, NULL), sph_view_none(),
                            sph_out_interleaved(dv, 3), NULL);
-        t3 = now();
+        t3 = tm_now();
         if (st != SPH_OK) return fprintf(stderr, "forces: %s\n", sph_strerror(st)), 1;
         t[0][r] = t1 - t0, t[1][r] = t2 - t1, t[2][r] = t3 - t2, t[3][r] = (t1 - t0) / (t2 - t1);
     }
-    for (i = 0; i < 4; ++i) med[i] = median(t[i], reps);
+    for (i = 0; i < 4; ++i) med[i] = tm_median(t[i], reps);
     printf("%d particles, %ld pairs (i < j), %.1f neighbours per particle, %s, median of %d\n", n, (long)pairs,
            (double)off[n] / n, sizeof(sph_real) == sizeof(float) ? "float" : "double", reps);
     printf("  grad-h force + du/dt, gather    (sph_gradh_forces)        %7.2f ns/pair\n", 1e9 * med[0] / (double)pairs);

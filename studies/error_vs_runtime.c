@@ -37,6 +37,7 @@
 #endif
 
 #include "sph_kernel.h"
+#include "support/timing.h"
 
 #define PI 3.14159265358979323846
 #define NK SPH_KERNEL_COUNT
@@ -101,13 +102,6 @@ static void push(table *t, const row *r)
         }
     }
     t->r[t->n++] = *r;
-}
-
-static double now_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
 /* ------------------------------------------------------------- fields */
@@ -344,12 +338,6 @@ static int op_error(const scene *s, int op, int fi, row *r)
     return 1;
 }
 
-static int cmp_double(const void *a, const void *b)
-{
-    const double x = *(const double *)a, y = *(const double *)b;
-    return x < y ? -1 : x > y;
-}
-
 /* median time of one call (sine field) over `repeats` batches; a batch
  * repeats the call until it has done at least 2e4 pairs, so short calls are
  * timed reliably. The output of the last call stays in s->out. */
@@ -361,13 +349,12 @@ static double op_time(scene *s, int op, int repeats, sph_idx *fallback)
     int r, b, st;
     if (repeats > 64) repeats = 64;
     for (r = 0; r < repeats; ++r) {
-        const double t0 = now_s();
+        const double t0 = tm_now();
         for (b = 0; b < batch; ++b)
             if ((st = op_call(s, op, FIELD_SINE, fallback))) fail("operator", st);
-        t[r] = (now_s() - t0) / batch;
+        t[r] = (tm_now() - t0) / batch;
     }
-    qsort(t, (size_t)repeats, sizeof(double), cmp_double);
-    return repeats % 2 ? t[repeats / 2] : 0.5 * (t[repeats / 2 - 1] + t[repeats / 2]);
+    return tm_median(t, repeats);
 }
 
 /* Every operator and field on one scene; rows appended to t. prev holds the
@@ -417,7 +404,7 @@ static double kernel_h(sph_kernel k, int dim, double h_ref, int equal_sigma)
 
 static void progress(const char *what, int dim, sph_kernel k, double t0)
 {
-    fprintf(stderr, "  %-8s %d-D %-12s %6.1f s (cpu %6.1f s)\n", what, dim, sph_kernel_name(k), now_s() - t0, (double)clock() / CLOCKS_PER_SEC);
+    fprintf(stderr, "  %-8s %d-D %-12s %6.1f s (cpu %6.1f s)\n", what, dim, sph_kernel_name(k), tm_now() - t0, (double)clock() / CLOCKS_PER_SEC);
 }
 
 static int arr_in(unsigned set, int arr) { return (set >> arr) & 1u; }
@@ -876,7 +863,7 @@ int main(int argc, char **argv)
     options o;
     table t = {NULL, 0, 0};
     int i, threads = 1;
-    double t0 = now_s();
+    double t0 = tm_now();
     char dir[1024];
     FILE *md;
     o.full = 0, o.check = 0, o.repeats = 5, o.repeats_sweep = 3, o.out = "docs/results";
@@ -985,9 +972,9 @@ int main(int argc, char **argv)
                     "- Plots: `gnuplot -e \"dir='docs/results/report'\" studies/report.gp` (run by `make report` when gnuplot "
                     "is installed).\n\n"
                     "Run time of this report: %.0f s wall clock, %.0f s processor time.\n",
-                (unsigned long)t.n, now_s() - t0, (double)clock() / CLOCKS_PER_SEC);
+                (unsigned long)t.n, tm_now() - t0, (double)clock() / CLOCKS_PER_SEC);
         fclose(md);
-        fprintf(stderr, "error_vs_runtime: %lu rows, %.1f s\n", (unsigned long)t.n, now_s() - t0);
+        fprintf(stderr, "error_vs_runtime: %lu rows, %.1f s\n", (unsigned long)t.n, tm_now() - t0);
     }
     free(t.r);
     return 0;
