@@ -551,6 +551,7 @@ typedef struct {
     int particles, fluid;
     long steps, searches;
     double seconds;
+    double wall; /* the far wall's face, x / a */
 } history;
 
 static void history_push(history *h, const double *row)
@@ -620,6 +621,7 @@ static void run(const params *pm, double n2, history *hist, int quiet)
     s.skin = pm->skin;
     setup(&s, pm->res, pm->a, n2, pm->tank * pm->a, pm->wall_h * n2 * pm->a, pm->hfac, pm->c0fac);
     hist->particles = s.n;
+    hist->wall = s.xwall / s.a;
     hist->fluid = s.nf;
     snprintf(label, sizeof label, "dam_break n^2=%g res %d", n2, pm->res);
     search(&s);
@@ -1482,6 +1484,7 @@ int main(int argc, char **argv)
     if (probe) {
         pseries meas[PROBE_SERIES], sim;
         history h;
+        const int moved = probe_top != BUCHNER_P1_TOP; /* the sensor off Buchner's P1 */
         char top_arg[64];
         double arrival;
         int nm;
@@ -1498,10 +1501,10 @@ int main(int argc, char **argv)
         pm.end_tau = BUCHNER_END / sqrt(2.0);
         pm.probe_y0 = probe_top - BUCHNER_P1_SIZE, pm.probe_y1 = probe_top;
         top_arg[0] = '\0';
-        if (probe_top != BUCHNER_P1_TOP) snprintf(top_arg, sizeof top_arg, " --probe-top %g", probe_top);
+        if (moved) snprintf(top_arg, sizeof top_arg, " --probe-top %g", probe_top);
         if (pm.out) {
             snprintf(variant, sizeof variant, "buchner_res%d%s%s", probe_res, pm.stokes ? "" : "_nofriction",
-                     probe_top != BUCHNER_P1_TOP ? "_top" : "");
+                     moved ? "_top" : "");
             run_dir(pm.out, variant, path, sizeof path);
             pm.out = path;
         }
@@ -1524,8 +1527,8 @@ int main(int argc, char **argv)
                         "thread(s).\n",
                     probe_res, pm.stokes ? "" : " --stokes 0", top_arg, probe_res, h.steps, h.seconds, threads);
         fail = probe_report(md, meas, nm, &sim);
-        /* the surge front (measure) within one spacing of the far wall's face (setup: x = ceil(L / dx) dx) */
-        arrival = sqrt(2.0) * reach_time(&h, h.Z, (ceil(pm.tank * pm.a / (pm.a / pm.res)) - 1) / pm.res);
+        /* the surge front (measure) within one spacing (a / res) of the far wall's face */
+        arrival = sqrt(2.0) * reach_time(&h, h.Z, h.wall - 1.0 / pm.res);
         printf("surge front within one spacing of the far wall at t sqrt(g/H) = %.3f\n", arrival);
         if (md) fprintf(md, "\nThe surge front (the layer's furthest particle on the floor) comes within one particle spacing "
                             "of the far wall at t sqrt(g/H) = %.3f.\n", arrival);
