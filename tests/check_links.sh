@@ -8,7 +8,7 @@ cd "$(dirname "$0")/.." || exit 2
 bad=0
 checked=0
 list=$(mktemp) || exit 2
-trap 'rm -f "$list"' EXIT
+trap 'rm -f "$list" "$list.links"' EXIT
 find . -name '*.md' -not -path './.git/*' -not -path './build/*' > "$list"
 while IFS= read -r md; do
     dir=$(dirname "$md")
@@ -28,7 +28,6 @@ while IFS= read -r md; do
         fi
     done < "$list.links"
 done < "$list"
-rm -f "$list.links"
 if [ "$bad" -gt 0 ]; then
     echo "tests/check_links.sh: $bad of $checked relative links broken"
     exit 1
