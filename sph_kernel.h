@@ -1,5 +1,6 @@
-/* sph_kernel.h - Smoothed Particle Hydrodynamics kernels and kernel-sum operators
- * in one C99 header. MIT licence (see the end of this file and LICENSE).
+/* sph_kernel.h - Smoothed Particle Hydrodynamics in one C99 header: kernels,
+ * operators over neighbour lists, neighbour search, solver terms and adaptive
+ * smoothing length. MIT licence (see the end of this file and LICENSE).
  *
  * ==== USAGE ================================================================
  *
