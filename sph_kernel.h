@@ -1,5 +1,6 @@
-/* sph_kernel.h - Smoothed Particle Hydrodynamics kernels and kernel-sum operators
- * in one C99 header. MIT licence (see the end of this file and LICENSE).
+/* sph_kernel.h - Smoothed Particle Hydrodynamics in one C99 header: kernels,
+ * operators over neighbour lists, neighbour search, solver terms and adaptive
+ * smoothing length. MIT licence (see the end of this file and LICENSE).
  *
  * ==== USAGE ================================================================
  *
@@ -149,7 +150,7 @@
  *   sph_nsearch_count(&g, xt, n_t, ht, h, kappa, mode, offset)     list lengths (N1)/(N2)
  *   sph_nsearch_fill(&g, xt, n_t, ht, h, kappa, mode, offset, index, cap)  the lists
  *   sph_nsearch_lists(&g, ..., offset, index, cap, &pairs)  count and fill in one search
- *   sph_nsearch_stats(&g, ..., &pairs, &candidates)         pairs and checks, no lists
+ *   sph_nsearch_stats(&g, ..., &pairs, &candidates, &fill)  pairs, checks, grid fill; no lists
  *   sph_nsearch_list(&g, n_t, offset, index)     the sph_neighbours view of the lists
  *   sph_nsearch_permutation(&g, perm)            sources in cell order (N5)
  *   sph_permutation_invert(perm, n, inv)         inverse permutation (N6)
@@ -164,6 +165,7 @@
  *   sph_pair_wall(dim, W, p_f, rho_f, v_f, g_eff, dx, sum)    sums of a wall particle (S8)
  *   sph_wall_end(dim, slip, sum, v_wall, &p_w, v_w)          its pressure and velocity (S8)
  *   sph_dt_coef_default()                        C of the time-step limits (S9)-(S12)
+ *   sph_dt_reason_name(reason)                   "cfl", "force", ...: the limit that holds
  *   sph_dt_limit(&coef, h, vsig, |a|, nu, D, &reason)        one particle's dt (S9)-(S12)
  *   sph_artificial_viscosity(c, &av, v, v_t, cs, cs_t, acc, dudt, vsig)   (S1)-(S4)
  *   sph_viscosity(c, kind, mu_or_nu, coef_t, v, v_t, acc)    (S5)
@@ -3937,8 +3939,9 @@ SPH__INLINE sph_real sph__w_approach(int dim, const sph_real *dx, const sph_real
 }
 
 /* (S2) signal velocity v_sig,ij = c_i + c_j - beta w_ij, w_ij = min(0,
- * v_ij . x_ij / r) (Monaghan 1997; Price 2012): the speed in the CFL limit
- * (S9) and in the signal-velocity viscosity (S3). */
+ * v_ij . x_ij / r) (Monaghan 1997; Price 2012): the speed of the
+ * signal-velocity viscosity (S3), and of the CFL limit (S9) with C_cfl = 0.5
+ * (it counts two sound speeds; see sph_dt_coef). */
 SPH_API sph_real sph_pair_signal_velocity(int dim, sph_real beta, sph_real c_i, sph_real c_j, const sph_real *dx,
                                           const sph_real *dv)
 {
@@ -4039,20 +4042,44 @@ SPH_API int sph_wall_end(int dim, sph_wall_slip slip, const sph_real *sum, const
     return ok;
 }
 
-/* Reasons of the time-step limit (S9)-(S12), as sph_dt_limit returns them. */
+/* One list generates the reasons of the time-step limit (S9)-(S12), as
+ * sph_dt_limit and sph_time_step return them, and their names
+ * (sph_dt_reason_name): X(name, value, identifier, limit). */
+#define SPH_DT_REASON_LIST(X) \
+    X(SPH_DT_NONE, 0, "none", "no limit applied (every rate 0)") \
+    X(SPH_DT_CFL, 1, "cfl", "(S9) C_cfl h / v_sig") \
+    X(SPH_DT_FORCE, 2, "force", "(S10) C_force sqrt(h / |a|)") \
+    X(SPH_DT_VISCOUS, 3, "viscous", "(S11) C_visc h^2 / nu") \
+    X(SPH_DT_DIFFUSION, 4, "diffusion", "(S12) C_diff h^2 / D") \
+    X(SPH_DT_INVALID, -1, "invalid", "h not positive and finite, or a rate negative or not finite")
+
 typedef enum {
-    SPH_DT_NONE = 0,      /* no limit applied (every rate 0) */
-    SPH_DT_CFL = 1,       /* (S9)  C_cfl h / v_sig */
-    SPH_DT_FORCE = 2,     /* (S10) C_force sqrt(h / |a|) */
-    SPH_DT_VISCOUS = 3,   /* (S11) C_visc h^2 / nu */
-    SPH_DT_DIFFUSION = 4, /* (S12) C_diff h^2 / D */
-    SPH_DT_INVALID = -1   /* h not positive and finite, or a rate negative or not finite */
+#define SPH__DT_REASON_ENUM(name, value, id, limit) name = value,
+    SPH_DT_REASON_LIST(SPH__DT_REASON_ENUM)
+#undef SPH__DT_REASON_ENUM
 } sph_dt_reason;
 
-/* Coefficients of (S9)-(S12): sph_dt_coef_default() gives C_cfl = 0.25,
- * C_force = 0.25, C_visc = 0.125 (Morris, Fox & Zhu 1997;
- * Monaghan 1992), C_diff = 0.125 (the same stability bound for any
- * diffusivity). With the signal velocity (S2) Price (2012) takes C_cfl = 0.3. */
+/* The identifier of a time-step reason ("cfl", "force", ...) for a log
+ * line; "unknown" for a value that is no reason; never NULL. */
+SPH_API const char *sph_dt_reason_name(int reason)
+{
+    switch (reason) {
+#define SPH__DT_REASON_CASE(name, value, id, limit) \
+    case name: return id;
+        SPH_DT_REASON_LIST(SPH__DT_REASON_CASE)
+#undef SPH__DT_REASON_CASE
+    default: return "unknown";
+    }
+}
+
+/* Coefficients of (S9)-(S12). sph_dt_coef_default() gives C_force = 0.25
+ * (Monaghan 1992), C_visc = 0.125 (Morris, Fox & Zhu 1997), C_diff = 0.125
+ * (the same bound for any diffusivity) and C_cfl = 0.25 for a one-particle
+ * speed, v_sig = c_i + |v_i|: dt = 0.25 h / (c + |v|) (Morris et al. 1997),
+ * the examples' rule. The pair signal velocity (S2) that
+ * sph_artificial_viscosity writes counts both sound speeds (2 c at rest):
+ * give it C_cfl = 0.5 for the same step (0.25 would halve it).
+ * docs/solver.md, "Time step". */
 typedef struct {
     sph_real cfl, force, viscous, diffusion;
 } sph_dt_coef;
@@ -4366,7 +4393,7 @@ typedef struct {
     sph_dt_coef coef;     /* the C of each limit */
     sph_real h;           /* uniform h (when h_particle is absent) */
     sph_view h_particle;  /* per-particle h */
-    sph_view vsig;        /* signal velocity (S2), or c + |v| */
+    sph_view vsig;        /* speed of (S9): c + |v| (coef.cfl 0.25), or (S2) (coef.cfl 0.5) */
     sph_view acc;         /* acceleration (dim components): |a| */
     sph_real nu;          /* uniform kinematic viscosity */
     sph_view nu_particle; /* per-particle kinematic viscosity */

@@ -181,7 +181,8 @@ static inline int tank_step(tank *t, double *dt_out)
     sph_real dt = 0;
     int i, st, why;
     double d2 = 0;
-    in.vsig = sph_view_soa(t->vs, NULL, NULL);
+    in.vsig = sph_view_soa(t->vs, NULL, NULL); /* (S2): two sound speeds, so C_cfl 0.5 (docs/solver.md) */
+    in.coef.cfl = (sph_real)0.5;
     in.acc = sph_view_interleaved(t->a, 2);
     st = sph_time_step(&in, 2, t->nf, &dt, &why, NULL);
     if (st != SPH_OK) return st;

@@ -126,7 +126,7 @@ static void test_tank(void)
     tank t;
     int step, st;
     double time = 0, dt = 0, vmax = 0, perr = 0, pwerr = 0, vend = 0;
-    const int nx = 10, ny = 12, steps = 1500;
+    const int nx = 10, ny = 12, steps = 750;
     th_begin("(S8) hydrostatic 2D tank, %dx%d fluid particles, %d kick-drift-kick steps: p = rho0 g depth, at rest", nx,
              ny, steps);
     st = tank_make(&t, nx, ny) == 0 ? tank_momentum(&t, t.v) : SPH_ESIZE;
