@@ -43,8 +43,8 @@ check:
 # builds each (gcc -O2, OpenMP where gcc has it) and runs it with its
 # arguments, CHECK_ARGS_<name> (default --check); one case each.
 CHECK_EXAMPLES := examples/cloud_quickstart examples/dam_break examples/taylor_green \
-                  examples/heat_conduction examples/sod_shock studies/error_vs_runtime studies/stability \
-                  studies/hydrostatic_tank
+                  examples/heat_conduction examples/sod_shock examples/smoothing_length_quickstart \
+                  studies/error_vs_runtime studies/stability studies/hydrostatic_tank
 CHECK_ARGS     := --check
 
 print-check-examples:

@@ -183,7 +183,9 @@
  *   sph_gradh_forces(c, v, h, A, dvdt, dudt)     (H5), (H6), gather form
  *   sph_pairs_build(full, offset, index, cap, t_offset, t_slot, &pairs, &P)  half list + transpose (H8)
  *   sph_pairs_reduce(&P, ncomp, to_i, to_j, out) per-particle sums of per-pair terms (H8)
- *   sph_gradh_forces_pairs(c, &P, v, h, A, buf, dvdt, dudt)  (H5), (H6), pair-once
+ *   sph_pairs_buffer_len(ncomp, pairs)           reals of the two per-pair buffers of sph_pairs_reduce
+ *   sph_gradh_pairs_buffer_len(dim, pairs)       reals of the buffer of sph_gradh_forces_pairs
+ *   sph_gradh_forces_pairs(c, &P, v, h, A, buf, buf_len, dvdt, dudt)  (H5), (H6), pair-once
  *
  * ==== EQUATION LABELS (comments cite docs/ by these) ========================
  *   (K1)-(K8)   kernel quantities, docs/kernels.md section 1: W, F, dW/dr,
@@ -1021,6 +1023,9 @@ SPH_API sph_out sph_out_aos(sph_real *first, int ncomp, size_t stride_bytes)
     return sph__out_of(sph_view_aos(first, ncomp, stride_bytes));
 }
 
+/* Component a of particle i of a view or an output view (sections 6 and 9). */
+#define SPH__AT(v, a, i) ((v).p[a][(ptrdiff_t)(i) * (v).stride])
+
 /* ======================================================================== */
 /* 5. Pair terms                                                             */
 /* ======================================================================== */
@@ -1376,8 +1381,6 @@ SPH_API int sph_neighbours_check(const sph_neighbours *list)
     return SPH_OK;
 }
 
-
-#define SPH__AT(v, a, i) ((v).p[a][(ptrdiff_t)(i) * (v).stride])
 
 /* The operators and the family of loops that computes each: one list makes
  * the enum and the fast path's instances. */
@@ -4489,7 +4492,14 @@ SPH_API int sph_time_step(const sph_dt_input *in, int dim, sph_idx n, sph_real *
  * per-pair buffers; sph_pairs_reduce sums each particle's entries in a fixed
  * order (its own row, then its slots), reading both buffers in sequence (H8): every pair evaluated once, no two threads
  * writing one particle, and the result bitwise the same for any number of
- * OpenMP threads. */
+ * OpenMP threads.
+ *
+ * Data: per-particle fields are views, as sections 6-8 take them (section
+ * 4: structure-of-arrays, interleaved or array-of-structs alike): sph_view
+ * for what is read (x, m, h_list in the context; v, h, A), sph_out for what
+ * is written (h, rho, Omega, dv/dt, du/dt). The per-pair buffers and the
+ * output of sph_pairs_reduce (up to 16 components) are raw interleaved
+ * arrays, sized by sph_pairs_buffer_len and sph_gradh_pairs_buffer_len. */
 
 /* Per-particle outcome of sph_h_solve. */
 enum {
@@ -4689,9 +4699,10 @@ SPH_API int sph__h_particle(const sph_hctx *c, const sph__kdim *kd, const sph__p
 
 /* (H1)-(H4): solves h_i and rho_i together for every particle, from the
  * guesses in h (positive, finite; one above h_list_i starts at h_list_i),
- * and writes h, rho, Omega (each [n]); iterations and state (optional,
- * [n]): the density sums and SPH_H_* of each particle; report (optional):
- * the totals. Returns SPH_OK (check report or state for particles not
+ * and writes h, rho, Omega (one component each, any layout: h is read for
+ * the guess and overwritten); iterations and state (optional, int [n]): the
+ * density sums and SPH_H_* of each particle; report (optional): the
+ * totals. Returns SPH_OK (check report or state for particles not
  * converged or beyond their list) or SPH_ENULL, SPH_EKERNEL, SPH_EDIM,
  * SPH_ESIZE, SPH_EINDEX, SPH_EINVAL (eta^d <= alpha_d w(0): no solution;
  * eta, tol not positive and finite, max_iter < 1, a bad box or list),
@@ -4699,7 +4710,7 @@ SPH_API int sph__h_particle(const sph_hctx *c, const sph__kdim *kd, const sph__p
  * position or a mass not positive and finite), before anything is written.
  * Parallel over particles under OpenMP; the same result for any thread
  * count. */
-SPH_API int sph_h_solve(const sph_hctx *c, sph_real *h, sph_real *rho, sph_real *omega, int *iterations, int *state,
+SPH_API int sph_h_solve(const sph_hctx *c, sph_out h, sph_out rho, sph_out omega, int *iterations, int *state,
                         sph_hreport *report)
 {
     const sph__kdim *kd;
@@ -4709,7 +4720,7 @@ SPH_API int sph_h_solve(const sph_hctx *c, sph_real *h, sph_real *rho, sph_real 
     int st = sph__hctx_check(c), mx = 0, a;
     if (st != SPH_OK) return st;
     n = c->list->n_targets;
-    if (n > 0 && (h == NULL || rho == NULL || omega == NULL)) return SPH_ENULL;
+    if (n > 0 && (h.p[0] == NULL || rho.p[0] == NULL || omega.p[0] == NULL)) return SPH_ENULL;
     kd = sph__kd(c->kernel, c->dim);
     if (!(c->eta > 0 && c->eta <= SPH__REAL_MAX) || !(c->tol > 0 && c->tol <= SPH__REAL_MAX) || c->max_iter < 1 ||
         !(sph__hpow(1, c->eta, c->dim) > kd->alpha * (sph_real)sph__shape_at(&sph__nshapes[kd->shape], SPH__SW, 0)))
@@ -4717,7 +4728,7 @@ SPH_API int sph_h_solve(const sph_hctx *c, sph_real *h, sph_real *rho, sph_real 
     if (c->h_list.p[0] == NULL && !sph__h_ok(c->h_list_max, c->dim)) return SPH_EH;
     for (i = 0; i < n; ++i) {
         const sph_real mi = c->m.p[0][(ptrdiff_t)i * c->m.stride];
-        if (!sph__h_ok(h[i], c->dim)) return SPH_EH;
+        if (!sph__h_ok(SPH__AT(h, 0, i), c->dim)) return SPH_EH;
         if (c->h_list.p[0] != NULL && !sph__h_ok(c->h_list.p[0][(ptrdiff_t)i * c->h_list.stride], c->dim))
             return SPH_EH;
         if (!(mi > 0 && mi <= SPH__REAL_MAX)) return SPH_ENONFINITE;
@@ -4730,8 +4741,12 @@ SPH_API int sph_h_solve(const sph_hctx *c, sph_real *h, sph_real *rho, sph_real 
 #endif
     for (i = 0; i < n; ++i) {
         const sph_real hl = c->h_list.p[0] != NULL ? c->h_list.p[0][(ptrdiff_t)i * c->h_list.stride] : c->h_list_max;
+        sph_real hi = SPH__AT(h, 0, i), ri = 0, oi = 1;
         int it = 0;
-        const int s = sph__h_particle(c, kd, &P, i, hl, &h[i], &rho[i], &omega[i], &it);
+        const int s = sph__h_particle(c, kd, &P, i, hl, &hi, &ri, &oi, &it);
+        SPH__AT(h, 0, i) = hi;
+        SPH__AT(rho, 0, i) = ri;
+        SPH__AT(omega, 0, i) = oi;
         if (iterations != NULL) iterations[i] = it;
         if (state != NULL) state[i] = s;
         nnc += s == SPH_H_NOT_CONVERGED;
@@ -4777,20 +4792,20 @@ SPH_API sph_real sph_pair_gradh_energy(int dim, sph_real m_j, sph_real A_i, sph_
     return m_j * A_i * F_i * s;
 }
 
-/* Checks the arrays of the forces: h usable, A finite, v present when du/dt is asked for. */
-SPH_API int sph__gradh_check(const sph_hctx *c, sph_view v, const sph_real *h, const sph_real *A, sph_real *dvdt,
-                             sph_real *dudt)
+/* Checks the arrays of the forces: h usable, A finite, dv/dt present, v
+ * present when du/dt is asked for (dudt.p[0] not NULL). */
+SPH_API int sph__gradh_check(const sph_hctx *c, sph_view v, sph_view h, sph_view A, sph_out dvdt, sph_out dudt)
 {
     sph_idx i, n;
     int a, st = sph__hctx_check(c);
     if (st != SPH_OK) return st;
     n = c->list->n_targets;
-    if (n > 0 && (h == NULL || A == NULL || dvdt == NULL)) return SPH_ENULL;
-    for (a = 0; dudt != NULL && n > 0 && a < c->dim; ++a)
-        if (v.p[a] == NULL) return SPH_ENULL;
+    if (n > 0 && (h.p[0] == NULL || A.p[0] == NULL)) return SPH_ENULL;
+    for (a = 0; n > 0 && a < c->dim; ++a)
+        if (dvdt.p[a] == NULL || (dudt.p[0] != NULL && v.p[a] == NULL)) return SPH_ENULL;
     for (i = 0; i < n; ++i) {
-        if (!sph__h_ok(h[i], c->dim)) return SPH_EH;
-        if (!sph__finite(A[i])) return SPH_ENONFINITE;
+        if (!sph__h_ok(SPH__AT(h, 0, i), c->dim)) return SPH_EH;
+        if (!sph__finite(SPH__AT(A, 0, i))) return SPH_ENONFINITE;
     }
     return SPH_OK;
 }
@@ -4800,15 +4815,15 @@ SPH_API int sph__gradh_check(const sph_hctx *c, sph_view v, const sph_real *h, c
  * at the particles' own h (1 / h_i given: one division per pair). */
 SPH__INLINE void sph__gradh_pair(const sph_hctx *c, const sph__kdim *kd, const sph__period *P, const sph_real *xi,
                                  sph_real hiinv, sph_real Ai, const sph_real *vi, sph_idx j, sph_view v,
-                                 const sph_real *h, const sph_real *A, int want_e, sph_real *dx, sph_real *cf,
-                                 sph_real *Fi, sph_real *Fj)
+                                 sph_view h, sph_view A, int want_e, sph_real *dx, sph_real *cf, sph_real *Fi,
+                                 sph_real *Fj)
 {
     const sph__nshape *s = &sph__nshapes[kd->shape];
-    const sph_real r = sph__sqrt(sph__h_dx(P, c->dim, xi, c->x, j, dx)), hjinv = 1 / h[j];
+    const sph_real r = sph__sqrt(sph__h_dx(P, c->dim, xi, c->x, j, dx)), hjinv = 1 / SPH__AT(h, 0, j);
     int a;
     *Fi = sph__hpow(kd->alpha * sph__nshape_g(s, r * hiinv), hiinv, c->dim + 2);
     *Fj = sph__hpow(kd->alpha * sph__nshape_g(s, r * hjinv), hjinv, c->dim + 2);
-    *cf = Ai * *Fi + A[j] * *Fj;
+    *cf = Ai * *Fi + SPH__AT(A, 0, j) * *Fj;
     if (want_e) {
         sph_real e = 0;
         for (a = 0; a < c->dim; ++a) e += (vi[a] - v.p[a][(ptrdiff_t)j * v.stride]) * dx[a];
@@ -4818,15 +4833,17 @@ SPH__INLINE void sph__gradh_pair(const sph_hctx *c, const sph__kdim *kd, const s
 }
 
 /* (H5), (H6) in gather form: every pair visited from both rows.
- * dvdt[dim i + a] = -sum_j m_j (A_i F_i + A_j F_j) x_ij,a and, when dudt
- * is not NULL, dudt[i] = A_i sum_j m_j F_i v_ij . x_ij, over a symmetric
- * list (each pair in both rows, or the sums miss what the other side sees)
- * with A from sph_gradh_factor. h [n], A [n]; v read only for dudt.
- * Returns SPH_OK or a status of sph_h_solve's kinds, nothing written then. */
-SPH_API int sph_gradh_forces(const sph_hctx *c, sph_view v, const sph_real *h, const sph_real *A, sph_real *dvdt,
-                             sph_real *dudt)
+ * dvdt component a of i = -sum_j m_j (A_i F_i + A_j F_j) x_ij,a and, when
+ * dudt is present (dudt.p[0] not NULL), dudt_i = A_i sum_j m_j F_i v_ij .
+ * x_ij, over a symmetric list (each pair in both rows, or the sums miss
+ * what the other side sees) with A from sph_gradh_factor. h, A: one
+ * component; v (dim components) read only for dudt; any layout, as the
+ * views of section 6. Returns SPH_OK or a status of sph_h_solve's kinds,
+ * nothing written then. */
+SPH_API int sph_gradh_forces(const sph_hctx *c, sph_view v, sph_view h, sph_view A, sph_out dvdt, sph_out dudt)
 {
     const sph__kdim *kd;
+    const int want_u = dudt.p[0] != NULL;
     sph__period P;
     sph_idx i, n;
     int st = sph__gradh_check(c, v, h, A, dvdt, dudt);
@@ -4839,21 +4856,21 @@ SPH_API int sph_gradh_forces(const sph_hctx *c, sph_view v, const sph_real *h, c
 #endif
     for (i = 0; i < n; ++i) {
         sph_real xi[3], vi[3] = {0, 0, 0}, acc[3] = {0, 0, 0}, du = 0, dx[3], cf, Fi, Fj;
-        const sph_real hiinv = 1 / h[i];
+        const sph_real hiinv = 1 / SPH__AT(h, 0, i), Ai = SPH__AT(A, 0, i);
         sph_off o;
         int a;
         sph__h_xi(c->x, c->dim, i, xi);
-        if (dudt != NULL) sph__h_xi(v, c->dim, i, vi);
+        if (want_u) sph__h_xi(v, c->dim, i, vi);
         for (o = c->list->offset[i]; o < c->list->offset[i + 1]; ++o) {
             const sph_idx j = c->list->index[o];
             const sph_real mj = c->m.p[0][(ptrdiff_t)j * c->m.stride];
             if (j == i) continue;
-            sph__gradh_pair(c, kd, &P, xi, hiinv, A[i], vi, j, v, h, A, dudt != NULL, dx, &cf, &Fi, &Fj);
+            sph__gradh_pair(c, kd, &P, xi, hiinv, Ai, vi, j, v, h, A, want_u, dx, &cf, &Fi, &Fj);
             sph__axpy(c->dim, mj * cf, dx, acc);
             du += mj * Fi;
         }
-        for (a = 0; a < c->dim; ++a) dvdt[(ptrdiff_t)c->dim * i + a] = -acc[a];
-        if (dudt != NULL) dudt[i] = A[i] * du;
+        for (a = 0; a < c->dim; ++a) SPH__AT(dvdt, a, i) = -acc[a];
+        if (want_u) SPH__AT(dudt, 0, i) = Ai * du;
     }
     return SPH_OK;
 }
@@ -4927,10 +4944,43 @@ SPH_API int sph_pairs_build(const sph_neighbours *full, sph_off *offset, sph_idx
     return SPH_OK;
 }
 
+/* Reals of the two per-pair buffers of a pair loop with ncomp values per
+ * pair (to_i and to_j of sph_pairs_reduce, ncomp pairs reals each): 2 ncomp
+ * pairs. 0 for ncomp outside 1..16, pairs negative or the count beyond the
+ * range of sph_off. */
+SPH_API sph_off sph_pairs_buffer_len(int ncomp, sph_off pairs)
+{
+    return ncomp >= 1 && ncomp <= 16 && pairs >= 0 && pairs <= INT64_MAX / 32 ? 2 * (sph_off)ncomp * pairs : 0;
+}
+
+/* Reals of the buffer of sph_gradh_forces_pairs: dim + 1 values per pair
+ * (dv/dt and du/dt), 2 (dim + 1) pairs; 0 for dim outside 1..3. */
+SPH_API sph_off sph_gradh_pairs_buffer_len(int dim, sph_off pairs)
+{
+    return dim >= 1 && dim <= 3 ? sph_pairs_buffer_len(dim + 1, pairs) : 0;
+}
+
+/* (H8) for particle i: s[a] = the sum over the pairs k of row i of
+ * to_i[ncomp k + a], then over the slots t of i of to_j[ncomp t + a]. */
+SPH__INLINE void sph__pairs_sum(const sph_pairs *P, int ncomp, const sph_real *to_i, const sph_real *to_j, sph_idx i,
+                                sph_real *s)
+{
+    sph_off k, t;
+    int a;
+    for (a = 0; a < ncomp; ++a) s[a] = 0;
+    for (k = P->half.offset[i]; k < P->half.offset[i + 1]; ++k)
+        for (a = 0; a < ncomp; ++a) s[a] += to_i[(ptrdiff_t)ncomp * k + a];
+    for (t = P->t_offset[i]; t < P->t_offset[i + 1]; ++t)
+        for (a = 0; a < ncomp; ++a) s[a] += to_j[(ptrdiff_t)ncomp * t + a];
+}
+
 /* (H8) out[ncomp i + a] = sum over the pairs k of row i of to_i[ncomp k + a]
  * + sum over the slots t of i of to_j[ncomp t + a], in that order: pair k =
- * (i, j) adds to_i[k] to i and to_j[t_slot[k]] to j. ncomp 1..16. Parallel
- * over particles; bitwise the same for any thread count. */
+ * (i, j) adds to_i[k] to i and to_j[t_slot[k]] to j. ncomp 1..16; to_i and
+ * to_j hold ncomp pairs reals each (sph_pairs_buffer_len for both). out is
+ * an interleaved array (ncomp reals per particle), not a view: a view holds
+ * at most 3 components, a pair loop often sums more (sod_shock.c: 5).
+ * Parallel over particles; bitwise the same for any thread count. */
 SPH_API int sph_pairs_reduce(const sph_pairs *P, int ncomp, const sph_real *to_i, const sph_real *to_j, sph_real *out)
 {
     sph_idx i, n;
@@ -4944,27 +4994,25 @@ SPH_API int sph_pairs_reduce(const sph_pairs *P, int ncomp, const sph_real *to_i
 #endif
     for (i = 0; i < n; ++i) {
         sph_real s[16];
-        sph_off k, t;
         int a;
-        for (a = 0; a < ncomp; ++a) s[a] = 0;
-        for (k = P->half.offset[i]; k < P->half.offset[i + 1]; ++k)
-            for (a = 0; a < ncomp; ++a) s[a] += to_i[(ptrdiff_t)ncomp * k + a];
-        for (t = P->t_offset[i]; t < P->t_offset[i + 1]; ++t)
-            for (a = 0; a < ncomp; ++a) s[a] += to_j[(ptrdiff_t)ncomp * t + a];
+        sph__pairs_sum(P, ncomp, to_i, to_j, i, s);
         for (a = 0; a < ncomp; ++a) out[(ptrdiff_t)ncomp * i + a] = s[a];
     }
     return SPH_OK;
 }
 
-/* (H5), (H6) pair-once over the half list of sph_pairs_build (same
- * arguments and results as sph_gradh_forces, to round-off): each pair
- * evaluated once into buf, then reduced per particle by sph_pairs_reduce.
- * buf holds 2 (dim + 1) pairs reals (pairs = P->half.offset[n]). c->list
- * is not read. Bitwise the same for any thread count. */
-SPH_API int sph_gradh_forces_pairs(const sph_hctx *c, const sph_pairs *P, sph_view v, const sph_real *h,
-                                   const sph_real *A, sph_real *buf, sph_real *dvdt, sph_real *dudt)
+/* (H5), (H6) pair-once over the half list of sph_pairs_build (the views
+ * and results of sph_gradh_forces, to round-off): each pair evaluated once
+ * into buf, then summed per particle in the order of sph_pairs_reduce (H8).
+ * buf: buf_len >= sph_gradh_pairs_buffer_len(dim, pairs) reals, pairs =
+ * P->half.offset[n] (else SPH_ESIZE); scratch, raw like the buffers of
+ * sph_pairs_reduce. c->list is not read. Bitwise the same for any thread
+ * count. */
+SPH_API int sph_gradh_forces_pairs(const sph_hctx *c, const sph_pairs *P, sph_view v, sph_view h, sph_view A,
+                                   sph_real *buf, sph_off buf_len, sph_out dvdt, sph_out dudt)
 {
     const sph__kdim *kd;
+    const int want_u = dudt.p[0] != NULL;
     sph__period Pd;
     sph_hctx ch;
     sph_idx i, n;
@@ -4980,6 +5028,7 @@ SPH_API int sph_gradh_forces_pairs(const sph_hctx *c, const sph_pairs *P, sph_vi
     np = P->half.offset[n];
     if (np > 0 && (buf == NULL || P->t_slot == NULL)) return SPH_ENULL;
     D = c->dim;
+    if (np > 0 && buf_len < sph_gradh_pairs_buffer_len(D, np)) return SPH_ESIZE;
     kd = sph__kd(c->kernel, D);
     Pd = sph__period_of(c->box, D);
     vi_buf = buf;
@@ -4991,26 +5040,39 @@ SPH_API int sph_gradh_forces_pairs(const sph_hctx *c, const sph_pairs *P, sph_vi
 #endif
     for (i = 0; i < n; ++i) {
         sph_real xi[3], vi[3] = {0, 0, 0}, dx[3], cf, Fi, Fj;
-        const sph_real mi = c->m.p[0][(ptrdiff_t)i * c->m.stride], hiinv = 1 / h[i];
+        const sph_real mi = c->m.p[0][(ptrdiff_t)i * c->m.stride], hiinv = 1 / SPH__AT(h, 0, i);
+        const sph_real Ai = SPH__AT(A, 0, i);
         sph_off k;
         int a;
         sph__h_xi(c->x, D, i, xi);
-        if (dudt != NULL) sph__h_xi(v, D, i, vi);
+        if (want_u) sph__h_xi(v, D, i, vi);
         for (k = P->half.offset[i]; k < P->half.offset[i + 1]; ++k) {
             const sph_idx j = P->half.index[k];
             const sph_real mj = c->m.p[0][(ptrdiff_t)j * c->m.stride];
             const sph_off t = P->t_slot[k];
-            sph__gradh_pair(&ch, kd, &Pd, xi, hiinv, A[i], vi, j, v, h, A, dudt != NULL, dx, &cf, &Fi, &Fj);
+            sph__gradh_pair(&ch, kd, &Pd, xi, hiinv, Ai, vi, j, v, h, A, want_u, dx, &cf, &Fi, &Fj);
             for (a = 0; a < D; ++a) {
                 vi_buf[(ptrdiff_t)D * k + a] = -(mj * cf) * dx[a];
                 vj_buf[(ptrdiff_t)D * t + a] = (mi * cf) * dx[a];
             }
-            ei_buf[k] = A[i] * (mj * Fi);
-            ej_buf[t] = A[j] * (mi * Fj);
+            ei_buf[k] = Ai * (mj * Fi);
+            ej_buf[t] = SPH__AT(A, 0, j) * (mi * Fj);
         }
     }
-    if ((st = sph_pairs_reduce(P, D, vi_buf, vj_buf, dvdt)) != SPH_OK) return st;
-    return dudt != NULL ? sph_pairs_reduce(P, 1, ei_buf, ej_buf, dudt) : SPH_OK;
+#ifdef _OPENMP
+#pragma omp parallel for schedule(static) if (n >= 2048)
+#endif
+    for (i = 0; i < n; ++i) { /* (H8): the sums of sph_pairs_reduce, written into the views */
+        sph_real s[16];
+        int a;
+        sph__pairs_sum(P, D, vi_buf, vj_buf, i, s);
+        for (a = 0; a < D; ++a) SPH__AT(dvdt, a, i) = s[a];
+        if (want_u) {
+            sph__pairs_sum(P, 1, ei_buf, ej_buf, i, s);
+            SPH__AT(dudt, 0, i) = s[0];
+        }
+    }
+    return SPH_OK;
 }
 
 #endif /* section 9 */

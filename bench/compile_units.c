@@ -143,10 +143,12 @@ int cost_unit(sph_kernel k, int dim, const sph_neighbours *L, const sph_real *x,
     int reason, st;
     c.m = sph_view_soa(m, NULL, NULL);
     c.rho = sph_view_soa(rho, NULL, NULL);
-    st = sph_h_solve(&hc, h, rho, om, NULL, NULL, &rep);
-    st |= sph_gradh_forces(&hc, vv, h, A, acc, out);
+    st = sph_h_solve(&hc, sph_out_soa(h, NULL, NULL), sph_out_soa(rho, NULL, NULL), sph_out_soa(om, NULL, NULL), NULL,
+                     NULL, &rep);
+    st |= sph_gradh_forces(&hc, vv, sph_view_soa(h, NULL, NULL), sph_view_soa(A, NULL, NULL), o3, o1);
     st |= sph_pairs_build(L, off, idx, cap, t_off, t_slot, &pairs, &P);
-    st |= sph_gradh_forces_pairs(&hc, &P, vv, h, A, buf, acc, out);
+    st |= sph_gradh_forces_pairs(&hc, &P, vv, sph_view_soa(h, NULL, NULL), sph_view_soa(A, NULL, NULL), buf,
+                                 sph_gradh_pairs_buffer_len(dim, cap), o3, o1);
     st |= sph_artificial_viscosity(&c, &av, vv, none, sv, none, o3, o1, o1);
     st |= sph_viscosity(&c, SPH_VISC_KINEMATIC, sv, none, vv, none, o3);
     st |= sph_density_diffusion(&c, 0.1, 10, vv, none, o1);

@@ -93,7 +93,8 @@ int main(int argc, char **argv)
     c = sph_hctx_init(SPH_KERNEL_CUBIC, 3, &full, sph_view_interleaved(x, 3), sph_view_soa(m, NULL, NULL), 0);
     c.h_list = sph_view_soa(hl, NULL, NULL);
     c.box = &box;
-    st = sph_h_solve(&c, h, rho, om, NULL, NULL, &rep);
+    st = sph_h_solve(&c, sph_out_soa(h, NULL, NULL), sph_out_soa(rho, NULL, NULL), sph_out_soa(om, NULL, NULL), NULL,
+                     NULL, &rep);
     if (st != SPH_OK || rep.n_beyond_list > 0) return fprintf(stderr, "h solve: %s\n", sph_strerror(st)), 1;
     free(off), free(idx);
     for (i = 0; i < n; ++i) hl[i] = (sph_real)1.1 * h[i];
@@ -109,18 +110,21 @@ int main(int argc, char **argv)
     }
     hoff = malloc(sizeof(sph_off) * (size_t)(n + 1)), toff = malloc(sizeof(sph_off) * (size_t)(n + 1));
     hidx = malloc(sizeof(sph_idx) * (size_t)off[n]), tpair = malloc(sizeof(sph_off) * (size_t)off[n]);
-    buf = malloc(sizeof(sph_real) * 8 * (size_t)off[n]);
+    buf = malloc(sizeof(sph_real) * (size_t)sph_gradh_pairs_buffer_len(3, off[n]));
     if (!hoff || !toff || !hidx || !tpair || !buf) return 1;
     tb = tm_now();
     st = sph_pairs_build(&full, hoff, hidx, off[n], toff, tpair, &pairs, &pr);
     tb = tm_now() - tb;
     if (st != SPH_OK) return fprintf(stderr, "pairs: %s\n", sph_strerror(st)), 1;
     for (r = 0; r < reps; ++r) {
+        const sph_view vv = sph_view_interleaved(v, 3), hv = sph_view_soa(h, NULL, NULL);
+        const sph_view Av = sph_view_soa(A, NULL, NULL);
+        const sph_out dvo = sph_out_interleaved(dv, 3), duo = sph_out_soa(du, NULL, NULL);
         double t0 = tm_now(), t1, t2, t3;
         sph_ctx oc = sph_ctx_init(SPH_KERNEL_CUBIC, 3, 0, &full, sph_view_interleaved(x, 3));
-        st = sph_gradh_forces(&c, sph_view_interleaved(v, 3), h, A, dv, du);
+        st = sph_gradh_forces(&c, vv, hv, Av, dvo, duo);
         t1 = tm_now();
-        st |= sph_gradh_forces_pairs(&c, &pr, sph_view_interleaved(v, 3), h, A, buf, dv, du);
+        st |= sph_gradh_forces_pairs(&c, &pr, vv, hv, Av, buf, sph_gradh_pairs_buffer_len(3, pairs), dvo, duo);
         t2 = tm_now();
         oc.box = &box;
         oc.h_source = sph_view_soa(h, NULL, NULL);

@@ -257,7 +257,7 @@ static int sd_search(sd_sim *S)
         S->index = (sph_idx *)sd_alloc((size_t)S->cap, sizeof(sph_idx));
         S->h_idx = (sph_idx *)sd_alloc((size_t)S->cap, sizeof(sph_idx));
         S->t_slot = (sph_off *)sd_alloc((size_t)S->cap, sizeof(sph_off));
-        S->buf = (sph_real *)sd_alloc((size_t)S->cap, 10 * sizeof(sph_real)); /* 2 x 5 per half pair: cap / 2 would do */
+        S->buf = (sph_real *)sd_alloc((size_t)sph_pairs_buffer_len(5, S->cap), sizeof(sph_real)); /* cap / 2 would do */
         if (S->index == NULL || S->h_idx == NULL || S->t_slot == NULL || S->buf == NULL) return S->cap = 0, SPH_ESIZE;
         st = sph_nsearch_fill(&g, xv, S->n, hv, 0, S->kappa, SPH_NSEARCH_SYMMETRIC, S->offset, S->index, S->cap);
     }
@@ -284,7 +284,9 @@ static int sd_density(sd_sim *S)
         c.eta = (sph_real)S->P.eta;
         c.h_list = sph_view_soa(S->hl, NULL, NULL);
         c.check_list = 0; /* the search's lists */
-        if ((st = sph_h_solve(&c, S->h, S->rho, S->om, NULL, S->state, &rep)) != SPH_OK) return st;
+        st = sph_h_solve(&c, sph_out_soa(S->h, NULL, NULL), sph_out_soa(S->rho, NULL, NULL), sph_out_soa(S->om, NULL, NULL),
+                         NULL, S->state, &rep);
+        if (st != SPH_OK) return st;
         S->solves++;
         S->sums += (long)rep.iterations;
         S->max_sums = rep.max_iterations > S->max_sums ? rep.max_iterations : S->max_sums;

@@ -3,10 +3,15 @@
  * 1e-6 relative (double) in a few density sums on lattices and on a Gaussian
  * clump, against densities and Omega summed independently here over every
  * particle with the scalar kernel functions; the beyond-the-list status and
- * its re-search; non-convergence reported; bad input refused.
+ * its re-search; non-convergence reported; bad input refused; h, rho and
+ * Omega written through an array-of-structs view are bitwise those of
+ * separate arrays.
  */
 #include "harness.h"
 #include "support/particles.h"
+
+/* The output view of one array (one component per particle). */
+static sph_out out1(sph_real *p) { return sph_out_soa(p, NULL, NULL); }
 
 /* Reference (H2) and (H4) for particle i at h: sums over all n particles. */
 static void ref_sums(sph_kernel k, int dim, const sph_real *x, const sph_real *m, int n, const sph_box *box, int i,
@@ -70,7 +75,7 @@ static void lattice_case(sph_kernel k, int dim, int n1)
                       (sph_real)(1.5 * eta * dx));
     c.box = &box;
     c.tol = (sph_real)TOL;
-    st = sph_h_solve(&c, h, rho, om, it, state, &rep);
+    st = sph_h_solve(&c, out1(h), out1(rho), out1(om), it, state, &rep);
     TH_CHECK(st == SPH_OK, "status %s", sph_strerror(st));
     TH_CHECK(rep.n_not_converged == 0 && rep.n_beyond_list == 0, "%d not converged, %d beyond", (int)rep.n_not_converged,
              (int)rep.n_beyond_list);
@@ -122,7 +127,7 @@ static void clump_case(void)
         c = sph_hctx_init(k, dim, &L.list, sph_view_interleaved(x, 3), sph_view_soa(m, NULL, NULL), 0);
         c.h_list = sph_view_soa(hl, NULL, NULL);
         c.tol = (sph_real)TOL;
-        st = sph_h_solve(&c, h, rho, om, it, NULL, &rep);
+        st = sph_h_solve(&c, out1(h), out1(rho), out1(om), it, NULL, &rep);
         TH_CHECK(st == SPH_OK, "status %s", sph_strerror(st));
         tp_free_list(&L);
         sums += (int)rep.iterations;
@@ -164,7 +169,7 @@ static void beyond_case(void)
     TH_CHECK(tp_brute_list(3, x, n, x, n, 1, NULL, NULL, 2, TP_GATHER, &box, &L) == 0, "out of memory");
     c = sph_hctx_init(SPH_KERNEL_CUBIC, 3, &L.list, sph_view_interleaved(x, 3), sph_view_soa(m, NULL, NULL), 1);
     c.box = &box;
-    TH_CHECK(sph_h_solve(&c, h, rho, om, NULL, state, &rep) == SPH_OK, "status");
+    TH_CHECK(sph_h_solve(&c, out1(h), out1(rho), out1(om), NULL, state, &rep) == SPH_OK, "status");
     TH_CHECK(rep.n_beyond_list == n, "%d beyond of %d", (int)rep.n_beyond_list, n);
     for (i = 0; i < n; ++i) all &= state[i] == SPH_H_BEYOND_LIST && h[i] > 1 && h[i] < 2;
     TH_CHECK(all, "state %d, h %g (expected beyond, 1 < h < 2)", state[0], (double)h[0]);
@@ -172,7 +177,7 @@ static void beyond_case(void)
     TH_CHECK(tp_brute_list(3, x, n, x, n, (sph_real)1.3 * h[0], NULL, NULL, 2, TP_GATHER, &box, &L) == 0, "oom");
     c.list = &L.list;
     c.h_list_max = (sph_real)1.3 * h[0];
-    TH_CHECK(sph_h_solve(&c, h, rho, om, NULL, state, &rep) == SPH_OK && rep.n_beyond_list == 0 &&
+    TH_CHECK(sph_h_solve(&c, out1(h), out1(rho), out1(om), NULL, state, &rep) == SPH_OK && rep.n_beyond_list == 0 &&
              rep.n_not_converged == 0 && rep.max_iterations <= 4,
              "after the re-search: %d beyond, %d not converged, max %d sums", (int)rep.n_beyond_list,
              (int)rep.n_not_converged, rep.max_iterations);
@@ -196,29 +201,30 @@ static void bad_input_case(void)
                       (sph_real)1.4);
     c.box = &box;
     c.eta = (sph_real)0.5; /* eta^3 = 0.125 < alpha_3 w(0) = 1/pi: the self term alone exceeds the target */
-    TH_CHECK((st = sph_h_solve(&c, h, rho, om, it, NULL, NULL)) == SPH_EINVAL, "small eta: %d", st);
+    TH_CHECK((st = sph_h_solve(&c, out1(h), out1(rho), out1(om), it, NULL, NULL)) == SPH_EINVAL, "small eta: %d", st);
     c.eta = (sph_real)1.2;
     c.tol = 0;
-    TH_CHECK((st = sph_h_solve(&c, h, rho, om, it, NULL, NULL)) == SPH_EINVAL, "tol 0: %d", st);
+    TH_CHECK((st = sph_h_solve(&c, out1(h), out1(rho), out1(om), it, NULL, NULL)) == SPH_EINVAL, "tol 0: %d", st);
     c.tol = (sph_real)1e-6;
-    TH_CHECK((st = sph_h_solve(&c, h, NULL, om, it, NULL, NULL)) == SPH_ENULL, "rho NULL: %d", st);
+    TH_CHECK((st = sph_h_solve(&c, out1(h), out1(NULL), out1(om), it, NULL, NULL)) == SPH_ENULL, "rho NULL: %d",
+             st);
     h[5] = 0;
-    TH_CHECK((st = sph_h_solve(&c, h, rho, om, it, NULL, NULL)) == SPH_EH, "h = 0: %d", st);
+    TH_CHECK((st = sph_h_solve(&c, out1(h), out1(rho), out1(om), it, NULL, NULL)) == SPH_EH, "h = 0: %d", st);
     h[5] = 1;
     m[3] = -1;
-    TH_CHECK((st = sph_h_solve(&c, h, rho, om, it, NULL, NULL)) == SPH_ENONFINITE, "m < 0: %d", st);
+    TH_CHECK((st = sph_h_solve(&c, out1(h), out1(rho), out1(om), it, NULL, NULL)) == SPH_ENONFINITE, "m < 0: %d", st);
     m[3] = 1;
     x[7] = (sph_real)NAN;
-    TH_CHECK((st = sph_h_solve(&c, h, rho, om, it, NULL, NULL)) == SPH_ENONFINITE, "x NaN: %d", st);
+    TH_CHECK((st = sph_h_solve(&c, out1(h), out1(rho), out1(om), it, NULL, NULL)) == SPH_ENONFINITE, "x NaN: %d", st);
     x[7] = (sph_real)0.5;
     c.h_list_max = -1;
-    TH_CHECK((st = sph_h_solve(&c, h, rho, om, it, NULL, NULL)) == SPH_EH, "h_list -1: %d", st);
+    TH_CHECK((st = sph_h_solve(&c, out1(h), out1(rho), out1(om), it, NULL, NULL)) == SPH_EH, "h_list -1: %d", st);
     c.h_list_max = (sph_real)1.4;
     c.kernel = (sph_kernel)99;
-    TH_CHECK((st = sph_h_solve(&c, h, rho, om, it, NULL, NULL)) == SPH_EKERNEL, "kernel 99: %d", st);
+    TH_CHECK((st = sph_h_solve(&c, out1(h), out1(rho), out1(om), it, NULL, NULL)) == SPH_EKERNEL, "kernel 99: %d", st);
     c.kernel = SPH_KERNEL_CUBIC;
     L.index[4] = 27;
-    TH_CHECK((st = sph_h_solve(&c, h, rho, om, it, NULL, NULL)) == SPH_EINDEX, "index 27: %d", st);
+    TH_CHECK((st = sph_h_solve(&c, out1(h), out1(rho), out1(om), it, NULL, NULL)) == SPH_EINDEX, "index 27: %d", st);
     L.index[4] = 0;
     for (i = 0; i < 27; ++i) TH_CHECK(rho[i] == -7, "rho[%d] written", i);
     { /* a row without the particle itself and without neighbours: finite results, beyond the list */
@@ -228,13 +234,54 @@ static void bad_input_case(void)
         sph_hctx c1 = sph_hctx_init(SPH_KERNEL_CUBIC, 3, &e, sph_view_interleaved(x1, 3), sph_view_soa(&m1, NULL, NULL),
                                     (sph_real)1.5);
         int s1 = -1;
-        TH_CHECK(sph_h_solve(&c1, &h1, &r1, &om1, NULL, &s1, NULL) == SPH_OK && s1 == SPH_H_BEYOND_LIST &&
-                 h1 == 3 && r1 == 0 && om1 == 1, "empty row: state %d h %g rho %g Omega %g", s1, (double)h1, (double)r1,
-                 (double)om1);
+        TH_CHECK(sph_h_solve(&c1, out1(&h1), out1(&r1), out1(&om1), NULL, &s1, NULL) == SPH_OK &&
+                     s1 == SPH_H_BEYOND_LIST && h1 == 3 && r1 == 0 && om1 == 1,
+                 "empty row: state %d h %g rho %g Omega %g", s1, (double)h1, (double)r1, (double)om1);
     }
     c.max_iter = 1;
-    TH_CHECK(sph_h_solve(&c, h, rho, om, it, NULL, &rep) == SPH_OK && rep.n_not_converged == 27 &&
+    TH_CHECK(sph_h_solve(&c, out1(h), out1(rho), out1(om), it, NULL, &rep) == SPH_OK && rep.n_not_converged == 27 &&
              rep.max_iterations == 1, "max_iter 1: %d not converged", (int)rep.n_not_converged);
+    tp_free_list(&L);
+    th_end();
+}
+
+/* h, rho and Omega of one particle side by side, as a solver stores them. */
+typedef struct {
+    sph_real x[3], h, rho, om;
+} layout_particle;
+
+/* The same solve into separate arrays and into an array of structs: the views change where, not what. */
+static void layout_case(void)
+{
+    enum { n1 = 6, n = n1 * n1 * n1 };
+    static layout_particle P[n];
+    sph_real x[3 * n], m[n], h[n], rho[n], om[n];
+    sph_box box = {{0, 0, 0}, {n1, n1, n1}, {1, 1, 1}};
+    const size_t S = sizeof(layout_particle);
+    tp_list L;
+    sph_hctx c;
+    int i, a, st, st2, same = 1;
+    th_begin("h solve: h, rho, Omega through array-of-structs views equal separate arrays bitwise");
+    tp_lattice(3, n1, 1, x);
+    for (i = 0; i < n; ++i) {
+        x[3 * i] += (sph_real)(0.05 * ((i * 7) % 5)); /* unequal neighbourhoods: every particle its own h */
+        m[i] = 1, h[i] = 1;
+        for (a = 0; a < 3; ++a) P[i].x[a] = x[3 * i + a];
+        P[i].h = 1, P[i].rho = P[i].om = -1;
+    }
+    TH_CHECK(tp_brute_list(3, x, n, x, n, (sph_real)2.2, NULL, NULL, 2, TP_GATHER, &box, &L) == 0, "out of memory");
+    c = sph_hctx_init(SPH_KERNEL_CUBIC, 3, &L.list, sph_view_interleaved(x, 3), sph_view_soa(m, NULL, NULL),
+                      (sph_real)2.2);
+    c.box = &box;
+    st = sph_h_solve(&c, out1(h), out1(rho), out1(om), NULL, NULL, NULL);
+    c.x = sph_view_aos(P[0].x, 3, S);
+    st2 = sph_h_solve(&c, sph_out_aos(&P[0].h, 1, S), sph_out_aos(&P[0].rho, 1, S), sph_out_aos(&P[0].om, 1, S), NULL,
+                      NULL, NULL);
+    for (i = 0; i < n; ++i) same &= P[i].h == h[i] && P[i].rho == rho[i] && P[i].om == om[i];
+    TH_CHECK(st == SPH_OK && st2 == SPH_OK && same, "status %d %d; particle 0: h %.17g %.17g", st, st2, (double)h[0],
+             (double)P[0].h);
+    TH_CHECK(h[0] != h[1] && h[0] != h[2], "the particles' h should differ: %g %g %g", (double)h[0], (double)h[1],
+             (double)h[2]);
     tp_free_list(&L);
     th_end();
 }
@@ -249,5 +296,6 @@ int main(void)
     clump_case();
     beyond_case();
     bad_input_case();
+    layout_case();
     return th_summary();
 }
