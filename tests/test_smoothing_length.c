@@ -220,6 +220,18 @@ static void bad_input_case(void)
     L.index[4] = 27;
     TH_CHECK((st = sph_h_solve(&c, h, rho, om, it, NULL, NULL)) == SPH_EINDEX, "index 27: %d", st);
     L.index[4] = 0;
+    {
+        const sph_off keep = L.offset[3];
+        L.offset[3] = L.offset[4] + 1;
+        TH_CHECK((st = sph_h_solve(&c, h, rho, om, it, NULL, NULL)) == SPH_EOFFSET, "decreasing offsets: %d", st);
+        L.offset[3] = keep;
+    }
+    L.list.n_sources = 28;
+    TH_CHECK((st = sph_h_solve(&c, h, rho, om, it, NULL, NULL)) == SPH_ECOUNT, "28 sources, 27 targets: %d", st);
+    L.list.n_sources = 27;
+    box.length[1] = 0;
+    TH_CHECK((st = sph_h_solve(&c, h, rho, om, it, NULL, NULL)) == SPH_EBOXLEN, "period 0: %d", st);
+    box.length[1] = 3;
     for (i = 0; i < 27; ++i) TH_CHECK(rho[i] == -7, "rho[%d] written", i);
     { /* a row without the particle itself and without neighbours: finite results, beyond the list */
         const sph_off o1[2] = {0, 0};
