@@ -22,6 +22,19 @@
  * Use sph_kernel_check(k, dim) and sph_check_h(h) to validate once, outside
  * hot loops.
  *
+ * Periodic box: give it to the neighbour search once. sph_nsearch_list
+ * copies it into the list, and the operators (sph_ctx) and section 9
+ * (sph_hctx, sph_pairs) use ctx.box when set, else the list's; a ctx.box
+ * that differs from the list's is SPH_EBOX (docs/neighbours.md). A list the
+ * caller assembles (SPH_NEIGHBOURS_INIT) has no box of its own.
+ *
+ * Status codes (section 2) name what to fix: SPH_ECOUNT a count, SPH_ESIZE
+ * an array or workspace too small, SPH_EOFFSET a list's offsets,
+ * SPH_EOPTION an enum argument, SPH_ERANGE a parameter, SPH_ESTRIDE a
+ * stride, SPH_EVALUE an input value, SPH_EBOXLEN / SPH_EBOX the box,
+ * SPH_ENOTSYMMETRIC a list for pair-once loops, SPH_ENOGRID an unbuilt
+ * grid; sph_strerror(status) says how.
+ *
  * ==== CONFIGURATION (define before including) ==============================
  *
  *   SPH_REAL    floating type of every real number: double (default) or float.
@@ -105,6 +118,7 @@
  *   sph_kernel_grad(k, dim, dx, h, grad)         grad_i W_ij = F dx (K8)
  * 4. Particle data
  *   sph_box_delta(box, a, dx)                    minimum image of one component (O0)
+ *   SPH_NEIGHBOURS_INIT(nt, ns, offset, index)   a CSR list of the caller's arrays, box unknown
  *   sph_view_soa(x, y, z)                        read view of one array per component
  *   sph_view_aos(first, ncomp, stride_bytes)     read view into an array of structs
  *   sph_view_interleaved(x, ncomp)               read view of x[ncomp i + a]
@@ -131,6 +145,7 @@
  * 6. Array operators over a neighbour list (return SPH_OK or a status code)
  *   sph_view_none()                              an absent view
  *   sph_ctx_init(k, dim, h, list, x)             a context; set further fields as needed
+ *                                                (ctx.box NULL: the list's box; another: SPH_EBOX)
  *   sph_neighbours_check(list)                   validates a CSR list once
  *   sph_density(c, rho)                          (O2)
  *   sph_interpolate(c, f, out)                   (O3)
@@ -151,7 +166,7 @@
  *   sph_nsearch_fill(&g, xt, n_t, ht, h, kappa, mode, offset, index, cap)  the lists
  *   sph_nsearch_lists(&g, ..., offset, index, cap, &pairs)  count and fill in one search
  *   sph_nsearch_stats(&g, ..., &pairs, &candidates, &fill)  pairs, checks, grid fill; no lists
- *   sph_nsearch_list(&g, n_t, offset, index)     the sph_neighbours view of the lists
+ *   sph_nsearch_list(&g, n_t, offset, index)     the sph_neighbours view of the lists, with the box
  *   sph_nsearch_permutation(&g, perm)            sources in cell order (N5)
  *   sph_permutation_invert(perm, n, inv)         inverse permutation (N6)
  *   sph_permute(in, ncomp, n, perm, out)         out[k] = in[perm[k]] (N5)
@@ -175,7 +190,7 @@
  *   sph_dt_input_init(h)                         inputs of sph_time_step
  *   sph_time_step(&in, dim, n, &dt, &reason, &which)         (S9)-(S12)
  * 9. Smoothing length and pair-once loops (docs/smoothing_length.md)
- *   sph_hctx_init(k, dim, list, x, m, h_list_max)  a context; eta 1.2, tol 1e-6
+ *   sph_hctx_init(k, dim, list, x, m, h_list_max)  a context; eta 1.2, tol 1e-6; box as sph_ctx
  *   sph_h_solve(c, h, rho, omega, iters, state, &report)  h, rho, Omega per particle (H1)-(H4)
  *   sph_gradh_factor(p, rho, omega)              A = p / (Omega rho^2) of (H5), (H6)
  *   sph_pair_gradh_pressure(dim, m_j, A_i, A_j, F_i, F_j, dx, acc)  acc += (H5)
@@ -336,11 +351,38 @@ SPH_API int sph__finite(sph_real x) { return x >= -SPH__REAL_MAX && x <= SPH__RE
     X(SPH_EH, -3, "smoothing length not positive and finite, or so small that W or F would overflow") \
     X(SPH_ENULL, -4, "NULL pointer where data is required") \
     X(SPH_EINDEX, -5, "neighbour index out of range") \
-    X(SPH_ESIZE, -6, "negative or too large count, or an array or workspace too small") \
+    X(SPH_ESIZE, -6, \
+      "array or workspace too small: query the size needed (or read the pairs counted) and pass a " \
+      "larger one") \
     X(SPH_ENONFINITE, -7, "NaN or Inf in an input array") \
     X(SPH_EINVAL, -8, "invalid argument") \
     X(SPH_EGRID, -9, "neighbour grid too large: a source far from the others, or a cell size too small") \
-    X(SPH_EPERIOD, -10, "periodic box shorter than twice the search radius kappa h")
+    X(SPH_EPERIOD, -10, "periodic box shorter than twice the search radius kappa h") \
+    X(SPH_EBOX, -11, \
+      "periodic box differs from the one the neighbour list was built with: leave ctx.box NULL or pass " \
+      "the search's box") \
+    X(SPH_EBOXLEN, -12, \
+      "periodic box unusable: a periodic axis needs a positive, finite length with finite 1/length " \
+      "(and, to search, a finite lo)") \
+    X(SPH_EOFFSET, -13, \
+      "neighbour list offsets malformed: offset[0] must be 0, offsets non-decreasing and from " \
+      "sph_nsearch_count with the same arguments") \
+    X(SPH_ENOTSYMMETRIC, -14, \
+      "list unusable for pair-once loops: a pair in one row only (search with SPH_NSEARCH_SYMMETRIC or " \
+      "a uniform h) or a row not in ascending index") \
+    X(SPH_EOPTION, -15, \
+      "unknown option: a scheme, mode, loops, kind, form or slip value this function does not take") \
+    X(SPH_ERANGE, -16, \
+      "parameter out of range (eta, tol, max_iter, rcond_min, cell, kappa, a coefficient, ncomp): see " \
+      "the function's comment") \
+    X(SPH_ESTRIDE, -17, "stride too small: a view's stride must be positive, a tensor's at least dim * dim") \
+    X(SPH_ECOUNT, -18, \
+      "count negative or too large, or n_targets and n_sources not as the function needs (equal where " \
+      "targets are the sources)") \
+    X(SPH_EVALUE, -19, \
+      "input value out of range: a density not positive, a coordinate beyond sqrt(REAL_MAX)/4, or a " \
+      "time-step h or rate negative or not finite") \
+    X(SPH_ENOGRID, -20, "neighbour grid not built: sph_nsearch_build must return SPH_OK first")
 
 enum {
 #define SPH__STATUS_ENUM(name, value, sentence) name = value,
@@ -933,15 +975,6 @@ typedef struct {
     ptrdiff_t stride;
 } sph_out;
 
-/* Neighbour lists in CSR form: the sources of target i are
- * index[offset[i]] .. index[offset[i+1]-1], each in 0..n_sources-1. */
-typedef struct {
-    sph_idx n_targets;
-    sph_idx n_sources;
-    const sph_off *offset; /* [n_targets + 1], offset[0] = 0, non-decreasing */
-    const sph_idx *index;  /* [offset[n_targets]] */
-} sph_neighbours;
-
 /* An axis-aligned box [lo, lo + length) with per-axis periodicity (minimum
  * image). Pass NULL where a function takes a box and there is none. */
 typedef struct {
@@ -949,6 +982,29 @@ typedef struct {
     sph_real length[3];
     int periodic[3]; /* non-zero: axis a is periodic with period length[a] */
 } sph_box;
+
+/* box_known of a list whose box is the one it was built with. A tag, not 1:
+ * a list assembled field by field, its flag never set, does not claim a box. */
+#define SPH_BOX_KNOWN 0x53504842
+
+/* Neighbour lists in CSR form: the sources of target i are
+ * index[offset[i]] .. index[offset[i+1]-1], each in 0..n_sources-1. The
+ * list carries the box of its search (a copy: it outlives the grid), so
+ * that the operators and section 9 take the periodic axes from it when
+ * ctx.box is NULL and refuse a different ctx.box (SPH_EBOX). */
+typedef struct {
+    sph_idx n_targets;
+    sph_idx n_sources;
+    const sph_off *offset; /* [n_targets + 1], offset[0] = 0, non-decreasing */
+    const sph_idx *index;  /* [offset[n_targets]] */
+    sph_box box;           /* the search's box (no periodic axis: an open search) when box_known */
+    int box_known;         /* SPH_BOX_KNOWN (sph_nsearch_list sets it); any other value: box unknown */
+} sph_neighbours;
+
+/* A list of the caller's arrays with box unknown, as an initialiser (also of
+ * a static list): sph_neighbours L = SPH_NEIGHBOURS_INIT(nt, ns, offset, index); */
+#define SPH_NEIGHBOURS_INIT(n_targets, n_sources, offset, index) \
+    { (n_targets), (n_sources), (offset), (index), { { 0, 0, 0 }, { 0, 0, 0 }, { 0, 0, 0 } }, 0 }
 
 /* Minimum image of one component of x_i - x_j (docs/operators.md eq. (O0)):
  * along a periodic axis of length L, dx - L * round(dx / L), so |dx| <= L/2
@@ -966,6 +1022,36 @@ SPH_API sph_real sph_box_delta(const sph_box *box, int a, sph_real dx)
     if (!(L > 0 && L <= SPH__REAL_MAX)) return dx;
     d = dx - L * sph__floor(dx / L + (sph_real)0.5);
     return sph__finite(d) ? d : dx;
+}
+
+/* SPH_OK when every periodic axis below dim of box (NULL: none) has a
+ * length L > 0 with L and 1/L finite ((O0) takes 1/L); else SPH_EBOXLEN. */
+SPH_API int sph__box_ok(const sph_box *box, int dim)
+{
+    int a;
+    for (a = 0; box != NULL && a < dim && a < 3; ++a)
+        if (box->periodic[a] &&
+            !(box->length[a] > 0 && box->length[a] <= SPH__REAL_MAX && 1 / box->length[a] <= SPH__REAL_MAX))
+            return SPH_EBOXLEN;
+    return SPH_OK;
+}
+
+/* The box the minimum image (O0) uses over list in dim dimensions: box when
+ * given, else the list's own (NULL when it has none). SPH_EBOX when both are
+ * known and differ on an axis below dim (periodic or not, or the period,
+ * compared exactly: lo plays no part in (O0)); SPH_EBOXLEN for an unusable
+ * axis. */
+SPH_API int sph__box_of(const sph_box *box, const sph_neighbours *list, int dim, const sph_box **out)
+{
+    const sph_box *own = list != NULL && list->box_known == SPH_BOX_KNOWN ? &list->box : NULL;
+    int a, st;
+    *out = box != NULL ? box : own;
+    if ((st = sph__box_ok(*out, dim)) != SPH_OK) return st;
+    for (a = 0; box != NULL && own != NULL && a < dim && a < 3; ++a)
+        if ((box->periodic[a] != 0) != (own->periodic[a] != 0) ||
+            (box->periodic[a] && box->length[a] != own->length[a]))
+            return SPH_EBOX;
+    return SPH_OK;
 }
 
 /* View of a structure-of-arrays field (pass NULL for unused components). */
@@ -1361,8 +1447,8 @@ SPH_API sph_ctx sph_ctx_init(sph_kernel kernel, int dim, sph_real h, const sph_n
     return c;
 }
 
-/* SPH_OK when list is a well-formed CSR list: counts >= 0 (else SPH_ESIZE),
- * offset[0] = 0 and non-decreasing (else SPH_EINVAL), every index in
+/* SPH_OK when list is a well-formed CSR list: counts >= 0 (else SPH_ECOUNT),
+ * offset[0] = 0 and non-decreasing (else SPH_EOFFSET), every index in
  * 0..n_sources-1 (else SPH_EINDEX), arrays present (else SPH_ENULL).
  * Cost: one pass over offset and index. Run it once per list and set
  * ctx.validate = SPH_VALIDATE_ARGS to skip it in the operators. */
@@ -1371,10 +1457,10 @@ SPH_API int sph_neighbours_check(const sph_neighbours *list)
     sph_idx i;
     sph_off o;
     if (list == NULL || list->offset == NULL) return SPH_ENULL;
-    if (list->n_targets < 0 || list->n_sources < 0) return SPH_ESIZE;
-    if (list->offset[0] != 0) return SPH_EINVAL;
+    if (list->n_targets < 0 || list->n_sources < 0) return SPH_ECOUNT;
+    if (list->offset[0] != 0) return SPH_EOFFSET;
     for (i = 0; i < list->n_targets; ++i)
-        if (list->offset[i + 1] < list->offset[i]) return SPH_EINVAL;
+        if (list->offset[i + 1] < list->offset[i]) return SPH_EOFFSET;
     if (list->offset[list->n_targets] > 0 && list->index == NULL) return SPH_ENULL;
     for (o = 0; o < list->offset[list->n_targets]; ++o)
         if (list->index[o] < 0 || list->index[o] >= list->n_sources) return SPH_EINDEX;
@@ -2394,13 +2480,14 @@ SPH_API sph_idx sph__run(const sph__args *A)
 
 /* ---- validation (everything is checked before any output is written) ---- */
 
-/* SPH_OK when components 0..ncomp-1 are present and the stride positive. */
+/* SPH_OK when components 0..ncomp-1 are present (else SPH_ENULL) and the
+ * stride positive (else SPH_ESTRIDE). */
 SPH_API int sph__view_ok(sph_view v, int ncomp)
 {
     int a;
     for (a = 0; a < ncomp; ++a)
         if (v.p[a] == NULL) return SPH_ENULL;
-    return v.stride > 0 ? SPH_OK : SPH_EINVAL;
+    return v.stride > 0 ? SPH_OK : SPH_ESTRIDE;
 }
 
 SPH_API int sph__out_ok(sph_out v, int ncomp)
@@ -2408,7 +2495,7 @@ SPH_API int sph__out_ok(sph_out v, int ncomp)
     int a;
     for (a = 0; a < ncomp; ++a)
         if (v.p[a] == NULL) return SPH_ENULL;
-    return v.stride > 0 ? SPH_OK : SPH_EINVAL;
+    return v.stride > 0 ? SPH_OK : SPH_ESTRIDE;
 }
 
 /* SPH_OK when h is usable by the operators in dim dimensions (sph__h_ok: 64
@@ -2424,8 +2511,8 @@ SPH_API int sph__op_h(sph_real h, int dim)
 #define SPH__XMAX (sph__sqrt(SPH__REAL_MAX) / 4)
 
 /* Value checks of n entries, ncomp components: kind 0 finite (SPH_ENONFINITE),
- * 1 usable h in dim dimensions (SPH_EH), 2 positive (SPH_EINVAL; densities),
- * 3 positions: |x| <= SPH__XMAX (SPH_EINVAL). NaN and Inf are SPH_ENONFINITE
+ * 1 usable h in dim dimensions (SPH_EH), 2 positive (SPH_EVALUE; densities),
+ * 3 positions: |x| <= SPH__XMAX (SPH_EVALUE). NaN and Inf are SPH_ENONFINITE
  * for every kind but h. */
 SPH_API int sph__scan(sph_view v, int ncomp, sph_idx n, int kind, int dim)
 {
@@ -2436,8 +2523,8 @@ SPH_API int sph__scan(sph_view v, int ncomp, sph_idx n, int kind, int dim)
             const sph_real y = SPH__AT(v, a, i);
             if (kind == 1 && sph__op_h(y, dim) != SPH_OK) return SPH_EH;
             if (!sph__finite(y)) return SPH_ENONFINITE;
-            if (kind == 2 && !(y > 0)) return SPH_EINVAL;
-            if (kind == 3 && !(y <= SPH__XMAX && y >= -SPH__XMAX)) return SPH_EINVAL;
+            if (kind == 2 && !(y > 0)) return SPH_EVALUE;
+            if (kind == 3 && !(y <= SPH__XMAX && y >= -SPH__XMAX)) return SPH_EVALUE;
         }
     return SPH_OK;
 }
@@ -2469,6 +2556,7 @@ SPH_API int sph__setup(const sph_ctx *c, int need, int ncomp, sph_view f, sph_vi
 {
     const int full = c != NULL && c->validate != SPH_VALIDATE_ARGS;
     sph_view none = sph_view_none(), unused;
+    const sph_box *box;
     int st, a;
     if (c == NULL || c->list == NULL) return SPH_ENULL;
     if ((st = sph_kernel_check(c->kernel, c->dim)) != SPH_OK) return st;
@@ -2480,25 +2568,22 @@ SPH_API int sph__setup(const sph_ctx *c, int need, int ncomp, sph_view f, sph_vi
 #endif
     /* the counts against each other first: nothing is read beyond what they allow */
     if (c->list->offset == NULL) return SPH_ENULL;
-    if (c->list->n_targets < 0 || c->list->n_sources < 0) return SPH_ESIZE;
-    if (c->x_target.p[0] == NULL && c->list->n_targets > c->list->n_sources) return SPH_ESIZE;
+    if (c->list->n_targets < 0 || c->list->n_sources < 0) return SPH_ECOUNT;
+    if (c->x_target.p[0] == NULL && c->list->n_targets > c->list->n_sources) return SPH_ECOUNT;
     if (full && (st = sph_neighbours_check(c->list)) != SPH_OK) return st;
     if (c->list->offset[c->list->n_targets] > 0 && c->list->index == NULL) return SPH_ENULL;
-    if (!(c->rcond_min >= 0 && c->rcond_min < 1)) return SPH_EINVAL;
-    if (c->loops != SPH_LOOPS_FAST && c->loops != SPH_LOOPS_REFERENCE) return SPH_EINVAL;
-    for (a = 0; c->box != NULL && a < c->dim; ++a)
-        if (c->box->periodic[a] && !(c->box->length[a] > 0 && c->box->length[a] <= SPH__REAL_MAX &&
-                                     1 / c->box->length[a] <= SPH__REAL_MAX)) /* (O0) takes 1/L */
-            return SPH_EINVAL;
+    if (!(c->rcond_min >= 0 && c->rcond_min < 1)) return SPH_ERANGE;
+    if (c->loops != SPH_LOOPS_FAST && c->loops != SPH_LOOPS_REFERENCE) return SPH_EOPTION;
+    if ((st = sph__box_of(c->box, c->list, c->dim, &box)) != SPH_OK) return st;
     A->kernel = c->kernel;
     A->op = -1;
     A->reference = c->loops == SPH_LOOPS_REFERENCE;
     A->dim = c->dim;
     A->hv = c->h_source.p[0] != NULL;
     for (a = 0; a < 3; ++a) {
-        const int per = c->box != NULL && a < c->dim && c->box->periodic[a];
-        A->L[a] = per ? c->box->length[a] : 0;
-        A->invL[a] = per ? 1 / c->box->length[a] : 0;
+        const int per = box != NULL && a < c->dim && box->periodic[a];
+        A->L[a] = per ? box->length[a] : 0;
+        A->invL[a] = per ? 1 / box->length[a] : 0;
     }
     A->nt = c->list->n_targets;
     A->h = c->h;
@@ -2586,7 +2671,7 @@ SPH_API int sph_gradient(const sph_ctx *c, sph_scheme scheme, sph_view f, sph_vi
         : scheme == SPH_SCHEME_PRESSURE ? SPH__OP_GRAD_PRES : -1;
     const int need = scheme == SPH_SCHEME_PRESSURE ? SPH__N_M | SPH__N_RHO | SPH__N_FI
                      : scheme == SPH_SCHEME_STANDARD ? SPH__N_V : SPH__N_V | SPH__N_FI;
-    int st = op < 0 ? SPH_EINVAL : sph__setup(c, need, 1, f, f_target, sph_view_none(), sph_view_none(), &A);
+    int st = op < 0 ? SPH_EOPTION : sph__setup(c, need, 1, f, f_target, sph_view_none(), sph_view_none(), &A);
     if (st == SPH_OK) st = sph__out_ok(grad, c->dim);
     A.out = grad;
     if (n_fallback != NULL && st == SPH_OK) *n_fallback = 0;
@@ -2624,10 +2709,10 @@ SPH_API int sph_gradient_vector(const sph_ctx *c, sph_scheme scheme, sph_view v,
         : scheme == SPH_SCHEME_SYMMETRIC ? SPH__OP_GRADV_SYM
         : scheme == SPH_SCHEME_CORRECTED ? SPH__OP_GRADV_CORR : -1;
     const int need = scheme == SPH_SCHEME_STANDARD ? SPH__N_V : SPH__N_V | SPH__N_FI;
-    int st = op < 0 ? SPH_EINVAL
+    int st = op < 0 ? SPH_EOPTION
              : sph__setup(c, need, c != NULL ? c->dim : 1, v, v_target, sph_view_none(), sph_view_none(), &A);
     if (st == SPH_OK && T == NULL) st = SPH_ENULL;
-    if (st == SPH_OK && T_stride < (ptrdiff_t)c->dim * c->dim) st = SPH_EINVAL;
+    if (st == SPH_OK && T_stride < (ptrdiff_t)c->dim * c->dim) st = SPH_ESTRIDE;
     A.T = T;
     A.Ts = T_stride;
     if (n_fallback != NULL && st == SPH_OK) *n_fallback = 0;
@@ -2645,7 +2730,7 @@ SPH_API int sph_divergence(const sph_ctx *c, sph_scheme scheme, sph_view v, sph_
         : scheme == SPH_SCHEME_DIFFERENCE ? SPH__OP_DIV_DIFF
         : scheme == SPH_SCHEME_CORRECTED ? SPH__OP_DIV_CORR : -1;
     const int need = scheme == SPH_SCHEME_STANDARD ? SPH__N_V : SPH__N_V | SPH__N_FI;
-    int st = op < 0 ? SPH_EINVAL
+    int st = op < 0 ? SPH_EOPTION
              : sph__setup(c, need, c != NULL ? c->dim : 1, v, v_target, sph_view_none(), sph_view_none(), &A);
     if (st == SPH_OK) st = sph__out_ok(div, 1);
     A.out = div;
@@ -2662,7 +2747,7 @@ SPH_API int sph_curl(const sph_ctx *c, sph_scheme scheme, sph_view v, sph_view v
         scheme == SPH_SCHEME_STANDARD ? SPH__OP_CURL_STD
         : scheme == SPH_SCHEME_DIFFERENCE ? SPH__OP_CURL_DIFF : -1;
     const int need = scheme == SPH_SCHEME_STANDARD ? SPH__N_V : SPH__N_V | SPH__N_FI;
-    int st = op < 0 ? SPH_EINVAL
+    int st = op < 0 ? SPH_EOPTION
              : sph__setup(c, need, c != NULL ? c->dim : 1, v, v_target, sph_view_none(), sph_view_none(), &A);
     if (st == SPH_OK && c->dim == 1) st = SPH_EDIM;
     if (st == SPH_OK) st = sph__out_ok(curl, c->dim == 2 ? 1 : 3);
@@ -2701,7 +2786,7 @@ SPH_API int sph_correction_matrix(const sph_ctx *c, sph_real *B, ptrdiff_t B_str
     int st = sph__setup(c, SPH__N_V, 0, sph_view_none(), sph_view_none(), sph_view_none(),
                         sph_view_none(), &A);
     if (st == SPH_OK && B == NULL) st = SPH_ENULL;
-    if (st == SPH_OK && B_stride < (ptrdiff_t)c->dim * c->dim) st = SPH_EINVAL;
+    if (st == SPH_OK && B_stride < (ptrdiff_t)c->dim * c->dim) st = SPH_ESTRIDE;
     A.T = B;
     A.Ts = B_stride;
     return sph__finish(st, &A, SPH__OP_CORRECTION, n_fallback);
@@ -2711,15 +2796,16 @@ SPH_API int sph_correction_matrix(const sph_ctx *c, sph_real *B, ptrdiff_t B_str
  * scans components 0..ncomp-1 of particles 0..n-1 of f in particle order and
  * returns SPH_ENONFINITE at the first NaN or Inf, its particle in *first_bad
  * (may be NULL); SPH_OK and *first_bad = -1 when every value is finite.
- * SPH_ENULL for an absent component, SPH_EINVAL for ncomp outside 1..3 or a
- * stride <= 0, SPH_ESIZE for n < 0 (*first_bad untouched on those). */
+ * SPH_ENULL for an absent component, SPH_ERANGE for ncomp outside 1..3,
+ * SPH_ESTRIDE for a stride <= 0, SPH_ECOUNT for n < 0 (*first_bad untouched
+ * on those). */
 SPH_API int sph_check_field(sph_view f, int ncomp, sph_idx n, sph_idx *first_bad)
 {
     sph_idx i;
     int a, st;
-    if (ncomp < 1 || ncomp > 3) return SPH_EINVAL;
+    if (ncomp < 1 || ncomp > 3) return SPH_ERANGE;
     if ((st = sph__view_ok(f, ncomp)) != SPH_OK) return st;
-    if (n < 0) return SPH_ESIZE;
+    if (n < 0) return SPH_ECOUNT;
     for (i = 0; i < n; ++i)
         for (a = 0; a < ncomp; ++a) {
             const sph_real y = SPH__AT(f, a, i);
@@ -2795,15 +2881,23 @@ SPH_API int sph_check_field(sph_view f, int ncomp, sph_idx n, sph_idx *first_bad
  * particles is faster and their lists map back to the unsorted ones.
  *
  * Every function returns SPH_OK or a negative status: SPH_EDIM (dim outside
- * 1..3), SPH_ESIZE (negative count, more than SPH_NSEARCH_MAX_SOURCES
- * sources, workspace or index too small), SPH_EGRID (more than
- * SPH_NSEARCH_MAX_CELLS cells: a source far from the others, or a cell size
- * too small for the cloud), SPH_ENULL, SPH_EH (h not positive and finite),
- * SPH_ENONFINITE (NaN or Inf position), SPH_EINVAL (cell or kappa not
- * positive and finite, bad mode or box, grid not built, offsets inconsistent
- * with the targets), SPH_EPERIOD (a search radius above half a period: the
- * minimum image of eq. (N3) would see one image of a source where two or
- * more lie within reach), SPH_EINDEX (not a permutation).
+ * 1..3), SPH_ECOUNT (negative count or capacity, more than
+ * SPH_NSEARCH_MAX_SOURCES sources), SPH_ESIZE (workspace or index too
+ * small), SPH_EGRID (more than SPH_NSEARCH_MAX_CELLS cells: a source far
+ * from the others, or a cell size too small for the cloud), SPH_ENULL,
+ * SPH_EH (h not positive and finite), SPH_ENONFINITE (NaN or Inf position),
+ * SPH_ERANGE (cell or kappa not positive and finite, ncomp outside 1..3),
+ * SPH_EOPTION (mode neither GATHER nor SYMMETRIC), SPH_EBOXLEN (a periodic
+ * axis with lo not finite or a length not positive and finite),
+ * SPH_ENOGRID (grid not built, or its build failed), SPH_EOFFSET (offsets
+ * malformed or not from a count with the same arguments), SPH_EPERIOD (a
+ * search radius above half a period: the minimum image of eq. (N3) would
+ * see one image of a source where two or more lie within reach),
+ * SPH_EINDEX (not a permutation).
+ *
+ * sph_nsearch_list records the grid's box in the list (box_known): the
+ * operators and section 9 then take the periodic axes from the list and
+ * refuse a context whose box differs (SPH_EBOX).
  *
  * Limits, in one place (docs/neighbours.md, "Limits"): particle counts and
  * source indices are sph_idx (int32), so at most 2^31 - 1 targets and
@@ -2816,7 +2910,7 @@ enum { SPH_NSEARCH_GATHER = 0, SPH_NSEARCH_SYMMETRIC = 1 };
 /* Hard limits (docs/neighbours.md, "Limits"): cells of a grid, per axis
  * and in all, so that every cell index stays in int (more: SPH_EGRID), and
  * sources of a grid, so that the padded arrays stay indexable by sph_idx
- * (more: SPH_ESIZE). */
+ * (more: SPH_ECOUNT). */
 #define SPH_NSEARCH_MAX_CELLS 536870911    /* 2^29 - 1 */
 #define SPH_NSEARCH_MAX_SOURCES 2147483631 /* 2^31 - 17 */
 
@@ -3472,8 +3566,8 @@ SPH_API int sph__nsearch_geometry(sph_nsearch *g, int dim, sph_view xs, sph_idx 
     sph_idx i;
     g->dim = 0;
     if (dim < 1 || dim > 3) return SPH_EDIM;
-    if (ns < 0 || ns > SPH_NSEARCH_MAX_SOURCES) return SPH_ESIZE;
-    if (!(cell > 0 && cell <= SPH__REAL_MAX)) return SPH_EINVAL;
+    if (ns < 0 || ns > SPH_NSEARCH_MAX_SOURCES) return SPH_ECOUNT;
+    if (!(cell > 0 && cell <= SPH__REAL_MAX)) return SPH_ERANGE;
     if (!(1 / cell <= SPH__REAL_MAX)) return SPH_EGRID; /* a denormal cell: cell widths of 1/0 */
     if ((st = sph__ns_scan_x(dim, xs, ns, amax)) != SPH_OK) return st;
     if ((st = sph__ns_check_h(hs, ns, dim, &g->h_max)) != SPH_OK) return st;
@@ -3486,7 +3580,7 @@ SPH_API int sph__nsearch_geometry(sph_nsearch *g, int dim, sph_view xs, sph_idx 
         if (per) {
             lo = box->lo[a];
             L = box->length[a];
-            if (!sph__finite(lo) || !(L > 0 && L <= SPH__REAL_MAX && 1 / L <= SPH__REAL_MAX)) return SPH_EINVAL;
+            if (!sph__finite(lo) || sph__box_ok(box, dim) != SPH_OK) return SPH_EBOXLEN;
         } else if (a < dim && ns > 0) {
             sph_real hi = sph__ns_at(xs, a, 0);
             lo = hi;
@@ -3622,10 +3716,10 @@ SPH_API int sph__nsearch_check(const sph_nsearch *g, sph_view xt, sph_idx nt, sp
     int st, a;
     sph_real hmax;
     if (g == NULL) return SPH_ENULL;
-    if (g->dim < 1 || g->dim > 3) return SPH_EINVAL;
-    if (nt < 0) return SPH_ESIZE;
-    if (mode != SPH_NSEARCH_GATHER && mode != SPH_NSEARCH_SYMMETRIC) return SPH_EINVAL;
-    if (!(kappa > 0 && kappa <= SPH__REAL_MAX)) return SPH_EINVAL;
+    if (g->dim < 1 || g->dim > 3) return SPH_ENOGRID;
+    if (nt < 0) return SPH_ECOUNT;
+    if (mode != SPH_NSEARCH_GATHER && mode != SPH_NSEARCH_SYMMETRIC) return SPH_EOPTION;
+    if (!(kappa > 0 && kappa <= SPH__REAL_MAX)) return SPH_ERANGE;
     if (uses_h && !sph__h_ok(h, g->dim)) return SPH_EH;
     if ((st = sph__ns_check_x(g->dim, xt, nt)) != SPH_OK) return st;
     if ((st = sph__ns_check_h(ht, nt, g->dim, &hmax)) != SPH_OK) return st;
@@ -3654,7 +3748,7 @@ SPH_API void sph__nsearch_probe(const sph_nsearch *g, sph_view xt, sph_view ht, 
 /* Runs the search for every target: counts into count[i + 1] (when count
  * != NULL), fills index (when index != NULL, segments given by offset),
  * sums into stats (when not NULL) the pairs, the candidates checked and the
- * blocks redone for the minimum image. Returns SPH_EINVAL when a target's
+ * blocks redone for the minimum image. Returns SPH_EOFFSET when a target's
  * count differs from its segment. Parallel over targets under OpenMP, same
  * result. */
 SPH_API int sph__nsearch_run(const sph_nsearch *g, sph_view xt, sph_idx nt, sph_view ht,
@@ -3685,7 +3779,7 @@ SPH_API int sph__nsearch_run(const sph_nsearch *g, sph_view xt, sph_idx nt, sph_
         stats[1] = sum_checked;
         stats[2] = sum_redone;
     }
-    return bad ? SPH_EINVAL : SPH_OK;
+    return bad ? SPH_EOFFSET : SPH_OK;
 }
 
 /* Counting pass: offset[0..nt] of the CSR lists of criterion (N1)/(N2);
@@ -3706,7 +3800,8 @@ SPH_API int sph_nsearch_count(const sph_nsearch *g, sph_view xt, sph_idx n_targe
 /* Fill pass: index[offset[i] .. offset[i+1]-1] = the neighbours of target i
  * (criterion (N1)/(N2)) in ascending source index. offset must come from
  * sph_nsearch_count with the same arguments; index holds capacity entries
- * (SPH_ESIZE, nothing written, when offset[nt] > capacity). */
+ * (SPH_ESIZE, nothing written, when offset[nt] > capacity; SPH_EOFFSET when
+ * offset is malformed or a target's list does not have its length). */
 SPH_API int sph_nsearch_fill(const sph_nsearch *g, sph_view xt, sph_idx n_targets, sph_view ht,
                              sph_real h, sph_real kappa, int mode, const sph_off *offset, sph_idx *index,
                              sph_off capacity)
@@ -3715,9 +3810,9 @@ SPH_API int sph_nsearch_fill(const sph_nsearch *g, sph_view xt, sph_idx n_target
     int st = sph__nsearch_check(g, xt, n_targets, ht, h, kappa, mode);
     if (st != SPH_OK) return st;
     if (offset == NULL) return SPH_ENULL;
-    if (offset[0] != 0) return SPH_EINVAL;
+    if (offset[0] != 0) return SPH_EOFFSET;
     for (i = 0; i < n_targets; ++i)
-        if (offset[i + 1] < offset[i]) return SPH_EINVAL;
+        if (offset[i + 1] < offset[i]) return SPH_EOFFSET;
     if (offset[n_targets] > capacity) return SPH_ESIZE;
     if (index == NULL && offset[n_targets] > 0) return SPH_ENULL;
     if (n_targets == 0 || index == NULL) return SPH_OK;
@@ -3768,7 +3863,7 @@ SPH_API int sph_nsearch_lists(const sph_nsearch *g, sph_view xt, sph_idx n_targe
     sph_idx i;
     if (st != SPH_OK) return st;
     if (offset == NULL || pairs == NULL || (index == NULL && capacity > 0)) return SPH_ENULL;
-    if (capacity < 0) return SPH_ESIZE;
+    if (capacity < 0) return SPH_ECOUNT;
     nb = 1;
 #ifdef _OPENMP
     nb = omp_get_max_threads();
@@ -3823,15 +3918,17 @@ SPH_API int sph_nsearch_stats(const sph_nsearch *g, sph_view xt, sph_idx n_targe
     return SPH_OK;
 }
 
-/* The sph_neighbours view (CSR, section 4) of arrays filled by sph_nsearch_count / _fill. */
+/* The sph_neighbours view (CSR, section 4) of arrays filled by sph_nsearch_count / _fill,
+ * with a copy of the grid's box (box_known; an open search: no periodic axis) for the
+ * operators' minimum image (O0). Box unknown when g is NULL or not built. */
 SPH_API sph_neighbours sph_nsearch_list(const sph_nsearch *g, sph_idx n_targets, const sph_off *offset,
                                         const sph_idx *index)
 {
-    sph_neighbours l;
-    l.n_targets = n_targets;
-    l.n_sources = g != NULL ? g->n_sources : 0;
-    l.offset = offset;
-    l.index = index;
+    sph_neighbours l = SPH_NEIGHBOURS_INIT(n_targets, g != NULL ? g->n_sources : 0, offset, index);
+    if (g != NULL && g->dim >= 1 && g->dim <= 3) {
+        l.box = g->box;
+        l.box_known = SPH_BOX_KNOWN;
+    }
     return l;
 }
 
@@ -3841,7 +3938,7 @@ SPH_API int sph_nsearch_permutation(const sph_nsearch *g, sph_idx *perm)
 {
     sph_idx k;
     if (g == NULL || (perm == NULL && g->n_sources > 0)) return SPH_ENULL;
-    if (g->dim < 1 || g->dim > 3) return SPH_EINVAL;
+    if (g->dim < 1 || g->dim > 3) return SPH_ENOGRID;
     for (k = 0; k < g->n_sources; ++k) perm[k] = g->order[k];
     return SPH_OK;
 }
@@ -3862,7 +3959,7 @@ SPH_API int sph__ns_check_perm(const sph_idx *perm, sph_idx n, sph_idx *mark)
  * unspecified) when perm is not a permutation of 0..n-1. */
 SPH_API int sph_permutation_invert(const sph_idx *perm, sph_idx n, sph_idx *inv)
 {
-    if (n < 0) return SPH_ESIZE;
+    if (n < 0) return SPH_ECOUNT;
     if (n > 0 && (perm == NULL || inv == NULL)) return SPH_ENULL;
     return sph__ns_check_perm(perm, n, inv);
 }
@@ -3875,8 +3972,8 @@ SPH_API int sph_permute(sph_view in, int ncomp, sph_idx n, const sph_idx *perm, 
 {
     sph_idx k;
     int a;
-    if (ncomp < 1 || ncomp > 3) return SPH_EINVAL;
-    if (n < 0) return SPH_ESIZE;
+    if (ncomp < 1 || ncomp > 3) return SPH_ERANGE;
+    if (n < 0) return SPH_ECOUNT;
     if (n == 0) return SPH_OK;
     if (perm == NULL) return SPH_ENULL;
     for (a = 0; a < ncomp; ++a)
@@ -4193,17 +4290,16 @@ SPH_API int sph__av_target(const sph__args *A, const sph_av *av, sph_idx i, sph_
  * are velocities (dim components) and sound speeds, with target views as in
  * sph_gradient; needs ctx.m and ctx.rho (and ctx.rho_target with targets of
  * their own); h_ij as the derivative operators. dudt and vsig may be absent
- * (not written). SPH_EINVAL for an unknown form or an alpha or beta not
- * finite and >= 0. */
+ * (not written). SPH_EOPTION for an unknown form, SPH_ERANGE for an alpha or
+ * beta not finite and >= 0. */
 SPH_API int sph_artificial_viscosity(const sph_ctx *c, const sph_av *av, sph_view v, sph_view v_target, sph_view cs,
                                      sph_view cs_target, sph_out acc, sph_out dudt, sph_out vsig)
 {
     sph__args A;
     int st;
     if (av == NULL) return SPH_ENULL;
-    if ((av->form != SPH_AV_MONAGHAN && av->form != SPH_AV_SIGNAL) || !(av->alpha >= 0 && sph__finite(av->alpha)) ||
-        !(av->beta >= 0 && sph__finite(av->beta)))
-        return SPH_EINVAL;
+    if (av->form != SPH_AV_MONAGHAN && av->form != SPH_AV_SIGNAL) return SPH_EOPTION;
+    if (!(av->alpha >= 0 && sph__finite(av->alpha)) || !(av->beta >= 0 && sph__finite(av->beta))) return SPH_ERANGE;
     st = sph__setup(c, SPH__N_M | SPH__N_RHO | SPH__N_FI | SPH__N_K, c != NULL ? c->dim : 1, v, v_target, cs,
                     cs_target, &A);
     if (st == SPH_OK) st = sph__out_ok(acc, c->dim);
@@ -4244,13 +4340,13 @@ SPH_API int sph__visc_target(const sph__args *A, int kinematic, sph_idx i, sph_o
  * v (dim components; for constant mu, nu lap v) with a dynamic (mu) or
  * kinematic (nu) coefficient per particle (coef, coef_target; target views
  * as in sph_gradient). Needs ctx.m and ctx.rho (rho_target with targets of
- * their own); h_ij as the derivative operators. SPH_EINVAL for another kind. */
+ * their own); h_ij as the derivative operators. SPH_EOPTION for another kind. */
 SPH_API int sph_viscosity(const sph_ctx *c, sph_visc_kind kind, sph_view coef, sph_view coef_target, sph_view v,
                           sph_view v_target, sph_out acc)
 {
     sph__args A;
     int st = kind != SPH_VISC_DYNAMIC && kind != SPH_VISC_KINEMATIC
-                 ? SPH_EINVAL
+                 ? SPH_EOPTION
                  : sph__setup(c, SPH__N_M | SPH__N_RHO | SPH__N_FI | SPH__N_K, c != NULL ? c->dim : 1, v, v_target,
                               coef, coef_target, &A);
     if (st == SPH_OK) st = sph__out_ok(acc, c->dim);
@@ -4286,14 +4382,14 @@ SPH_API int sph__ddiff_target(const sph__args *A, sph_real dc0, sph_idx i, sph_o
  * ctx.rho; dim components, target view as in sph_gradient), or Molteni &
  * Colagrossi (2009) when grad_rho is absent. Density from ctx.rho (and
  * rho_target), volumes ctx.V; h_ij as the derivative operators. Writes out.
- * SPH_EINVAL for delta or c0 negative or not finite. */
+ * SPH_ERANGE for delta or c0 negative or not finite. */
 SPH_API int sph_density_diffusion(const sph_ctx *c, sph_real delta, sph_real c0, sph_view grad_rho,
                                   sph_view grad_rho_target, sph_out out)
 {
     sph__args A;
     const int renorm = grad_rho.p[0] != NULL;
     int st = !(delta >= 0 && delta <= SPH__REAL_MAX && c0 >= 0 && c0 <= SPH__REAL_MAX)
-                 ? SPH_EINVAL
+                 ? SPH_ERANGE
                  : sph__setup(c, SPH__N_V | SPH__N_RHO | (renorm ? SPH__N_FI : 0), renorm && c != NULL ? c->dim : 0,
                               grad_rho, grad_rho_target, sph_view_none(), sph_view_none(), &A);
     if (st == SPH_OK) st = sph__out_ok(out, 1);
@@ -4365,7 +4461,8 @@ SPH_API int sph__target_opt(const sph_ctx *c, sph_view v, int ncomp)
  * v~ = sum_f v_f W_wf / sum_f W_wf), W at the wall's h. A wall particle with
  * no fluid in reach gets p_w = 0 and v_w = v_wall, counted in *n_empty (may
  * be NULL). v_w may be absent (not written). The wall densities for the
- * momentum equation follow from p_w by the solver's equation of state. */
+ * momentum equation follow from p_w by the solver's equation of state.
+ * SPH_EOPTION for an unknown slip, SPH_ERANGE for a g not finite. */
 SPH_API int sph_wall_adami(const sph_ctx *c, const sph_wall *w, sph_view p, sph_view v, sph_out p_w, sph_out v_w,
                            sph_idx *n_empty)
 {
@@ -4374,9 +4471,9 @@ SPH_API int sph_wall_adami(const sph_ctx *c, const sph_wall *w, sph_view p, sph_
     sph_idx empty = 0;
     int st, a;
     if (w == NULL) return SPH_ENULL;
-    if (w->slip != SPH_WALL_NOSLIP && w->slip != SPH_WALL_FREESLIP) return SPH_EINVAL;
+    if (w->slip != SPH_WALL_NOSLIP && w->slip != SPH_WALL_FREESLIP) return SPH_EOPTION;
     for (a = 0; a < 3; ++a)
-        if (!sph__finite(w->g[a])) return SPH_EINVAL;
+        if (!sph__finite(w->g[a])) return SPH_ERANGE;
     st = sph__setup(c, 0, c != NULL ? c->dim : 1, v, sph_view_none(), sph_view_none(), sph_view_none(), &A);
     if (st == SPH_OK) st = sph__field(c, c->rho, sph_view_none(), 1, 0, 2, &A.rho, &unused); /* fluid only */
     if (st == SPH_OK) st = sph__field(c, p, sph_view_none(), 1, 0, 0, &A.k, &unused);
@@ -4418,10 +4515,10 @@ SPH_API sph_dt_input sph_dt_input_init(sph_real h)
 /* (S9)-(S12) the global time step: min over particles 0..n-1 of
  * sph_dt_limit, with the limiting reason and particle (reason and which may
  * be NULL; SPH_DT_NONE, -1 and SPH__REAL_MAX when no rate is given or all
- * are 0). SPH_EINVAL (first such particle in *which) where sph_dt_limit is
+ * are 0). SPH_EVALUE (first such particle in *which) where sph_dt_limit is
  * SPH_DT_INVALID (h not positive and finite, a rate negative or not finite);
  * SPH_ENULL for in or dt NULL or a view without its components, SPH_EDIM,
- * SPH_ESIZE for n < 0. */
+ * SPH_ECOUNT for n < 0. */
 SPH_API int sph_time_step(const sph_dt_input *in, int dim, sph_idx n, sph_real *dt, int *reason, sph_idx *which)
 {
     sph_real best = SPH__REAL_MAX;
@@ -4429,7 +4526,7 @@ SPH_API int sph_time_step(const sph_dt_input *in, int dim, sph_idx n, sph_real *
     sph_idx i, at = -1;
     if (in == NULL || dt == NULL) return SPH_ENULL;
     if (dim < 1 || dim > 3) return SPH_EDIM;
-    if (n < 0) return SPH_ESIZE;
+    if (n < 0) return SPH_ECOUNT;
     if ((in->h_particle.p[0] != NULL && sph__view_ok(in->h_particle, 1) != SPH_OK) ||
         (in->vsig.p[0] != NULL && sph__view_ok(in->vsig, 1) != SPH_OK) ||
         (in->acc.p[0] != NULL && sph__view_ok(in->acc, dim) != SPH_OK) ||
@@ -4445,7 +4542,7 @@ SPH_API int sph_time_step(const sph_dt_input *in, int dim, sph_idx n, sph_real *
                          in->D_particle.p[0] != NULL ? SPH__AT(in->D_particle, 0, i) : in->D, &r);
         if (r == SPH_DT_INVALID) {
             if (which != NULL) *which = i;
-            return SPH_EINVAL;
+            return SPH_EVALUE;
         }
         if (r != SPH_DT_NONE && t < best) best = t, why = r, at = i;
     }
@@ -4473,7 +4570,7 @@ SPH_API int sph_time_step(const sph_dt_input *in, int dim, sph_idx n, sph_real *
  * where f changes sign and bisected when a Newton step leaves it. h^d f(h) / m_i
  * = sum_j (m_j / m_i) alpha_d w(r_ij / h) - eta^d rises with h (w falls
  * with q), so the root is unique and f < 0 below it, provided eta^d exceeds
- * the self term alpha_d w(0) (else SPH_EINVAL). Omega_i (H4) and the grad-h
+ * the self term alpha_d w(0) (else SPH_ERANGE). Omega_i (H4) and the grad-h
  * momentum and energy equations (H5), (H6) follow; they conserve momentum
  * and total energy pair by pair (H7).
  *
@@ -4514,7 +4611,7 @@ typedef struct {
     sph_kernel kernel;
     int dim;                    /* 1..3 */
     const sph_neighbours *list; /* full CSR list; row i ascending (as the search gives) for sph_pairs_build */
-    const sph_box *box;         /* periodic box, or NULL */
+    const sph_box *box;         /* periodic box, or NULL: the list's (SPH_EBOX when both are known and differ) */
     sph_view x;                 /* positions (dim components) */
     sph_view m;                 /* masses, positive */
     sph_view h_list;            /* per particle: row i holds every j with r_ij < kappa h_list_i; absent: h_list_max */
@@ -4565,16 +4662,19 @@ SPH_API sph_hctx sph_hctx_init(sph_kernel kernel, int dim, const sph_neighbours 
     return c;
 }
 
-/* Periods and their inverses per axis (0 where not periodic): the minimum
- * image of (O0) without a division per pair. */
+/* Periods and their inverses per axis (0 where not periodic) of the box
+ * ctx.box or the list's (sph__box_of): the minimum image of (O0) without a
+ * division per pair. */
 typedef struct {
     sph_real L[3], invL[3];
 } sph__period;
 
-SPH_API sph__period sph__period_of(const sph_box *box, int dim)
+SPH_API sph__period sph__period_of(const sph_box *ctx_box, const sph_neighbours *list, int dim)
 {
     sph__period P;
+    const sph_box *box;
     int a;
+    sph__box_of(ctx_box, list, dim, &box); /* checked by sph__hctx_check */
     for (a = 0; a < 3; ++a) {
         const int on = box != NULL && a < dim && box->periodic[a];
         P.L[a] = on ? box->length[a] : 0;
@@ -4608,26 +4708,27 @@ SPH__INLINE void sph__h_xi(sph_view x, int dim, sph_idx i, sph_real *xi)
 
 /* Checks what sph_h_solve and the forces share: kernel, dimension, list
  * (targets = sources; with check_list, offsets and indices), positions and
- * masses present, periods positive, and kappa h_list within half a period. */
+ * masses present, the box (ctx.box or the list's, equal when both are
+ * known: sph__box_of) with usable periods. */
 SPH_API int sph__hctx_check(const sph_hctx *c)
 {
+    const sph_box *box;
     sph_idx i, n;
-    int a;
+    int a, st;
     if (c == NULL || c->list == NULL || c->list->offset == NULL) return SPH_ENULL;
     if (sph_kernel_check(c->kernel, c->dim) != SPH_OK) return sph_kernel_check(c->kernel, c->dim);
     n = c->list->n_targets;
-    if (n < 0 || c->list->n_sources != n) return SPH_ESIZE;
+    if (n < 0 || c->list->n_sources != n) return SPH_ECOUNT;
     if (n > 0 && c->m.p[0] == NULL) return SPH_ENULL;
     for (a = 0; a < c->dim; ++a)
         if (n > 0 && c->x.p[a] == NULL) return SPH_ENULL;
-    for (a = 0; c->box != NULL && a < c->dim; ++a)
-        if (c->box->periodic[a] && !(c->box->length[a] > 0 && c->box->length[a] <= SPH__REAL_MAX)) return SPH_EINVAL;
+    if ((st = sph__box_of(c->box, c->list, c->dim, &box)) != SPH_OK) return st;
     if (c->list->offset[n] > 0 && c->list->index == NULL) return SPH_ENULL;
     if (c->check_list) {
         sph_off o;
-        if (c->list->offset[0] != 0) return SPH_EINVAL;
+        if (c->list->offset[0] != 0) return SPH_EOFFSET;
         for (i = 0; i < n; ++i)
-            if (c->list->offset[i + 1] < c->list->offset[i]) return SPH_EINVAL;
+            if (c->list->offset[i + 1] < c->list->offset[i]) return SPH_EOFFSET;
         for (o = 0; o < c->list->offset[n]; ++o)
             if (c->list->index[o] < 0 || c->list->index[o] >= n) return SPH_EINDEX;
     }
@@ -4704,8 +4805,9 @@ SPH_API int sph__h_particle(const sph_hctx *c, const sph__kdim *kd, const sph__p
  * density sums and SPH_H_* of each particle; report (optional): the
  * totals. Returns SPH_OK (check report or state for particles not
  * converged or beyond their list) or SPH_ENULL, SPH_EKERNEL, SPH_EDIM,
- * SPH_ESIZE, SPH_EINDEX, SPH_EINVAL (eta^d <= alpha_d w(0): no solution;
- * eta, tol not positive and finite, max_iter < 1, a bad box or list),
+ * SPH_ECOUNT (n_sources != n_targets), SPH_EINDEX, SPH_EOFFSET, SPH_ERANGE
+ * (eta^d <= alpha_d w(0): no solution; eta, tol not positive and finite,
+ * max_iter < 1), SPH_EBOXLEN, SPH_EBOX (ctx.box differs from the list's),
  * SPH_EH (a guess or h_list not usable), SPH_ENONFINITE (a NaN or Inf
  * position or a mass not positive and finite), before anything is written.
  * Parallel over particles under OpenMP; the same result for any thread
@@ -4724,7 +4826,7 @@ SPH_API int sph_h_solve(const sph_hctx *c, sph_out h, sph_out rho, sph_out omega
     kd = sph__kd(c->kernel, c->dim);
     if (!(c->eta > 0 && c->eta <= SPH__REAL_MAX) || !(c->tol > 0 && c->tol <= SPH__REAL_MAX) || c->max_iter < 1 ||
         !(sph__hpow(1, c->eta, c->dim) > kd->alpha * (sph_real)sph__shape_at(&sph__nshapes[kd->shape], SPH__SW, 0)))
-        return SPH_EINVAL;
+        return SPH_ERANGE;
     if (c->h_list.p[0] == NULL && !sph__h_ok(c->h_list_max, c->dim)) return SPH_EH;
     for (i = 0; i < n; ++i) {
         const sph_real mi = c->m.p[0][(ptrdiff_t)i * c->m.stride];
@@ -4735,7 +4837,7 @@ SPH_API int sph_h_solve(const sph_hctx *c, sph_out h, sph_out rho, sph_out omega
         for (a = 0; a < c->dim; ++a)
             if (!sph__finite(c->x.p[a][(ptrdiff_t)i * c->x.stride])) return SPH_ENONFINITE;
     }
-    P = sph__period_of(c->box, c->dim);
+    P = sph__period_of(c->box, c->list, c->dim);
 #ifdef _OPENMP
 #pragma omp parallel for schedule(dynamic, 64) if (n >= 512) reduction(+ : nnc, nbl, total) reduction(max : mx)
 #endif
@@ -4850,7 +4952,7 @@ SPH_API int sph_gradh_forces(const sph_hctx *c, sph_view v, sph_view h, sph_view
     if (st != SPH_OK) return st;
     n = c->list->n_targets;
     kd = sph__kd(c->kernel, c->dim);
-    P = sph__period_of(c->box, c->dim);
+    P = sph__period_of(c->box, c->list, c->dim);
 #ifdef _OPENMP
 #pragma omp parallel for schedule(dynamic, 64) if (n >= 512)
 #endif
@@ -4879,9 +4981,12 @@ SPH_API int sph_gradh_forces(const sph_hctx *c, sph_view v, sph_view h, sph_view
  * [n + 1], index [cap], t_offset [n + 1], t_slot [cap]; pairs is set to the
  * number of pairs (j > i) whatever happens. Rows of the full list must be
  * in ascending index (the search's order). Returns SPH_OK and fills *P, or
- * SPH_ESIZE (cap < pairs; offset complete), SPH_EINVAL when the list is not
- * symmetric (a pair in one row only; the pair-once sums would differ from
- * the gather ones) or a row not ascending, SPH_ENULL, SPH_EINDEX. */
+ * SPH_ESIZE (cap < pairs; offset complete), SPH_ENOTSYMMETRIC when the list
+ * is not symmetric (a pair in one row only, as a gather search with
+ * per-particle h gives: the pair-once sums would differ from the gather
+ * ones) or a row not strictly ascending, SPH_ECOUNT (n_sources != n_targets,
+ * cap < 0), SPH_EOFFSET, SPH_ENULL, SPH_EINDEX. The half list carries the
+ * full list's box. */
 SPH_API int sph_pairs_build(const sph_neighbours *full, sph_off *offset, sph_idx *index, sph_off cap,
                             sph_off *t_offset, sph_off *t_slot, sph_off *pairs, sph_pairs *P)
 {
@@ -4891,14 +4996,14 @@ SPH_API int sph_pairs_build(const sph_neighbours *full, sph_off *offset, sph_idx
     if (pairs != NULL) *pairs = 0;
     if (full == NULL || full->offset == NULL || offset == NULL || t_offset == NULL || P == NULL) return SPH_ENULL;
     n = full->n_targets;
-    if (n < 0 || full->n_sources != n || cap < 0) return SPH_ESIZE;
-    if (full->offset[0] != 0) return SPH_EINVAL;
+    if (n < 0 || full->n_sources != n || cap < 0) return SPH_ECOUNT;
+    if (full->offset[0] != 0) return SPH_EOFFSET;
     if (full->offset[n] > 0 && full->index == NULL) return SPH_ENULL;
     for (i = 0; i < n; ++i) {
-        if (full->offset[i + 1] < full->offset[i]) return SPH_EINVAL;
+        if (full->offset[i + 1] < full->offset[i]) return SPH_EOFFSET;
         for (o = full->offset[i]; o < full->offset[i + 1]; ++o) {
             if (full->index[o] < 0 || full->index[o] >= n) return SPH_EINDEX;
-            if (o > full->offset[i] && full->index[o] <= full->index[o - 1]) return SPH_EINVAL;
+            if (o > full->offset[i] && full->index[o] <= full->index[o - 1]) return SPH_ENOTSYMMETRIC;
         }
     }
     offset[0] = 0;
@@ -4935,10 +5040,12 @@ SPH_API int sph_pairs_build(const sph_neighbours *full, sph_off *offset, sph_idx
             const sph_idx j = index[k];
             bad = full->index[full->offset[j] + (t_slot[k] - t_offset[j])] != i;
         }
-    if (bad) return SPH_EINVAL;
+    if (bad) return SPH_ENOTSYMMETRIC;
     P->half.n_targets = P->half.n_sources = n;
     P->half.offset = offset;
     P->half.index = index;
+    P->half.box = full->box; /* the full list's box, known or not */
+    P->half.box_known = full->box_known;
     P->t_offset = t_offset;
     P->t_slot = t_slot;
     return SPH_OK;
@@ -4976,16 +5083,17 @@ SPH__INLINE void sph__pairs_sum(const sph_pairs *P, int ncomp, const sph_real *t
 
 /* (H8) out[ncomp i + a] = sum over the pairs k of row i of to_i[ncomp k + a]
  * + sum over the slots t of i of to_j[ncomp t + a], in that order: pair k =
- * (i, j) adds to_i[k] to i and to_j[t_slot[k]] to j. ncomp 1..16; to_i and
- * to_j hold ncomp pairs reals each (sph_pairs_buffer_len for both). out is
- * an interleaved array (ncomp reals per particle), not a view: a view holds
- * at most 3 components, a pair loop often sums more (sod_shock.c: 5).
+ * (i, j) adds to_i[k] to i and to_j[t_slot[k]] to j. ncomp 1..16 (else
+ * SPH_ERANGE); to_i and to_j hold ncomp pairs reals each
+ * (sph_pairs_buffer_len for both). out is an interleaved array (ncomp reals
+ * per particle), not a view: a view holds at most 3 components, a pair loop
+ * often sums more (sod_shock.c: 5).
  * Parallel over particles; bitwise the same for any thread count. */
 SPH_API int sph_pairs_reduce(const sph_pairs *P, int ncomp, const sph_real *to_i, const sph_real *to_j, sph_real *out)
 {
     sph_idx i, n;
     if (P == NULL || P->half.offset == NULL || P->t_offset == NULL) return SPH_ENULL;
-    if (ncomp < 1 || ncomp > 16) return SPH_EINVAL;
+    if (ncomp < 1 || ncomp > 16) return SPH_ERANGE;
     n = P->half.n_targets;
     if (n > 0 && out == NULL) return SPH_ENULL;
     if (P->half.offset[n] > 0 && (to_i == NULL || to_j == NULL)) return SPH_ENULL;
@@ -5030,7 +5138,7 @@ SPH_API int sph_gradh_forces_pairs(const sph_hctx *c, const sph_pairs *P, sph_vi
     D = c->dim;
     if (np > 0 && buf_len < sph_gradh_pairs_buffer_len(D, np)) return SPH_ESIZE;
     kd = sph__kd(c->kernel, D);
-    Pd = sph__period_of(c->box, D);
+    Pd = sph__period_of(c->box, &P->half, D);
     vi_buf = buf;
     vj_buf = buf + (ptrdiff_t)D * np;
     ei_buf = buf + (ptrdiff_t)2 * D * np;

@@ -344,10 +344,14 @@ static void run_op(scene *s, int op, sph_real *hbuf)
         c.h_source = sph_view_soa(hbuf, NULL, NULL);
         chk(sph_density_gradient(&c, f, sph_view_none(), rho, g));
         break;
-    case T_FUSED_NOBOX:
+    case T_FUSED_NOBOX: { /* the list without its periodic box: the open loops' time */
+        sph_neighbours open = s->list;
+        open.box_known = 0;
+        c.list = &open;
         c.box = NULL;
         chk(sph_density_gradient(&c, f, sph_view_none(), rho, g));
         break;
+    }
     case T_HAND_NOBOX: hand_loop(s); break;
 #if defined(BENCH_LINK_PARTS)
     case T_PINNED: chk(bench_pinned(&c, f, rho, g)); break;

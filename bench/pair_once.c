@@ -57,7 +57,7 @@ int main(int argc, char **argv)
     sph_off *off = NULL, *hoff, *toff, *tpair, pairs;
     sph_idx *idx = NULL, *hidx;
     sph_box box = {{0, 0, 0}, {1, 1, 1}, {1, 1, 1}};
-    sph_neighbours full;
+    sph_neighbours full = SPH_NEIGHBOURS_INIT(0, 0, NULL, NULL); /* box unknown: c.box gives it */
     sph_pairs pr;
     sph_hctx c;
     sph_hreport rep;

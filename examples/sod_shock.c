@@ -268,7 +268,7 @@ static int sd_search(sd_sim *S)
  * list get 1.2 times the solver's estimate and the search is repeated. */
 static int sd_density(sd_sim *S)
 {
-    sph_neighbours L;
+    sph_neighbours L = SPH_NEIGHBOURS_INIT(0, 0, NULL, NULL); /* box unknown: c.box gives it */
     sph_hctx c;
     sph_hreport rep;
     sph_idx i;
@@ -346,7 +346,7 @@ static void sd_pair(const sd_sim *S, sph_idx i, sph_idx j, sph_off k, double m, 
 static int sd_forces(sd_sim *S, double m)
 {
     const sd_param *P = &S->P;
-    sph_neighbours full;
+    sph_neighbours full = SPH_NEIGHBOURS_INIT(0, 0, NULL, NULL); /* box unknown: c.box gives it */
     sph_pairs pr;
     sph_off pairs;
     sph_idx i;

@@ -167,6 +167,7 @@ static inline int tp_brute_list(int dim, const sph_real *xt, int nt, const sph_r
     out->list.n_sources = (sph_idx)ns;
     out->list.offset = out->offset;
     out->list.index = out->index;
+    out->list.box_known = 0; /* the brute-force list does not record its box */
     return 0;
 }
 

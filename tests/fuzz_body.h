@@ -82,7 +82,9 @@ static inline int fz_expected(int c)
     switch (c) {
     case FZ_NAN_X: case FZ_INF_F: case FZ_NAN_V: case FZ_NAN_VEC: case FZ_INF_K: return SPH_ENONFINITE;
     case FZ_NAN_H: case FZ_H_BAD: case FZ_H_TINY: return SPH_EH;
-    case FZ_RHO0: case FZ_OFF_DEC: case FZ_OFF0: case FZ_BOX0: return SPH_EINVAL;
+    case FZ_RHO0: return SPH_EVALUE;
+    case FZ_OFF_DEC: case FZ_OFF0: return SPH_EOFFSET;
+    case FZ_BOX0: return SPH_EBOXLEN;
     case FZ_IDX_HIGH: case FZ_IDX_NEG: return SPH_EINDEX;
     case FZ_KERNEL: return SPH_EKERNEL;
     default: return SPH_OK;

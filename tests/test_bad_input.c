@@ -69,7 +69,7 @@ static void test_strerror(void)
         SPH_STATUS_LIST(TB_TEXT)
 #undef TB_TEXT
     };
-    const int n = (int)(sizeof code / sizeof code[0]), other[6] = {INT_MIN, -11, 1, 2, 100, INT_MAX};
+    const int n = (int)(sizeof code / sizeof code[0]), other[6] = {INT_MIN, -21, 1, 2, 100, INT_MAX};
     int i, j;
     th_begin("sph_strerror: every listed code its own sentence, values 0, -1, -2, ...; any other int a sentence");
     for (i = 0; i < n; ++i) {
@@ -77,7 +77,7 @@ static void test_strerror(void)
         TH_CHECK(strcmp(sph_strerror(code[i]), text[i]) == 0, "code %d: '%s'", code[i], sph_strerror(code[i]));
         for (j = 0; j < i; ++j) TH_CHECK(strcmp(text[i], text[j]) != 0, "codes %d and %d share a sentence", i, j);
     }
-    TH_CHECK(n == 11, "%d codes (EGRID and EPERIOD included)", n);
+    TH_CHECK(n == 21, "%d codes (SPH_ENOGRID, the last, included)", n);
     for (i = 0; i < 6; ++i)
         TH_CHECK(sph_strerror(other[i]) != NULL && strcmp(sph_strerror(other[i]), "unknown status code") == 0,
                  "strerror(%d)", other[i]);
@@ -523,7 +523,7 @@ static void test_operators(void)
     }
     th_end();
 
-    th_begin("operators: one value of each input array over every value: SPH_ENONFINITE / SPH_EH / SPH_EINVAL, "
+    th_begin("operators: one value of each input array over every value: SPH_ENONFINITE / SPH_EH / SPH_EVALUE, "
              "or finite outputs (up to overflow-sized field values, whose sums may overflow)");
     for (v = 0; v < NV; ++v) {
         const int moderate = finite_arg(v) && v != V_MAX && v != V_NMAX;
@@ -553,8 +553,8 @@ static void test_operators(void)
     }
     th_end();
 
-    th_begin("operators: unknown schemes, tensor strides, NULL outputs; n_targets beyond an offset array of "
-             "n_sources + 1 entries is SPH_ESIZE before offset[n_targets] is read");
+    th_begin("operators: unknown schemes (SPH_EOPTION), tensor strides (SPH_ESTRIDE), NULL outputs; n_targets beyond "
+             "an offset array of n_sources + 1 entries is SPH_ECOUNT before offset[n_targets] is read");
     {
         const sph_scheme bad_s[3] = {(sph_scheme)-1, (sph_scheme)5, (sph_scheme)99};
         const sph_view f = t.in.f, vv = t.in.v;
@@ -564,21 +564,21 @@ static void test_operators(void)
         sph_idx nfb = -7;
         int s, vs;
         for (s = 0; s < 3; ++s) {
-            TH_CHECK(sph_gradient(&t.s.c, bad_s[s], f, sph_view_none(), sph_out_interleaved(o, 3), &nfb) == SPH_EINVAL,
+            TH_CHECK(sph_gradient(&t.s.c, bad_s[s], f, sph_view_none(), sph_out_interleaved(o, 3), &nfb) == SPH_EOPTION,
                      "gradient scheme %d", (int)bad_s[s]);
-            TH_CHECK(sph_gradient_vector(&t.s.c, bad_s[s], vv, sph_view_none(), T, 9, &nfb) == SPH_EINVAL, "tensor");
+            TH_CHECK(sph_gradient_vector(&t.s.c, bad_s[s], vv, sph_view_none(), T, 9, &nfb) == SPH_EOPTION, "tensor");
             TH_CHECK(sph_divergence(&t.s.c, bad_s[s], vv, sph_view_none(), sph_out_soa(o, NULL, NULL), &nfb) ==
-                         SPH_EINVAL, "divergence");
-            TH_CHECK(sph_curl(&t.s.c, bad_s[s], vv, sph_view_none(), sph_out_interleaved(o, 3)) == SPH_EINVAL, "curl");
+                         SPH_EOPTION, "divergence");
+            TH_CHECK(sph_curl(&t.s.c, bad_s[s], vv, sph_view_none(), sph_out_interleaved(o, 3)) == SPH_EOPTION, "curl");
         }
-        TH_CHECK(sph_gradient_vector(&t.s.c, SPH_SCHEME_PRESSURE, vv, sph_view_none(), T, 9, &nfb) == SPH_EINVAL &&
+        TH_CHECK(sph_gradient_vector(&t.s.c, SPH_SCHEME_PRESSURE, vv, sph_view_none(), T, 9, &nfb) == SPH_EOPTION &&
                      sph_divergence(&t.s.c, SPH_SCHEME_SYMMETRIC, vv, sph_view_none(), sph_out_soa(o, NULL, NULL),
-                                    &nfb) == SPH_EINVAL,
+                                    &nfb) == SPH_EOPTION,
                  "schemes an operator does not have");
         for (vs = -2; vs <= 3; ++vs) {
-            TH_CHECK(sph_gradient_vector(&t.s.c, SPH_SCHEME_STANDARD, vv, sph_view_none(), T, vs, &nfb) == SPH_EINVAL,
+            TH_CHECK(sph_gradient_vector(&t.s.c, SPH_SCHEME_STANDARD, vv, sph_view_none(), T, vs, &nfb) == SPH_ESTRIDE,
                      "T_stride %d", vs);
-            TH_CHECK(sph_correction_matrix(&t.s.c, T, vs, &nfb) == SPH_EINVAL, "B_stride %d", vs);
+            TH_CHECK(sph_correction_matrix(&t.s.c, T, vs, &nfb) == SPH_ESTRIDE, "B_stride %d", vs);
         }
         TH_CHECK(sph_gradient_vector(&t.s.c, SPH_SCHEME_STANDARD, vv, sph_view_none(), NULL, 9, &nfb) == SPH_ENULL &&
                      sph_correction_matrix(&t.s.c, NULL, 9, &nfb) == SPH_ENULL &&
@@ -594,11 +594,11 @@ static void test_operators(void)
             c = t.s.c;
             c.list = &L;
             c.validate = vs ? SPH_VALIDATE_ARGS : SPH_VALIDATE_FULL;
-            TH_CHECK(sph_density(&c, sph_out_soa(o, NULL, NULL)) == SPH_ESIZE, "n_targets > n_sources (validate %d)", vs);
+            TH_CHECK(sph_density(&c, sph_out_soa(o, NULL, NULL)) == SPH_ECOUNT, "n_targets > n_sources (validate %d)", vs);
         }
         L.n_targets = INT_MAX;
         c.validate = SPH_VALIDATE_ARGS;
-        TH_CHECK(sph_density(&c, sph_out_soa(o, NULL, NULL)) == SPH_ESIZE, "n_targets INT_MAX");
+        TH_CHECK(sph_density(&c, sph_out_soa(o, NULL, NULL)) == SPH_ECOUNT, "n_targets INT_MAX");
         free(T), free(o), free(off);
     }
     th_end();
@@ -611,11 +611,11 @@ static void test_operators(void)
         sph_real y[4] = {1, 2, 3, 4};
         TH_CHECK(sph_neighbours_check(NULL) == SPH_ENULL, "NULL list");
         L.n_targets = -1;
-        TH_CHECK(sph_neighbours_check(&L) == SPH_ESIZE, "n_targets < 0");
+        TH_CHECK(sph_neighbours_check(&L) == SPH_ECOUNT, "n_targets < 0");
         L.n_targets = INT_MIN;
-        TH_CHECK(sph_neighbours_check(&L) == SPH_ESIZE, "n_targets INT_MIN");
+        TH_CHECK(sph_neighbours_check(&L) == SPH_ECOUNT, "n_targets INT_MIN");
         L.n_targets = 2, L.n_sources = 1, L.offset = off, L.index = idx;
-        TH_CHECK(sph_neighbours_check(&L) == SPH_EINVAL, "decreasing offsets");
+        TH_CHECK(sph_neighbours_check(&L) == SPH_EOFFSET, "decreasing offsets");
         off[2] = 2, idx[1] = 1;
         TH_CHECK(sph_neighbours_check(&L) == SPH_EINDEX, "index = n_sources");
         idx[1] = -1;
@@ -634,10 +634,10 @@ static void test_operators(void)
         }
         first = -7;
         for (j = 0; j < 5; ++j) {
-            TH_CHECK(sph_check_field(sph_view_soa(y, NULL, NULL), bad_int[j], 4, &first) == SPH_EINVAL, "ncomp %d",
+            TH_CHECK(sph_check_field(sph_view_soa(y, NULL, NULL), bad_int[j], 4, &first) == SPH_ERANGE, "ncomp %d",
                      bad_int[j]);
             if (bad_int[j] < 0)
-                TH_CHECK(sph_check_field(sph_view_soa(y, NULL, NULL), 1, bad_int[j], &first) == SPH_ESIZE, "n %d",
+                TH_CHECK(sph_check_field(sph_view_soa(y, NULL, NULL), 1, bad_int[j], &first) == SPH_ECOUNT, "n %d",
                          bad_int[j]);
         }
         TH_CHECK(first == -7, "first_bad written on a refused call");
@@ -678,7 +678,7 @@ static void test_search(void)
         st = sph_nsearch_workspace_size(3, xv, N, sph_view_none(), c, NULL, &bytes);
         TH_CHECK(st == (v == V_HALF || v == V_TWO || v == V_BIG || v == V_MAX ? SPH_OK
                         : v == V_DEN                                         ? SPH_EGRID
-                                                                             : SPH_EINVAL),
+                                                                             : SPH_ERANGE),
                  "cell %s: %d", vname[v], st);
         x[3 * 5 + 1] = val[v];
         st = sph_nsearch_workspace_size(3, xv, N, sph_view_none(), (sph_real)0.1, NULL, &bytes);
@@ -693,20 +693,20 @@ static void test_search(void)
         h[3] = (sph_real)0.1;
         box.length[1] = val[v];
         st = sph_nsearch_workspace_size(3, xv, N, sph_view_none(), (sph_real)0.1, &box, &bytes);
-        TH_CHECK(st == (!(val[v] > 0 && fin(val[v]) && fin(1 / val[v])) ? SPH_EINVAL
+        TH_CHECK(st == (!(val[v] > 0 && fin(val[v]) && fin(1 / val[v])) ? SPH_EBOXLEN
                         : val[v] / (sph_real)0.1 > (sph_real)SPH_NSEARCH_MAX_CELLS ? SPH_EGRID : SPH_OK),
                  "period %s: %d", vname[v], st);
         box.length[1] = 1;
         box.lo[2] = val[v];
         st = sph_nsearch_workspace_size(3, xv, N, sph_view_none(), (sph_real)0.1, &box, &bytes);
-        TH_CHECK(st == (finite_arg(v) ? SPH_OK : SPH_EINVAL), "box lo %s: %d", vname[v], st);
+        TH_CHECK(st == (finite_arg(v) ? SPH_OK : SPH_EBOXLEN), "box lo %s: %d", vname[v], st);
         box.lo[2] = 0;
     }
     for (j = 0; j < 5; ++j) {
         const int n = bad_int[j] == 0 ? SPH_NSEARCH_MAX_SOURCES + 1 : bad_int[j] == 4 ? -7 : bad_int[j];
         TH_CHECK(sph_nsearch_workspace_size(bad_int[j], xv, N, sph_view_none(), 1, NULL, &bytes) == SPH_EDIM, "dim %d",
                  bad_int[j]);
-        TH_CHECK(sph_nsearch_workspace_size(3, xv, n, sph_view_none(), 1, NULL, &bytes) == SPH_ESIZE, "n %d", n);
+        TH_CHECK(sph_nsearch_workspace_size(3, xv, n, sph_view_none(), 1, NULL, &bytes) == SPH_ECOUNT, "n %d", n);
     }
     TH_CHECK(sph_nsearch_workspace_size(3, xv, N, sph_view_none(), 1, NULL, NULL) == SPH_ENULL, "NULL bytes");
     TH_CHECK(sph_nsearch_workspace_size(3, xv, 1, sph_view_none(), val[V_DEN], NULL, &bytes) == SPH_EGRID,
@@ -717,8 +717,8 @@ static void test_search(void)
                  sph_nsearch_build(&g, 3, xv, N, sph_view_none(), (sph_real)0.1, &box, NULL, bytes) == SPH_ENULL &&
                  sph_nsearch_build(&g, 3, xv, N, sph_view_none(), (sph_real)0.1, &box, work, 0) == SPH_ESIZE,
              "NULL grid or work, no bytes");
-    TH_CHECK(sph_nsearch_count(&g, xv, N, sph_view_none(), (sph_real)0.1, 2, 0, off) == SPH_EINVAL &&
-                 sph_nsearch_permutation(&g, perm) == SPH_EINVAL,
+    TH_CHECK(sph_nsearch_count(&g, xv, N, sph_view_none(), (sph_real)0.1, 2, 0, off) == SPH_ENOGRID &&
+                 sph_nsearch_permutation(&g, perm) == SPH_ENOGRID,
              "a failed build is unusable");
     th_end();
 
@@ -738,7 +738,7 @@ static void test_search(void)
             if (w == 3) h[8] = val[v], ht = sph_view_soa(h, NULL, NULL);
             /* the unit periodic box takes R = kappa h <= 1/2 */
             want = w == 0 ? (sph_check_h(val[v]) != SPH_OK ? SPH_EH : 2 * val[v] > (sph_real)0.5 ? SPH_EPERIOD : SPH_OK)
-                 : w == 1 ? (!(val[v] > 0 && fin(val[v])) ? SPH_EINVAL : val[v] * (sph_real)0.1 > (sph_real)0.5
+                 : w == 1 ? (!(val[v] > 0 && fin(val[v])) ? SPH_ERANGE : val[v] * (sph_real)0.1 > (sph_real)0.5
                                                                         ? SPH_EPERIOD : SPH_OK)
                  : w == 2 ? (finite_arg(v) ? SPH_OK : SPH_ENONFINITE)
                           : (sph_check_h(val[v]) != SPH_OK ? SPH_EH : 2 * val[v] > (sph_real)0.5 ? SPH_EPERIOD : SPH_OK);
@@ -769,16 +769,16 @@ static void test_search(void)
     }
     for (j = 0; j < 5; ++j) {
         TH_CHECK(sph_nsearch_count(&g, xv, N, sph_view_none(), (sph_real)0.1, 2, bad_int[j] == 0 ? 2 : bad_int[j],
-                                   off) == SPH_EINVAL,
+                                   off) == SPH_EOPTION,
                  "mode %d", bad_int[j]);
         if (bad_int[j] < 0)
-            TH_CHECK(sph_nsearch_count(&g, xv, bad_int[j], sph_view_none(), (sph_real)0.1, 2, 0, off) == SPH_ESIZE &&
+            TH_CHECK(sph_nsearch_count(&g, xv, bad_int[j], sph_view_none(), (sph_real)0.1, 2, 0, off) == SPH_ECOUNT &&
                          sph_nsearch_lists(&g, xv, bad_int[j], sph_view_none(), (sph_real)0.1, 2, 0, off, idx, N * N,
-                                           &pairs) == SPH_ESIZE,
+                                           &pairs) == SPH_ECOUNT,
                      "n_targets %d", bad_int[j]);
     }
     TH_CHECK(sph_nsearch_lists(&g, xv, N, sph_view_none(), (sph_real)0.1, 2, 0, off, idx, INT_MIN, &pairs) ==
-                 SPH_ESIZE,
+                 SPH_ECOUNT,
              "capacity INT_MIN");
     TH_CHECK(sph_nsearch_list(NULL, 3, off, idx).n_sources == 0, "list of a NULL grid");
     th_end();
@@ -789,11 +789,11 @@ static void test_search(void)
     TH_CHECK(sph_nsearch_permutation(&g, perm) == SPH_OK, "grid permutation");
     for (j = 0; j < 5; ++j)
         if (bad_int[j] < 0) {
-            TH_CHECK(sph_permutation_invert(perm, bad_int[j], inv) == SPH_ESIZE, "invert n %d", bad_int[j]);
-            TH_CHECK(sph_permute(xv, 3, bad_int[j], perm, sph_out_interleaved(out, 3)) == SPH_ESIZE, "permute n %d",
+            TH_CHECK(sph_permutation_invert(perm, bad_int[j], inv) == SPH_ECOUNT, "invert n %d", bad_int[j]);
+            TH_CHECK(sph_permute(xv, 3, bad_int[j], perm, sph_out_interleaved(out, 3)) == SPH_ECOUNT, "permute n %d",
                      bad_int[j]);
         } else {
-            TH_CHECK(sph_permute(xv, bad_int[j], N, perm, sph_out_interleaved(out, 3)) == SPH_EINVAL, "ncomp %d",
+            TH_CHECK(sph_permute(xv, bad_int[j], N, perm, sph_out_interleaved(out, 3)) == SPH_ERANGE, "ncomp %d",
                      bad_int[j]);
         }
     for (i = 0; i < 3 * N; ++i) out[i] = SENT;

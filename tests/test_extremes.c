@@ -56,7 +56,7 @@ typedef struct {
  * search would leave out a pair at r >= kappa h): the full 2 x 2 list. */
 static const sph_off xs_pair_off[3] = {0, 2, 4};
 static const sph_idx xs_pair_idx[4] = {0, 1, 0, 1};
-static const sph_neighbours xs_pair_list = {2, 2, xs_pair_off, xs_pair_idx};
+static const sph_neighbours xs_pair_list = SPH_NEIGHBOURS_INIT(2, 2, xs_pair_off, xs_pair_idx);
 
 static void xs_make(xs *s, sph_kernel k, int dim, int n, const sph_real *x, double h, double vol)
 {
@@ -399,7 +399,7 @@ static void check_refused(xs *s, int st, const char *what, double v)
 }
 
 /* Where h^-(d+2) or x_ij^2 would overflow, the operators refuse (SPH_EH,
- * SPH_EINVAL) instead of computing Inf - Inf; just inside the limits they
+ * SPH_EVALUE) instead of computing Inf - Inf; just inside the limits they
  * give finite results. */
 static void test_range_limits(void)
 {
@@ -408,7 +408,7 @@ static void test_range_limits(void)
     sph_real x[6] = {0, 0, 0, 0, 0, 0};
     xs s;
     xo_res R;
-    th_begin("range limits: h with 64 h^-5 overflowing is SPH_EH, |x| > sqrt(REAL_MAX)/4 SPH_EINVAL (3D)");
+    th_begin("range limits: h with 64 h^-5 overflowing is SPH_EH, |x| > sqrt(REAL_MAX)/4 SPH_EVALUE (3D)");
     x[3] = (sph_real)(0.5 * h_ok);
     xs_make(&s, SPH_KERNEL_CUBIC, 3, 2, x, h_ok, pow(h_ok, 3));
     xo_alloc(&R, 2, SENT);
@@ -429,7 +429,7 @@ static void test_range_limits(void)
         TH_CHECK(R.o[XO_DENSITY][0] == sph_kernel_w(SPH_KERNEL_CUBIC, 3, 0, 1), "density %g", (double)R.o[XO_DENSITY][0]);
         xo_free(&R);
         s.x[3] = (sph_real)x_bad;
-        check_refused(&s, SPH_EINVAL, "x", x_bad);
+        check_refused(&s, SPH_EVALUE, "x", x_bad);
     }
     xs_free(&s);
     th_end();
@@ -574,12 +574,11 @@ static void test_tiny_clouds(void)
     for (dim = 1; dim <= 3; ++dim) {
         sph_real x[12] = {0, 0, 0, 1, 0, 0, 2, 0, 0, 3, 0, 0};
         sph_off off[5] = {0, 0, 0, 0, 0};
-        sph_neighbours L;
+        sph_neighbours L = SPH_NEIGHBOURS_INIT(4, 4, off, NULL);
         xs s;
         xo_res R;
         th_begin("empty neighbour lists %dD: sums are 0, Shepard 0 counted (4), corrected falls back (4)", dim);
         xs_make(&s, SPH_KERNEL_WENDLAND_C2, dim, 4, x, 0.3, 1);
-        L.n_targets = L.n_sources = 4, L.offset = off, L.index = NULL;
         s.c.list = &L;
         xo_alloc(&R, 4, SENT);
         xo_run(&s.c, &s.in, &R);
@@ -1025,8 +1024,8 @@ static void test_nonfinite(void)
         sph_idx first = -9;
         TH_CHECK(sph_check_field(sph_view_soa(s.f, NULL, NULL), 1, t.n, &first) == SPH_OK && first == -1, "clean field");
         TH_CHECK(sph_check_field(sph_view_soa(s.f, NULL, NULL), 2, t.n, &first) == SPH_ENULL, "missing component");
-        TH_CHECK(sph_check_field(sph_view_soa(s.f, NULL, NULL), 0, t.n, &first) == SPH_EINVAL, "ncomp 0");
-        TH_CHECK(sph_check_field(sph_view_soa(s.f, NULL, NULL), 1, -1, &first) == SPH_ESIZE, "n < 0");
+        TH_CHECK(sph_check_field(sph_view_soa(s.f, NULL, NULL), 0, t.n, &first) == SPH_ERANGE, "ncomp 0");
+        TH_CHECK(sph_check_field(sph_view_soa(s.f, NULL, NULL), 1, -1, &first) == SPH_ECOUNT, "n < 0");
         TH_CHECK(sph_check_field(sph_view_soa(s.f, NULL, NULL), 1, 0, NULL) == SPH_OK, "n = 0, first NULL");
     }
     xs_free(&s);

@@ -563,13 +563,13 @@ static void test_errors(void)
     TH_CHECK(need <= sizeof work, "test workspace too small for %lu", (unsigned long)need);
     TH_CHECK(sph_nsearch_workspace_size(0, v, N, sph_view_none(), 1, NULL, &bytes) == SPH_EDIM, "dim 0");
     TH_CHECK(sph_nsearch_workspace_size(4, v, N, sph_view_none(), 1, NULL, &bytes) == SPH_EDIM, "dim 4");
-    TH_CHECK(sph_nsearch_workspace_size(3, v, -1, sph_view_none(), 1, NULL, &bytes) == SPH_ESIZE, "n < 0");
+    TH_CHECK(sph_nsearch_workspace_size(3, v, -1, sph_view_none(), 1, NULL, &bytes) == SPH_ECOUNT, "n < 0");
     TH_CHECK(sph_nsearch_workspace_size(3, vnull, N, sph_view_none(), 1, NULL, &bytes) == SPH_ENULL, "NULL x");
     TH_CHECK(sph_nsearch_workspace_size(3, vnull, 0, sph_view_none(), 1, NULL, &bytes) == SPH_OK, "NULL x, N = 0");
     TH_CHECK(sph_nsearch_workspace_size(3, v, N, sph_view_none(), 1, NULL, NULL) == SPH_ENULL, "NULL bytes");
-    TH_CHECK(sph_nsearch_workspace_size(3, v, N, sph_view_none(), 0, NULL, &bytes) == SPH_EINVAL, "cell 0");
-    TH_CHECK(sph_nsearch_workspace_size(3, v, N, sph_view_none(), -1, NULL, &bytes) == SPH_EINVAL, "cell < 0");
-    TH_CHECK(sph_nsearch_workspace_size(3, v, N, sph_view_none(), nanv, NULL, &bytes) == SPH_EINVAL, "cell NaN");
+    TH_CHECK(sph_nsearch_workspace_size(3, v, N, sph_view_none(), 0, NULL, &bytes) == SPH_ERANGE, "cell 0");
+    TH_CHECK(sph_nsearch_workspace_size(3, v, N, sph_view_none(), -1, NULL, &bytes) == SPH_ERANGE, "cell < 0");
+    TH_CHECK(sph_nsearch_workspace_size(3, v, N, sph_view_none(), nanv, NULL, &bytes) == SPH_ERANGE, "cell NaN");
     TH_CHECK(sph_nsearch_workspace_size(3, v, N, sph_view_none(), (sph_real)1e-9, NULL, &bytes) == SPH_EGRID,
              "1e27 cells: the grid, not a workspace, is too large");
     TH_CHECK(sph_nsearch_workspace_size(1, v, N, sph_view_none(), (sph_real)1e-9, NULL, &bytes) == SPH_EGRID,
@@ -579,7 +579,7 @@ static void test_errors(void)
              "one source at 1e6: SPH_EGRID, not the workspace's SPH_ESIZE");
     x[3 * 9] = (sph_real)0.5;
     TH_CHECK(sph_nsearch_workspace_size(3, v, SPH_NSEARCH_MAX_SOURCES + 1, sph_view_none(), 1, NULL, &bytes) ==
-                 SPH_ESIZE, "more than SPH_NSEARCH_MAX_SOURCES sources (rejected before any is read)");
+                 SPH_ECOUNT, "more than SPH_NSEARCH_MAX_SOURCES sources (rejected before any is read)");
     TH_CHECK(sph_nsearch_workspace_size(2, v, N, sph_view_none(), (sph_real)1e-4, &box, &bytes) == SPH_OK,
              "1e8 cells are allowed");
     x[3 * 5 + 1] = nanv;
@@ -597,12 +597,12 @@ static void test_errors(void)
     TH_CHECK(sph_nsearch_workspace_size(3, v, N, sph_view_soa(h, NULL, NULL), 1, NULL, &bytes) == SPH_EH, "h Inf");
     h[7] = (sph_real)0.2;
     box.length[1] = 0;
-    TH_CHECK(sph_nsearch_workspace_size(3, v, N, sph_view_none(), 1, &box, &bytes) == SPH_EINVAL, "period 0");
+    TH_CHECK(sph_nsearch_workspace_size(3, v, N, sph_view_none(), 1, &box, &bytes) == SPH_EBOXLEN, "period 0");
     box.length[1] = nanv;
-    TH_CHECK(sph_nsearch_workspace_size(3, v, N, sph_view_none(), 1, &box, &bytes) == SPH_EINVAL, "period NaN");
+    TH_CHECK(sph_nsearch_workspace_size(3, v, N, sph_view_none(), 1, &box, &bytes) == SPH_EBOXLEN, "period NaN");
     box.length[1] = 1;
     box.lo[2] = (sph_real)INFINITY;
-    TH_CHECK(sph_nsearch_workspace_size(3, v, N, sph_view_none(), 1, &box, &bytes) == SPH_EINVAL, "box lo Inf");
+    TH_CHECK(sph_nsearch_workspace_size(3, v, N, sph_view_none(), 1, &box, &bytes) == SPH_EBOXLEN, "box lo Inf");
     box.lo[2] = 0;
     th_end();
 
@@ -611,7 +611,7 @@ static void test_errors(void)
     TH_CHECK(sph_nsearch_build(&g, 3, v, N, sph_view_none(), (sph_real)0.1, NULL, NULL, need) == SPH_ENULL, "NULL work");
     TH_CHECK(sph_nsearch_build(&g, 3, v, N, sph_view_none(), (sph_real)0.1, NULL, work, need - 1) == SPH_ESIZE,
              "workspace one byte short");
-    TH_CHECK(sph_nsearch_count(&g, v, N, sph_view_none(), (sph_real)0.1, 2, 0, off) == SPH_EINVAL, "count on failed build");
+    TH_CHECK(sph_nsearch_count(&g, v, N, sph_view_none(), (sph_real)0.1, 2, 0, off) == SPH_ENOGRID, "count on failed build");
     TH_CHECK(sph_nsearch_build(&g, 5, v, N, sph_view_none(), (sph_real)0.1, NULL, work, need) == SPH_EDIM, "dim 5");
     x[7] = nanv;
     TH_CHECK(sph_nsearch_build(&g, 3, v, N, sph_view_none(), (sph_real)0.1, NULL, work, need) == SPH_ENONFINITE, "NaN");
@@ -624,7 +624,7 @@ static void test_errors(void)
     st = sph_nsearch_build(&g, 3, v, N, sph_view_soa(h, NULL, NULL), (sph_real)0.1, &box, work, sizeof work);
     TH_CHECK(st == SPH_OK, "build %d", st);
     TH_CHECK(sph_nsearch_count(NULL, v, N, sph_view_none(), (sph_real)0.1, 2, 0, off) == SPH_ENULL, "NULL grid");
-    TH_CHECK(sph_nsearch_count(&g, v, -2, sph_view_none(), (sph_real)0.1, 2, 0, off) == SPH_ESIZE, "n < 0");
+    TH_CHECK(sph_nsearch_count(&g, v, -2, sph_view_none(), (sph_real)0.1, 2, 0, off) == SPH_ECOUNT, "n < 0");
     TH_CHECK(sph_nsearch_count(&g, vnull, N, sph_view_none(), (sph_real)0.1, 2, 0, off) == SPH_ENULL, "NULL x");
     TH_CHECK(sph_nsearch_count(&g, v, N, sph_view_none(), (sph_real)0.1, 2, 0, NULL) == SPH_ENULL, "NULL offset");
     TH_CHECK(sph_nsearch_count(&g, v, N, sph_view_none(), 0, 2, 0, off) == SPH_EH, "h = 0");
@@ -635,9 +635,9 @@ static void test_errors(void)
     h[3] = -1;
     TH_CHECK(sph_nsearch_count(&g, v, N, sph_view_soa(h, NULL, NULL), 1, 2, 0, off) == SPH_EH, "per-target h < 0");
     h[3] = (sph_real)0.2;
-    TH_CHECK(sph_nsearch_count(&g, v, N, sph_view_none(), (sph_real)0.1, 0, 0, off) == SPH_EINVAL, "kappa 0");
-    TH_CHECK(sph_nsearch_count(&g, v, N, sph_view_none(), (sph_real)0.1, nanv, 0, off) == SPH_EINVAL, "kappa NaN");
-    TH_CHECK(sph_nsearch_count(&g, v, N, sph_view_none(), (sph_real)0.1, 2, 2, off) == SPH_EINVAL, "mode 2");
+    TH_CHECK(sph_nsearch_count(&g, v, N, sph_view_none(), (sph_real)0.1, 0, 0, off) == SPH_ERANGE, "kappa 0");
+    TH_CHECK(sph_nsearch_count(&g, v, N, sph_view_none(), (sph_real)0.1, nanv, 0, off) == SPH_ERANGE, "kappa NaN");
+    TH_CHECK(sph_nsearch_count(&g, v, N, sph_view_none(), (sph_real)0.1, 2, 2, off) == SPH_EOPTION, "mode 2");
     x[3 * 9] = (sph_real)-INFINITY;
     TH_CHECK(sph_nsearch_count(&g, v, N, sph_view_none(), (sph_real)0.1, 2, 0, off) == SPH_ENONFINITE, "-Inf target");
     TH_CHECK(sph_nsearch_fill(&g, v, N, sph_view_none(), (sph_real)0.1, 2, 0, off, idx, N * N) == SPH_ENONFINITE,
@@ -653,16 +653,16 @@ static void test_errors(void)
     TH_CHECK(sph_nsearch_fill(&g, v, N, sph_view_none(), (sph_real)0.1, 2, 0, off, NULL, off[N]) == SPH_ENULL, "NULL index");
     TH_CHECK(sph_nsearch_fill(&g, v, N, sph_view_none(), (sph_real)0.1, 2, 0, NULL, idx, N * N) == SPH_ENULL, "NULL offset");
     /* offsets of another search (h 0.2 instead of 0.1): segments do not match */
-    TH_CHECK(sph_nsearch_fill(&g, v, N, sph_view_none(), (sph_real)0.2, 2, 0, off, idx, N * N) == SPH_EINVAL,
+    TH_CHECK(sph_nsearch_fill(&g, v, N, sph_view_none(), (sph_real)0.2, 2, 0, off, idx, N * N) == SPH_EOFFSET,
              "offsets of a different search");
     for (i = (int)off[N]; i <= N * N && idx[i] == -7; ++i) continue;
     TH_CHECK(i > N * N, "a mismatched fill wrote past offset[n]: index[%d]", i);
     off[3] = off[4] + 1;
-    TH_CHECK(sph_nsearch_fill(&g, v, N, sph_view_none(), (sph_real)0.1, 2, 0, off, idx, N * N) == SPH_EINVAL,
+    TH_CHECK(sph_nsearch_fill(&g, v, N, sph_view_none(), (sph_real)0.1, 2, 0, off, idx, N * N) == SPH_EOFFSET,
              "decreasing offsets");
     g0 = g;
     g0.dim = 0;
-    TH_CHECK(sph_nsearch_fill(&g0, v, N, sph_view_none(), (sph_real)0.1, 2, 0, off, idx, N * N) == SPH_EINVAL, "unbuilt grid");
+    TH_CHECK(sph_nsearch_fill(&g0, v, N, sph_view_none(), (sph_real)0.1, 2, 0, off, idx, N * N) == SPH_ENOGRID, "unbuilt grid");
     th_end();
 
     /* The minimum image (N3) sees one image of each source; R <= L/2 keeps every
@@ -720,7 +720,7 @@ static void test_errors(void)
         TH_CHECK(sph_nsearch_lists(&g, v, N, sph_view_none(), (sph_real)0.1, 2, 0, off, idx, N * N, &pairs) == SPH_OK,
                  "good call");
         TH_CHECK(sph_nsearch_lists(&g0, v, N, sph_view_none(), (sph_real)0.1, 2, 0, off, idx, N * N, &pairs) ==
-                     SPH_EINVAL, "unbuilt grid");
+                     SPH_ENOGRID, "unbuilt grid");
         TH_CHECK(sph_nsearch_lists(NULL, v, N, sph_view_none(), (sph_real)0.1, 2, 0, off, idx, N * N, &pairs) ==
                      SPH_ENULL, "NULL grid");
         TH_CHECK(sph_nsearch_lists(&g, v, N, sph_view_none(), (sph_real)0.1, 2, 0, NULL, idx, N * N, &pairs) ==
@@ -730,7 +730,7 @@ static void test_errors(void)
         TH_CHECK(sph_nsearch_lists(&g, v, N, sph_view_none(), (sph_real)0.1, 2, 0, off, NULL, N * N, &pairs) ==
                      SPH_ENULL, "NULL index with a capacity");
         for (i = 0; i <= N; ++i) off[i] = -7;
-        TH_CHECK(sph_nsearch_lists(&g, v, N, sph_view_none(), (sph_real)0.1, 2, 0, off, idx, -1, &pairs) == SPH_ESIZE,
+        TH_CHECK(sph_nsearch_lists(&g, v, N, sph_view_none(), (sph_real)0.1, 2, 0, off, idx, -1, &pairs) == SPH_ECOUNT,
                  "capacity < 0");
         for (i = 0; i <= N && off[i] == -7; ++i) continue;
         TH_CHECK(i > N, "a refused capacity < 0 wrote offset[%d]", i);
@@ -740,11 +740,11 @@ static void test_errors(void)
                  "size query (no index): SPH_ESIZE, %ld pairs", (long)pairs);
         TH_CHECK(sph_nsearch_lists(&g, v, N, sph_view_none(), 0, 2, 0, off, idx, N * N, &pairs) == SPH_EH, "h = 0");
         TH_CHECK(sph_nsearch_lists(&g, v, N, sph_view_none(), (sph_real)0.1, nanv, 0, off, idx, N * N, &pairs) ==
-                     SPH_EINVAL, "kappa NaN");
+                     SPH_ERANGE, "kappa NaN");
         TH_CHECK(sph_nsearch_lists(&g, v, N, sph_view_none(), (sph_real)0.1, 2, 2, off, idx, N * N, &pairs) ==
-                     SPH_EINVAL, "mode 2");
+                     SPH_EOPTION, "mode 2");
         TH_CHECK(sph_nsearch_lists(&g, v, -1, sph_view_none(), (sph_real)0.1, 2, 0, off, idx, N * N, &pairs) ==
-                     SPH_ESIZE, "n < 0");
+                     SPH_ECOUNT, "n < 0");
     }
     th_end();
 
@@ -758,8 +758,8 @@ static void test_errors(void)
     TH_CHECK(sph_permute(v, 3, N, perm, sph_out_interleaved(x, 3)) == SPH_EINDEX, "permute index n");
     perm[4] = -1;
     TH_CHECK(sph_permute(v, 3, N, perm, sph_out_interleaved(x, 3)) == SPH_EINDEX, "permute index -1");
-    TH_CHECK(sph_permute(v, 4, N, perm, sph_out_interleaved(x, 3)) == SPH_EINVAL, "4 components");
-    TH_CHECK(sph_permute(v, 3, -1, perm, sph_out_interleaved(x, 3)) == SPH_ESIZE, "n < 0");
+    TH_CHECK(sph_permute(v, 4, N, perm, sph_out_interleaved(x, 3)) == SPH_ERANGE, "4 components");
+    TH_CHECK(sph_permute(v, 3, -1, perm, sph_out_interleaved(x, 3)) == SPH_ECOUNT, "n < 0");
     TH_CHECK(sph_permute(v, 3, N, NULL, sph_out_interleaved(x, 3)) == SPH_ENULL, "NULL perm");
     TH_CHECK(sph_permute(v, 3, N, perm, sph_out_interleaved(NULL, 3)) == SPH_ENULL, "NULL out");
     TH_CHECK(sph_permutation_invert(NULL, N, inv) == SPH_ENULL, "NULL perm (invert)");

@@ -89,18 +89,18 @@ static void test_status_codes(void)
     idx[3] = (sph_idx)b.s.n, expect(&b, &c, SPH_SCHEME_CORRECTED, SPH_EINDEX, "index = n_sources");
     idx[3] = -1, expect(&b, &c, SPH_SCHEME_CORRECTED, SPH_EINDEX, "index = -1");
     idx[3] = b.s.L.list.index[3];
-    off[4] = off[3] - 1, expect(&b, &c, SPH_SCHEME_CORRECTED, SPH_EINVAL, "decreasing offsets");
+    off[4] = off[3] - 1, expect(&b, &c, SPH_SCHEME_CORRECTED, SPH_EOFFSET, "decreasing offsets");
     off[4] = b.s.L.list.offset[4];
-    off[0] = 1, expect(&b, &c, SPH_SCHEME_CORRECTED, SPH_EINVAL, "offset[0] != 0"), off[0] = 0;
-    L.n_targets = -1, expect(&b, &c, SPH_SCHEME_CORRECTED, SPH_ESIZE, "n_targets < 0"), L.n_targets = (sph_idx)b.s.n;
+    off[0] = 1, expect(&b, &c, SPH_SCHEME_CORRECTED, SPH_EOFFSET, "offset[0] != 0"), off[0] = 0;
+    L.n_targets = -1, expect(&b, &c, SPH_SCHEME_CORRECTED, SPH_ECOUNT, "n_targets < 0"), L.n_targets = (sph_idx)b.s.n;
     /* targets are the sources: n_sources below n_targets is refused on the counts alone, before
        the list is read (tests/test_bad_input.c checks that no offset beyond them is read) */
     L.n_sources = (sph_idx)b.s.n - 1;
-    expect(&b, &c, SPH_SCHEME_CORRECTED, SPH_ESIZE, "n_sources below n_targets without x_target");
+    expect(&b, &c, SPH_SCHEME_CORRECTED, SPH_ECOUNT, "n_sources below n_targets without x_target");
     L.n_sources = (sph_idx)b.s.n;
     L.index = NULL, expect(&b, &c, SPH_SCHEME_CORRECTED, SPH_ENULL, "index NULL"), L.index = idx;
     c.x.p[1] = NULL, expect(&b, &c, SPH_SCHEME_CORRECTED, SPH_ENULL, "y positions NULL"), c.x = b.s.c.x;
-    c.x.stride = 0, expect(&b, &c, SPH_SCHEME_CORRECTED, SPH_EINVAL, "stride 0"), c.x = b.s.c.x;
+    c.x.stride = 0, expect(&b, &c, SPH_SCHEME_CORRECTED, SPH_ESTRIDE, "stride 0"), c.x = b.s.c.x;
     c.V = sph_view_none(), expect(&b, &c, SPH_SCHEME_CORRECTED, SPH_ENULL, "no volumes"), c.V = b.s.c.V;
     keep = b.s.x[3 * 7 + 1];
     b.s.x[3 * 7 + 1] = (sph_real)NAN, expect(&b, &c, SPH_SCHEME_CORRECTED, SPH_ENONFINITE, "NaN position");
@@ -108,16 +108,16 @@ static void test_status_codes(void)
     keep = b.f[9];
     b.f[9] = (sph_real)INFINITY, expect(&b, &c, SPH_SCHEME_CORRECTED, SPH_ENONFINITE, "Inf in the field");
     b.f[9] = keep;
-    b.rho[2] = 0, expect(&b, &c, SPH_SCHEME_PRESSURE, SPH_EINVAL, "density 0 in the pressure form"), b.rho[2] = 1;
-    expect(&b, &c, (sph_scheme)17, SPH_EINVAL, "unknown scheme");
-    c.rcond_min = 2, expect(&b, &c, SPH_SCHEME_CORRECTED, SPH_EINVAL, "rcond_min 2"), c.rcond_min = (sph_real)1e-3;
+    b.rho[2] = 0, expect(&b, &c, SPH_SCHEME_PRESSURE, SPH_EVALUE, "density 0 in the pressure form"), b.rho[2] = 1;
+    expect(&b, &c, (sph_scheme)17, SPH_EOPTION, "unknown scheme");
+    c.rcond_min = 2, expect(&b, &c, SPH_SCHEME_CORRECTED, SPH_ERANGE, "rcond_min 2"), c.rcond_min = (sph_real)1e-3;
     for (a = 0; a < 3; ++a) box.lo[a] = 0, box.length[a] = 0, box.periodic[a] = 1;
-    c.box = &box, expect(&b, &c, SPH_SCHEME_CORRECTED, SPH_EINVAL, "periodic axis of length 0"), c.box = NULL;
+    c.box = &box, expect(&b, &c, SPH_SCHEME_CORRECTED, SPH_EBOXLEN, "periodic axis of length 0"), c.box = NULL;
     /* other operators' own checks */
     TH_CHECK(sph_curl(&c, SPH_SCHEME_CORRECTED, sph_view_interleaved(b.s.x, 3), sph_view_none(),
-                      sph_out_soa(b.g[0], NULL, NULL)) == SPH_EINVAL, "curl has no corrected form");
+                      sph_out_soa(b.g[0], NULL, NULL)) == SPH_EOPTION, "curl has no corrected form");
     TH_CHECK(sph_gradient_vector(&c, SPH_SCHEME_STANDARD, sph_view_interleaved(b.s.x, 3), sph_view_none(), b.g[0], 3,
-                                 NULL) == SPH_EINVAL, "tensor stride < dim^2");
+                                 NULL) == SPH_ESTRIDE, "tensor stride < dim^2");
     TH_CHECK(sph_density(&c, sph_out_soa(NULL, NULL, NULL)) == SPH_ENULL, "density output NULL");
     c.m = sph_view_none();
     TH_CHECK(sph_density(&c, sph_out_soa(b.g[0], NULL, NULL)) == SPH_ENULL, "density without masses");

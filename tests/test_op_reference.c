@@ -126,14 +126,14 @@ int main(void)
     for (k = 0; k < SPH_KERNEL_COUNT; ++k)
         for (dim = 1; dim <= 3; ++dim)
             for (mode = 0; mode < 3; ++mode) check_twins((sph_kernel)k, dim, mode);
-    th_begin("an unknown ctx.loops is SPH_EINVAL");
+    th_begin("an unknown ctx.loops is SPH_EOPTION");
     {
         ts_scene s;
         sph_real rho[64];
         ts_lattice(&s, SPH_KERNEL_CUBIC, 2, 4, 0.25, 1.3, 0, 1, NULL);
         s.c.m = s.c.V;
         s.c.loops = 2;
-        TH_CHECK(sph_density(&s.c, sph_out_soa(rho, NULL, NULL)) == SPH_EINVAL, "loops = 2 accepted");
+        TH_CHECK(sph_density(&s.c, sph_out_soa(rho, NULL, NULL)) == SPH_EOPTION, "loops = 2 accepted");
         ts_free(&s);
     }
     return th_summary();

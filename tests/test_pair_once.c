@@ -249,7 +249,7 @@ static void build_errors_case(void)
     const sph_idx idx[7] = {0, 1, 2, 1, 2, 1, 2}; /* row 2 lacks 0: (0, 2) in row 0 only */
     const sph_idx sym[9] = {0, 1, 2, 0, 1, 2, 0, 1, 2};
     const sph_off soff[4] = {0, 3, 6, 9};
-    sph_neighbours full = {3, 3, off, idx};
+    sph_neighbours full = SPH_NEIGHBOURS_INIT(3, 3, off, idx);
     sph_off offset[4], t_offset[4], t_slot[9], pairs = -1;
     sph_idx index[9];
     sph_pairs P;
@@ -257,7 +257,26 @@ static void build_errors_case(void)
     int st;
     th_begin("pairs: non-symmetric list refused, short arrays report the count, reduce order");
     st = sph_pairs_build(&full, offset, index, 9, t_offset, t_slot, &pairs, &P);
-    TH_CHECK(st == SPH_EINVAL, "non-symmetric: %d", st);
+    TH_CHECK(st == SPH_ENOTSYMMETRIC, "non-symmetric: %d", st);
+    full.index = sym;
+    full.offset = soff;
+    full.n_sources = 4;
+    TH_CHECK((st = sph_pairs_build(&full, offset, index, 9, t_offset, t_slot, &pairs, &P)) == SPH_ECOUNT,
+             "n_sources 4 of 3 targets: %d", st);
+    full.n_sources = 3;
+    TH_CHECK((st = sph_pairs_build(&full, offset, index, -1, t_offset, t_slot, &pairs, &P)) == SPH_ECOUNT,
+             "cap -1: %d", st);
+    {
+        const sph_idx unsorted[9] = {0, 1, 2, 1, 0, 2, 0, 1, 2}; /* row 1 not ascending */
+        const sph_off dec[4] = {0, 3, 2, 9};
+        full.index = unsorted;
+        TH_CHECK((st = sph_pairs_build(&full, offset, index, 9, t_offset, t_slot, &pairs, &P)) == SPH_ENOTSYMMETRIC,
+                 "row not ascending: %d", st);
+        full.index = sym;
+        full.offset = dec;
+        TH_CHECK((st = sph_pairs_build(&full, offset, index, 9, t_offset, t_slot, &pairs, &P)) == SPH_EOFFSET,
+                 "decreasing offsets: %d", st);
+    }
     full.offset = soff;
     full.index = sym;
     st = sph_pairs_build(&full, offset, index, 2, t_offset, t_slot, &pairs, &P);
@@ -269,13 +288,13 @@ static void build_errors_case(void)
     st = sph_pairs_reduce(&P, 1, to_i, to_j, out);
     TH_CHECK(st == SPH_OK && out[0] == 1 + 2 && out[1] == 4 + 8 && out[2] == 16 + 32, "reduce %g %g %g", (double)out[0],
              (double)out[1], (double)out[2]);
-    TH_CHECK(sph_pairs_reduce(&P, 0, to_i, to_j, out) == SPH_EINVAL, "ncomp 0");
+    TH_CHECK(sph_pairs_reduce(&P, 0, to_i, to_j, out) == SPH_ERANGE, "ncomp 0");
     { /* 4 particles, every pair: k = (0,1) (0,2) (0,3) (1,2) (1,3) (2,3); slots of 1: [0], of 2: [1, 2] for
          i = 0, 1, of 3: [3, 4, 5] for i = 0, 1, 2 */
         const sph_off o4[5] = {0, 4, 8, 12, 16};
         const sph_idx i4[16] = {0, 1, 2, 3, 0, 1, 2, 3, 0, 1, 2, 3, 0, 1, 2, 3};
         const sph_off expect[6] = {0, 1, 3, 2, 4, 5};
-        sph_neighbours f4 = {4, 4, o4, i4};
+        sph_neighbours f4 = SPH_NEIGHBOURS_INIT(4, 4, o4, i4);
         sph_off ho[5], to[5], ts[16];
         sph_idx hi[16];
         int k, ok = 1;

@@ -201,10 +201,10 @@ static void bad_input_case(void)
                       (sph_real)1.4);
     c.box = &box;
     c.eta = (sph_real)0.5; /* eta^3 = 0.125 < alpha_3 w(0) = 1/pi: the self term alone exceeds the target */
-    TH_CHECK((st = sph_h_solve(&c, out1(h), out1(rho), out1(om), it, NULL, NULL)) == SPH_EINVAL, "small eta: %d", st);
+    TH_CHECK((st = sph_h_solve(&c, out1(h), out1(rho), out1(om), it, NULL, NULL)) == SPH_ERANGE, "small eta: %d", st);
     c.eta = (sph_real)1.2;
     c.tol = 0;
-    TH_CHECK((st = sph_h_solve(&c, out1(h), out1(rho), out1(om), it, NULL, NULL)) == SPH_EINVAL, "tol 0: %d", st);
+    TH_CHECK((st = sph_h_solve(&c, out1(h), out1(rho), out1(om), it, NULL, NULL)) == SPH_ERANGE, "tol 0: %d", st);
     c.tol = (sph_real)1e-6;
     TH_CHECK((st = sph_h_solve(&c, out1(h), out1(NULL), out1(om), it, NULL, NULL)) == SPH_ENULL, "rho NULL: %d",
              st);
@@ -226,11 +226,23 @@ static void bad_input_case(void)
     L.index[4] = 27;
     TH_CHECK((st = sph_h_solve(&c, out1(h), out1(rho), out1(om), it, NULL, NULL)) == SPH_EINDEX, "index 27: %d", st);
     L.index[4] = 0;
+    {
+        const sph_off keep = L.offset[3];
+        L.offset[3] = L.offset[4] + 1;
+        TH_CHECK((st = sph_h_solve(&c, out1(h), out1(rho), out1(om), it, NULL, NULL)) == SPH_EOFFSET, "decreasing offsets: %d", st);
+        L.offset[3] = keep;
+    }
+    L.list.n_sources = 28;
+    TH_CHECK((st = sph_h_solve(&c, out1(h), out1(rho), out1(om), it, NULL, NULL)) == SPH_ECOUNT, "28 sources, 27 targets: %d", st);
+    L.list.n_sources = 27;
+    box.length[1] = 0;
+    TH_CHECK((st = sph_h_solve(&c, out1(h), out1(rho), out1(om), it, NULL, NULL)) == SPH_EBOXLEN, "period 0: %d", st);
+    box.length[1] = 3;
     for (i = 0; i < 27; ++i) TH_CHECK(rho[i] == -7, "rho[%d] written", i);
     { /* a row without the particle itself and without neighbours: finite results, beyond the list */
         const sph_off o1[2] = {0, 0};
         sph_real x1[3] = {0, 0, 0}, m1 = 1, h1 = 1, r1 = -1, om1 = -1;
-        sph_neighbours e = {1, 1, o1, NULL};
+        sph_neighbours e = SPH_NEIGHBOURS_INIT(1, 1, o1, NULL);
         sph_hctx c1 = sph_hctx_init(SPH_KERNEL_CUBIC, 3, &e, sph_view_interleaved(x1, 3), sph_view_soa(&m1, NULL, NULL),
                                     (sph_real)1.5);
         int s1 = -1;

@@ -201,13 +201,13 @@ static void test_errors(void)
              "av NULL");
     bad.alpha = -1;
     TH_CHECK(sph_artificial_viscosity(&s.ctx, &bad, v, sph_view_none(), c, sph_view_none(), a, none, none) ==
-                 SPH_EINVAL, "alpha < 0");
+                 SPH_ERANGE, "alpha < 0");
     bad = AV_M, bad.beta = (sph_real)NAN;
     TH_CHECK(sph_artificial_viscosity(&s.ctx, &bad, v, sph_view_none(), c, sph_view_none(), a, none, none) ==
-                 SPH_EINVAL, "beta NaN");
+                 SPH_ERANGE, "beta NaN");
     bad = AV_M, bad.form = (sph_av_form)7;
     TH_CHECK(sph_artificial_viscosity(&s.ctx, &bad, v, sph_view_none(), c, sph_view_none(), a, none, none) ==
-                 SPH_EINVAL, "form 7");
+                 SPH_EOPTION, "form 7");
     TH_CHECK(sph_artificial_viscosity(&s.ctx, &AV_M, v, sph_view_none(), sph_view_none(), sph_view_none(), a, none,
                                       none) == SPH_ENULL, "no sound speeds");
     TH_CHECK(sph_artificial_viscosity(&s.ctx, &AV_M, v, sph_view_none(), c, sph_view_none(), none, none, none) ==
@@ -229,7 +229,7 @@ static void test_empty_targets(void)
     /* a target whose list is empty gets zeros; no target at all writes nothing */
     const sph_off off[3] = {0, 0, 2};
     const sph_idx idx[2] = {0, 1};
-    sph_neighbours list = {2, 2, off, idx};
+    sph_neighbours list = SPH_NEIGHBOURS_INIT(2, 2, off, idx);
     sph_real x[6] = {0, 0, 0, (sph_real)0.5, 0, 0}, v[6] = {1, 0, 0, -1, 0, 0}, m[2] = {1, 1}, rho[2] = {1, 1};
     sph_real c[2] = {1, 1}, a[6] = {7, 7, 7, 7, 7, 7}, du[2] = {7, 7}, vs[2] = {7, 7};
     sph_ctx ctx = sph_ctx_init(SPH_KERNEL_CUBIC, 3, 1, &list, sph_view_interleaved(x, 3));

@@ -69,7 +69,7 @@ static void test_array(void)
     TH_CHECK(st == SPH_OK && why == SPH_DT_FORCE && which == 2, "status %d reason %s particle %d", st, sph_dt_reason_name(why), (int)which);
     TH_NEAR(dt, 10 * sqrt(0.1 / 5e7), 16 * TH_EPS);
     nu[3] = -1;
-    TH_CHECK(sph_time_step(&in, 2, 4, &dt, &why, &which) == SPH_EINVAL && which == 3, "negative nu: particle %d",
+    TH_CHECK(sph_time_step(&in, 2, 4, &dt, &why, &which) == SPH_EVALUE && which == 3, "negative nu: particle %d",
              (int)which);
     nu[3] = 0;
     in.vsig.p[0] = NULL;
@@ -80,7 +80,7 @@ static void test_array(void)
     TH_CHECK(st == SPH_OK && why == SPH_DT_NONE && which == -1 && dt > 1e30, "no particles: reason %s", sph_dt_reason_name(why));
     TH_CHECK(sph_time_step(NULL, 2, 4, &dt, &why, &which) == SPH_ENULL, "in NULL");
     TH_CHECK(sph_time_step(&in, 4, 4, &dt, &why, &which) == SPH_EDIM, "dim 4");
-    TH_CHECK(sph_time_step(&in, 2, -1, &dt, &why, &which) == SPH_ESIZE, "n < 0");
+    TH_CHECK(sph_time_step(&in, 2, -1, &dt, &why, &which) == SPH_ECOUNT, "n < 0");
     in.acc = sph_view_soa(acc, NULL, NULL);
     TH_CHECK(sph_time_step(&in, 2, 4, &dt, &why, &which) == SPH_ENULL, "acceleration view without its y");
     th_end();

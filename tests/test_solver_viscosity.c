@@ -131,7 +131,7 @@ static void test_pair_and_errors(void)
     TH_CHECK(acc[0] == 0, "rho_i = 0 added %g", acc[0]);
     ss_make(&s, 2, 60, 1, 8);
     v = sph_view_interleaved(s.v, 3), mu = sph_view_soa(s.c, NULL, NULL), a = sph_out_interleaved(s.a, 3);
-    TH_CHECK(sph_viscosity(&s.ctx, (sph_visc_kind)2, mu, sph_view_none(), v, sph_view_none(), a) == SPH_EINVAL,
+    TH_CHECK(sph_viscosity(&s.ctx, (sph_visc_kind)2, mu, sph_view_none(), v, sph_view_none(), a) == SPH_EOPTION,
              "kind 2");
     TH_CHECK(sph_viscosity(&s.ctx, SPH_VISC_DYNAMIC, sph_view_none(), sph_view_none(), v, sph_view_none(), a) ==
                  SPH_ENULL, "no coefficient");
