@@ -179,7 +179,7 @@ static void setup(sim *s, int res, double a, double n2, double tank_len, double 
     s->h = hfac * dx;
     s->c0 = c0fac * sqrt(GRAV * H);
     sph_idx count;
-    if (ex_particle_count((double)nx * ny + (double)layers * (nfloor + 2 * layers) + 2.0 * layers * nside, "particles",
+    if (ex_particle_count((double)nx * ny + (double)layers * (nfloor + 2 * layers) + 2.0 * layers * nside, "particles (--res, --tank)",
                           &count) != SPH_OK)
         exit(1);
     s->nf = nx * ny;

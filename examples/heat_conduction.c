@@ -98,7 +98,7 @@ static int hc_run(const hc_param *P, int two_layer, hc_result *R, FILE *csv, FIL
     ny = (int)ceil(2 * kappa * P->hdx) + 1;  /* periodic rows: the period exceeds 2 kappa h */
     if (n < 2 * nl || !(P->hdx > 0) || !(t_end > 0)) return SPH_EINVAL;
     memset(&NL, 0, sizeof NL);
-    if ((st = ex_particle_count((double)(n + 2 * nl) * ny, "heat_conduction", &ns)) != SPH_OK) return st;
+    if ((st = ex_particle_count((double)(n + 2 * nl) * ny, "particles (--n)", &ns)) != SPH_OK) return st;
     nf = (sph_idx)n * ny;
     x = (sph_real *)ex_calloc((size_t)ns, sizeof *x, NULL), y = (sph_real *)ex_calloc((size_t)ns, sizeof *y, NULL);
     T = (sph_real *)ex_calloc((size_t)ns, sizeof *T, NULL), k = (sph_real *)ex_calloc((size_t)ns, sizeof *k, NULL);
