@@ -176,7 +176,7 @@ static inline int ex_parse_args(int argc, char **argv, const char *about, const 
             *o->flag = 1;
             continue;
         }
-        if (a + 1 >= argc) {
+        if (a + 1 >= argc || strncmp(argv[a + 1], "--", 2) == 0) { /* "--n --t-end 1": --n has none */
             fprintf(stderr, "%s: option '%s' needs a value (try --help)\n", ex_prog(), s);
             return -1;
         }

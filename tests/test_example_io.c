@@ -82,13 +82,14 @@ static void test_options(void)
 {
     double cfl = 0.25, hdx = 0;
     int n = 40, nx = 16;
-    const char *kernel = "cubic";
+    const char *kernel = "cubic", *out = "build";
     const ex_arg opt[] = {
         {"n", "", NULL, &n, NULL, NULL, 8, 4000, 0, NULL},
         {"cfl", "", &cfl, NULL, NULL, NULL, 0, 1, EX_OPEN_LO, NULL},
         {"hdx", "", &hdx, NULL, NULL, NULL, 1, 4, EX_OR_ZERO, NULL},
         {"kernel", "", NULL, NULL, &kernel, NULL, 0, 0, 0, ex_kernel_choices()},
         {"nx", "", NULL, &nx, NULL, NULL, 8, 64, EX_EVEN, NULL},
+        {"out", "", NULL, NULL, &out, NULL, 0, 0, 0, NULL},
     };
     const int no = (int)(sizeof opt / sizeof opt[0]);
     static const char *refused[][3] = {
@@ -104,8 +105,9 @@ static void test_options(void)
     TH_CHECK(n == 40 && cfl == 0.25 && hdx == 0 && nx == 16 && strcmp(kernel, "cubic") == 0,
              "a refused value was stored");
     {
-        const char *missing[] = {"p", "--n"};
+        const char *missing[] = {"p", "--n"}, *followed[] = {"p", "--out", "--n", "10"};
         TH_CHECK(parse(2, missing, opt, no) == -1, "missing value accepted");
+        TH_CHECK(parse(4, followed, opt, no) == -1 && strcmp(out, "build") == 0, "the next option taken as value");
     }
     th_end();
     th_begin("options: values inside the range stored");
