@@ -1,15 +1,13 @@
 /* Density and gradient on a particle cloud: neighbour search, then two
  * operators (README "Quickstart: a particle cloud"). With --check it exits
- * non-zero unless the corrected gradient of a linear field is exact; any
- * other argument is refused (exit 2). */
-#include <stdio.h>
-#include <stdlib.h>
-#include <string.h>
-#include "sph_kernel.h"
+ * non-zero unless the corrected gradient of a linear field is exact; --help
+ * lists the options, any other argument is refused (exit 2). No time steps,
+ * so no growth bound. */
+#include "example_io.h"
 
 static int fail(int st)
 {
-    fprintf(stderr, "error: %s\n", sph_strerror(st));
+    fprintf(stderr, "%s: %s\n", ex_prog(), sph_strerror(st));
     return 1;
 }
 
@@ -25,11 +23,13 @@ int main(int argc, char **argv)
     sph_off *offset;
     sph_idx *index, n_fallback = 0;
     sph_real rho_lo = 0, rho_hi = 0;
-    int i, st, check = argc == 2 && strcmp(argv[1], "--check") == 0;
-    if (argc > 1 && !check) {
-        fprintf(stderr, "%s: unknown argument '%s'; usage: %s [--check]\n", argv[0], argv[1], argv[0]);
-        return 2;
-    }
+    int i, st, check = 0;
+    const ex_arg opt[] = {
+        {"check", "exit 1 unless the corrected gradient of a linear field is exact", NULL, NULL, NULL, &check, 0, 0, 0,
+         NULL},
+    };
+    st = ex_parse_args(argc, argv, "density and corrected gradient on a 20 x 20 particle cloud", opt, 1);
+    if (st != 0) return st > 0 ? 0 : 2;
     /* A lattice of spacing dx, each particle moved by up to 0.2 dx, with the
      * mass m = 1000 dx^2 of density 1000 on the lattice. The summation density
      * of the jittered cloud is not 1000 everywhere: a particle whose
@@ -46,12 +46,12 @@ int main(int argc, char **argv)
     st = sph_nsearch_workspace_size(2, xv, N, sph_view_none(), kappa * h / 2, NULL, &bytes);
     work = malloc(bytes);
     offset = (sph_off *)malloc((N + 1) * sizeof(sph_off));
-    if (work == NULL || offset == NULL) return fprintf(stderr, "error: out of memory\n"), 1;
+    if (work == NULL || offset == NULL) return fprintf(stderr, "%s: out of memory\n", ex_prog()), 1;
     if (st == SPH_OK) st = sph_nsearch_build(&grid, 2, xv, N, sph_view_none(), kappa * h / 2, NULL, work, bytes);
     if (st == SPH_OK) st = sph_nsearch_count(&grid, xv, N, sph_view_none(), h, kappa, SPH_NSEARCH_GATHER, offset);
     if (st != SPH_OK) return fail(st);
     index = (sph_idx *)malloc((size_t)offset[N] * sizeof(sph_idx));
-    if (index == NULL) return fprintf(stderr, "error: out of memory\n"), 1;
+    if (index == NULL) return fprintf(stderr, "%s: out of memory\n", ex_prog()), 1;
     st = sph_nsearch_fill(&grid, xv, N, sph_view_none(), h, kappa, SPH_NSEARCH_GATHER, offset, index, offset[N]);
     if (st != SPH_OK) return fail(st);
     sph_neighbours list = sph_nsearch_list(&grid, N, offset, index);

@@ -57,6 +57,12 @@
 #define GRAV 9.81
 #define RHO0 1000.0
 #define GAMMA 7.0
+/* The fluid only loses mechanical energy (viscosity, wall friction, impact):
+ * E_k + E_p may exceed the E_p of the column at rest by the elastic energy of
+ * its hydrostatic compression (below 0.5 % at c0 = 10 sqrt(g H)) and little
+ * more; a run past 1.05 E_p(0) has created energy and stops with exit 1. */
+#define DB_ENERGY_FACTOR 1.05
+#define DB_BOUNDS "a run stops with exit 1 when the fluid's mechanical energy E_k + E_p exceeds 1.05 E_p at the release"
 
 /* ---- measurements ---- */
 
@@ -179,8 +185,8 @@ static void setup(sim *s, int res, double a, double n2, double tank_len, double 
     s->h = hfac * dx;
     s->c0 = c0fac * sqrt(GRAV * H);
     sph_idx count;
-    if (ex_particle_count((double)nx * ny + (double)layers * (nfloor + 2 * layers) + 2.0 * layers * nside, "particles",
-                          &count) != SPH_OK)
+    if (ex_particle_count((double)nx * ny + (double)layers * (nfloor + 2 * layers) + 2.0 * layers * nside,
+                          "particles (--res, --tank)", &count) != SPH_OK)
         exit(1);
     s->nf = nx * ny;
     s->n = count;
@@ -594,9 +600,20 @@ static void record(const sim *s, const params *pm, double tau, history *hist)
     history_push(hist, row);
 }
 
+/* Kinetic plus potential energy of the fluid, E_p = m g y above the floor. */
+static double mechanical_energy(const sim *s)
+{
+    double e = 0;
+    sph_idx i;
+    for (i = 0; i < s->nf; ++i)
+        e += s->m[i] * (0.5 * (s->v[2 * i] * s->v[2 * i] + s->v[2 * i + 1] * s->v[2 * i + 1]) + GRAV * s->x[2 * i + 1]);
+    return e;
+}
+
 /* Runs the column a x n2 a to tau = end_tau, recording front, height and
- * probe every step. Stops the program (exit 3, no further frames) when the
- * state stops being finite. */
+ * probe every step. Stops the program (exit 1, no further frames) when the
+ * state stops being finite or its mechanical energy grows past
+ * DB_ENERGY_FACTOR times that at the release. */
 static void run(const params *pm, double n2, history *hist, int quiet)
 {
     sim s;
@@ -608,6 +625,9 @@ static void run(const params *pm, double n2, history *hist, int quiet)
     const int frames = pm->out && pm->vtk_every > 0;
     ex_field fields[4];
     ex_progress prog = ex_progress_start();
+    ex_growth energy = {"mechanical energy E_k + E_p of the fluid (J/m)",
+                        "the scheme created energy: raise --c0 or --res, or check --hfac and --alpha", 0,
+                        DB_ENERGY_FACTOR, 0};
     sph_idx i;
     memset(&s, 0, sizeof s);
     s.k = (sph_kernel)sph_kernel_from_name(pm->kernel);
@@ -637,6 +657,7 @@ static void run(const params *pm, double n2, history *hist, int quiet)
         write_frame(&s, &ser, 0);
     }
     particle_fields(&s, fields);
+    energy.start = mechanical_energy(&s);
     while (t < pm->end_tau * tscale) {
         double vmax = 0;
         for (i = 0; i < s.nf; ++i) {
@@ -668,7 +689,8 @@ static void run(const params *pm, double n2, history *hist, int quiet)
         }
         t += dt;
         ++step;
-        if (ex_fields_finite("dam_break", fields, 4, s.nf, t) != SPH_OK) {
+        if (ex_fields_finite("dam_break", fields, 4, s.nf, t) != SPH_OK ||
+            ex_growth_check(&energy, mechanical_energy(&s), t) != SPH_OK) {
             if (frames) ex_series_report(&ser), ex_series_close(&ser);
             exit(1);
         }
@@ -1370,7 +1392,7 @@ typedef struct {
     params pm;
     history hist[2];
     protocol pr;
-    char tag[64];
+    char tag[64], dir[1200];
 } mm_run;
 
 int main(int argc, char **argv)
@@ -1450,7 +1472,7 @@ int main(int argc, char **argv)
     pm.probe_y0 = pm.probe_y1 = 0;
     def = pm; /* the defaults: describe_variant lists what a run changes */
     def.res = 30, def.noslip = 0, def.front_k = 4, def.stokes = 1;
-    c = ex_parse_args(argc, argv, "2-D SPH dam break against Martin & Moyce (1952) and Buchner (2002)", opt,
+    c = ex_parse_args(argc, argv, "2-D SPH dam break against Martin & Moyce (1952) and Buchner (2002); " DB_BOUNDS, opt,
                       (int)(sizeof opt / sizeof opt[0]));
     if (c != 0) return c > 0 ? 0 : 2;
     if ((pm.noslip && pm.stokes) || (side && !pm.stokes) || (pm.stokes && !(pm.nu > 0)) ||
@@ -1553,7 +1575,18 @@ int main(int argc, char **argv)
             u->pm.res = pm.res << r;
             u->pm.stokes = c ? 0 : pm.stokes;
             snprintf(u->tag, sizeof u->tag, "res%d%s", u->pm.res, u->pm.stokes ? "" : "_nofriction");
+            if (u->pm.out) { /* the output folders before the banner: a refused --out stops before anything is printed */
+                run_dir(pm.out, u->tag, u->dir, sizeof u->dir);
+                u->pm.out = u->dir;
+            }
         }
+    if (summary) { /* appended to after each run: writable before the first */
+        FILE *f = fopen(summary, "a");
+        if (f == NULL || fclose(f) != 0) {
+            fprintf(stderr, "dam_break: cannot write %s\n", summary);
+            return 2;
+        }
+    }
     if (report && (md = fopen(report, "w")) == NULL) {
         fprintf(stderr, "dam_break: cannot write %s\n", report);
         return 2;
@@ -1575,11 +1608,6 @@ int main(int argc, char **argv)
     for (r = 0; r < nrun; ++r) {
         mm_run *u = &runs[r];
         double lag = NAN, speed = NAN, seconds = 0;
-        char dir[1200];
-        if (u->pm.out) {
-            run_dir(pm.out, u->tag, dir, sizeof dir);
-            u->pm.out = dir;
-        }
         for (c = 0; c < 2; ++c) {
             const double n2 = c == 0 ? 2 : 1;
             if ((columns != 0 && columns != (int)n2) || (u->pm.res != pm.res && c == 1)) continue;
@@ -1603,13 +1631,13 @@ int main(int argc, char **argv)
                           c == 0 ? u->pr.shift_T / sqrt(2.0) : u->pr.sq_shift_ms / (1e3 * sqrt(pm.a / GRAV)));
         snprintf(label[r], sizeof label[r], "%d across a%s", u->pm.res, u->pm.stokes ? "" : ", no friction");
         if (summary) {
-            FILE *f = fopen(summary, "r");
-            const int fresh = f == NULL;
-            if (f) fclose(f);
-            if ((f = fopen(summary, "a")) == NULL) {
+            FILE *f = fopen(summary, "a");
+            int fresh;
+            if (f == NULL || fseek(f, 0, SEEK_END) != 0) {
                 fprintf(stderr, "dam_break: cannot write %s\n", summary);
                 return 2;
             }
+            fresh = ftell(f) == 0; /* the header first in a new or empty file */
             describe_variant(&u->pm, &def, variant, sizeof variant);
             if (fresh)
                 fprintf(f, "| particles across a | model (default unless listed) | particles (a x 2a) | delay (T) | delay "

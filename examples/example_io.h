@@ -12,8 +12,18 @@
  *   ex_kernel_choices()        the kernel names of sph_kernel.h as choices
  *   ex_calloc(n, size, what)   calloc with the size checked for overflow; a
  *                              failure prints what could not be allocated
+ *   ex_prog()                  the program's name (set by ex_parse_args): every
+ *                              message on stderr starts with it
  *   ex_fields_finite(...)      stops a run at the first NaN or Inf of its
  *                              fields (sph_check_field), naming field, particle, t
+ *   ex_growth, ex_growth_check a quantity of a run (energy, error, max |T|)
+ *                              against the bound it must stay within: a run
+ *                              that grows past it stops (EX_EGROWTH, exit 1)
+ *                              with quantity, value, bound, time and a hint
+ *   ex_memory_available()      bytes a run may still allocate (address-space
+ *                              limit, available memory), for estimates made
+ *                              before the set-up
+ *   ex_csv_fixed(v, decimals)  v for "%.*f" in a CSV, -0.000 printed as 0.000
  *   ex_series_open/_write/_report/_close
  *                              a run's frames: XML VTK (.vtu, appended raw
  *                              binary by default, ASCII on request) carrying
@@ -39,10 +49,30 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
 #include <sys/stat.h>
 #include <time.h>
 
 #include "sph_kernel.h"
+
+/* ---- the program's name ---- */
+
+/* The slot of the name every message starts with ("example" until
+ * ex_parse_args stores argv[0]'s last path component). */
+static inline const char **ex__prog_slot(void)
+{
+    static const char *name = "example";
+    return &name;
+}
+
+static inline const char *ex_prog(void) { return *ex__prog_slot(); }
+
+/* Stores the program's name from argv[0] (its part after the last '/'). */
+static inline void ex_set_prog(const char *argv0)
+{
+    const char *slash = argv0 != NULL ? strrchr(argv0, '/') : NULL;
+    if (argv0 != NULL && *argv0) *ex__prog_slot() = slash != NULL && slash[1] ? slash + 1 : argv0;
+}
 
 /* ---- command-line options: --name value, --flag ---- */
 
@@ -58,7 +88,8 @@ typedef struct {
 
 /* An option with what it accepts: numbers (real, integer) within lo..hi,
  * the ends themselves refused when open has EX_OPEN_LO / EX_OPEN_HI, and 0
- * accepted besides the range with EX_OR_ZERO (0 meaning "automatic"); text
+ * accepted besides the range with EX_OR_ZERO (0 meaning "automatic"),
+ * integers only even with EX_EVEN; text
  * one of the words of choices ("a|b|c"; NULL: any). An integer must also be
  * whole. Unset (zero) lo and hi accept every finite number. */
 typedef struct {
@@ -72,7 +103,7 @@ typedef struct {
     const char *choices;
 } ex_arg;
 
-enum { EX_OPEN_LO = 1, EX_OPEN_HI = 2, EX_OR_ZERO = 4 };
+enum { EX_OPEN_LO = 1, EX_OPEN_HI = 2, EX_OR_ZERO = 4, EX_EVEN = 8 };
 
 /* The accepted range of a numeric option as text: "0 < cfl <= 1". */
 static inline void ex_range_text(const ex_arg *o, char *buf, size_t size)
@@ -80,14 +111,15 @@ static inline void ex_range_text(const ex_arg *o, char *buf, size_t size)
     if (o->lo == 0 && o->hi == 0)
         snprintf(buf, size, "any finite number");
     else
-        snprintf(buf, size, "%s%.15g %s %s %s %.15g", (o->open & EX_OR_ZERO) ? "0 or " : "", o->lo, (o->open & EX_OPEN_LO) ? "<" : "<=", o->name,
+        snprintf(buf, size, "%s%s%.15g %s %s %s %.15g", (o->open & EX_EVEN) ? "even, " : "",
+                 (o->open & EX_OR_ZERO) ? "0 or " : "", o->lo, (o->open & EX_OPEN_LO) ? "<" : "<=", o->name,
                  (o->open & EX_OPEN_HI) ? "<" : "<=", o->hi);
 }
 
 static inline void ex_usage_args(const char *prog, const char *about, const ex_arg *opt, int n)
 {
     int i;
-    printf("%s - %s\n\nusage: %s [options]\n\n", prog, about, prog);
+    printf("%s - %s\n\nusage: %s [options]\n\n", ex_prog(), about, prog);
     for (i = 0; i < n; ++i) {
         char def[64] = "", range[128] = "";
         if (opt[i].real) snprintf(def, sizeof def, " (default %g", *opt[i].real);
@@ -125,6 +157,7 @@ static inline int ex_is_choice(const char *word, const char *choices)
 static inline int ex_parse_args(int argc, char **argv, const char *about, const ex_arg *opt, int n)
 {
     int a, i;
+    ex_set_prog(argv[0]);
     for (a = 1; a < argc; ++a) {
         const char *s = argv[a];
         const ex_arg *o;
@@ -135,7 +168,7 @@ static inline int ex_parse_args(int argc, char **argv, const char *about, const 
         for (i = 0; i < n; ++i)
             if (strncmp(s, "--", 2) == 0 && strcmp(s + 2, opt[i].name) == 0) break;
         if (i == n) {
-            fprintf(stderr, "%s: unknown option '%s' (try --help)\n", argv[0], s);
+            fprintf(stderr, "%s: unknown option '%s' (try --help)\n", ex_prog(), s);
             return -1;
         }
         o = &opt[i];
@@ -143,14 +176,14 @@ static inline int ex_parse_args(int argc, char **argv, const char *about, const 
             *o->flag = 1;
             continue;
         }
-        if (a + 1 >= argc) {
-            fprintf(stderr, "%s: option '%s' needs a value (try --help)\n", argv[0], s);
+        if (a + 1 >= argc || strncmp(argv[a + 1], "--", 2) == 0) { /* "--n --t-end 1": --n has none */
+            fprintf(stderr, "%s: option '%s' needs a value (try --help)\n", ex_prog(), s);
             return -1;
         }
         ++a;
         if (o->text) {
             if (o->choices != NULL && !ex_is_choice(argv[a], o->choices)) {
-                fprintf(stderr, "%s: --%s '%s' refused: accepted %s\n", argv[0], o->name, argv[a], o->choices);
+                fprintf(stderr, "%s: --%s '%s' refused: accepted %s\n", ex_prog(), o->name, argv[a], o->choices);
                 return -1;
             }
             *o->text = argv[a];
@@ -160,13 +193,14 @@ static inline int ex_parse_args(int argc, char **argv, const char *about, const 
             const int ranged = !(o->lo == 0 && o->hi == 0);
             int bad = end == argv[a] || *end != '\0' || !isfinite(v);
             if (!bad && o->integer && (v != floor(v) || v < INT_MIN || v > INT_MAX)) bad = 1;
+            if (!bad && (o->open & EX_EVEN) && fmod(v, 2) != 0) bad = 1;
             if (!bad && ranged && !(v == 0 && (o->open & EX_OR_ZERO)))
                 bad = (o->open & EX_OPEN_LO ? !(v > o->lo) : !(v >= o->lo)) ||
                       (o->open & EX_OPEN_HI ? !(v < o->hi) : !(v <= o->hi));
             if (bad) {
                 if (ranged) ex_range_text(o, range, sizeof range);
                 else snprintf(range, sizeof range, "%s", o->integer ? "a number in int" : "any finite number");
-                fprintf(stderr, "%s: --%s %s refused: accepted %s%s\n", argv[0], o->name, argv[a],
+                fprintf(stderr, "%s: --%s %s refused: accepted %s%s\n", ex_prog(), o->name, argv[a],
                         o->integer && ranged ? "a whole number, " : o->integer ? "a whole " : "", range);
                 return -1;
             }
@@ -180,7 +214,7 @@ static inline int ex_parse_args(int argc, char **argv, const char *about, const 
 static inline void ex_usage(const char *prog, const char *about, const ex_option *opt, int n)
 {
     int i;
-    printf("%s - %s\n\nusage: %s [options]\n\n", prog, about, prog);
+    printf("%s - %s\n\nusage: %s [options]\n\n", ex_prog(), about, prog);
     for (i = 0; i < n; ++i) {
         char def[64] = "";
         if (opt[i].real) snprintf(def, sizeof def, " (default %g)", *opt[i].real);
@@ -197,6 +231,7 @@ static inline int ex_parse(int argc, char **argv, const char *about, const ex_op
 {
     ex_arg *all;
     int i, st;
+    ex_set_prog(argv[0]);
     for (i = 1; i < argc; ++i)
         if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
             ex_usage(argv[0], about, opt, n);
@@ -204,7 +239,7 @@ static inline int ex_parse(int argc, char **argv, const char *about, const ex_op
         }
     all = (ex_arg *)calloc(n > 0 ? (size_t)n : 1, sizeof *all);
     if (all == NULL) {
-        fprintf(stderr, "%s: out of memory reading the options\n", argv[0]);
+        fprintf(stderr, "%s: out of memory reading the options\n", ex_prog());
         return -1;
     }
     for (i = 0; i < n; ++i) {
@@ -232,17 +267,53 @@ static inline const char *ex_kernel_choices(void)
 /* ---- status ---- */
 
 /* Statuses of the examples beside the library's (section 2 of sph_kernel.h):
- * an output file could not be written, memory ran out (a message on stderr
- * names the file or what could not be allocated). */
+ * an output file could not be written, memory ran out, a quantity of the
+ * run grew past its bound (a message on stderr names the file, what could
+ * not be allocated, or the quantity). */
 #define EX_EWRITE 100
 #define EX_ENOMEM 101
+#define EX_EGROWTH 102
 
 static inline const char *ex_strerror(int st)
 {
     return st == EX_EWRITE ? "an output file could not be written"
            : st == EX_ENOMEM        ? "out of memory"
+           : st == EX_EGROWTH       ? "a quantity of the run grew past its bound"
            : st == SPH_ENONFINITE   ? "NaN or Inf in the solution"
                                     : sph_strerror(st);
+}
+
+/* ---- bounds a run must stay within ---- */
+
+/* A quantity of a run that must stay at or below start * factor + margin:
+ * kinetic energy of a decaying flow (factor 1 + tol), an error against the
+ * exact solution (start 0, margin), max |T| under the maximum principle. The
+ * hint says what to change when it is exceeded. */
+typedef struct {
+    const char *quantity, *hint;
+    double start, factor, margin;
+} ex_growth;
+
+static inline double ex_growth_bound(const ex_growth *g) { return g->start * g->factor + g->margin; }
+
+/* The bound as text for a banner or --help: "kinetic energy <= 1.01 x its start value 0.25". */
+static inline void ex_growth_text(const ex_growth *g, char *buf, size_t size)
+{
+    if (g->start == 0) snprintf(buf, size, "%s <= %.6g", g->quantity, g->margin);
+    else if (g->margin == 0) snprintf(buf, size, "%s <= %.6g x its start value %.6g", g->quantity, g->factor, g->start);
+    else snprintf(buf, size, "%s <= %.6g x its start value %.6g + %.6g", g->quantity, g->factor, g->start, g->margin);
+}
+
+/* SPH_OK while value <= the bound; otherwise (also for NaN) EX_EGROWTH and
+ * one line on stderr: program, quantity, value, bound, time t and the hint,
+ * so the run stops there and the program exits 1. */
+static inline int ex_growth_check(const ex_growth *g, double value, double t)
+{
+    const double bound = ex_growth_bound(g);
+    if (value <= bound) return SPH_OK;
+    fprintf(stderr, "%s: %s = %.6g at t = %.6g exceeds its bound %.6g: run stopped (%s)\n", ex_prog(), g->quantity,
+            value, t, bound, g->hint);
+    return EX_EGROWTH;
 }
 
 /* ---- memory ---- */
@@ -254,20 +325,82 @@ static inline void *ex_calloc(size_t count, size_t size, const char *what)
 {
     void *p = NULL;
     if (size != 0 && count > (size_t)-1 / size) {
-        if (what) fprintf(stderr, "cannot allocate %s: %.4g x %lu bytes overflow the address space\n", what,
-                          (double)count, (unsigned long)size);
+        if (what) fprintf(stderr, "%s: cannot allocate %s: %.4g x %lu bytes overflow the address space\n", ex_prog(),
+                          what, (double)count, (unsigned long)size);
     } else if ((p = calloc(count ? count : 1, size ? size : 1)) == NULL && what) {
-        fprintf(stderr, "cannot allocate %s: %.4g MB (out of memory)\n", what, (double)count * (double)size / 1e6);
+        fprintf(stderr, "%s: cannot allocate %s: %.4g MB (out of memory)\n", ex_prog(), what,
+                (double)count * (double)size / 1e6);
     }
     return p;
 }
 
+/* The value of "Key:  N kB" in a /proc file, in bytes; -1 when absent. */
+static inline double ex__proc_kb(const char *path, const char *key)
+{
+    char line[256];
+    const size_t n = strlen(key);
+    double v = -1;
+    FILE *f = fopen(path, "r");
+    if (f == NULL) return -1;
+    while (fgets(line, sizeof line, f) != NULL)
+        if (strncmp(line, key, n) == 0 && line[n] == ':') {
+            v = 1024 * strtod(line + n + 1, NULL);
+            break;
+        }
+    fclose(f);
+    return v;
+}
+
+/* Bytes this process may still allocate: the smaller of the address-space
+ * limit (ulimit -v) less what the process maps now, and the memory the
+ * system reports available (Linux: /proc/meminfo MemAvailable); -1 when
+ * neither is known. *why (may be NULL) names the one that limits. */
+static inline double ex_memory_available(const char **why)
+{
+    struct rlimit rl;
+    double avail = ex__proc_kb("/proc/meminfo", "MemAvailable"), limit = -1;
+    if (why != NULL) *why = "available memory";
+    if (getrlimit(RLIMIT_AS, &rl) == 0 && rl.rlim_cur != RLIM_INFINITY) {
+        const double mapped = ex__proc_kb("/proc/self/status", "VmSize");
+        limit = (double)rl.rlim_cur - (mapped > 0 ? mapped : 0);
+        if (limit < 0) limit = 0;
+    }
+    if (limit >= 0 && (avail < 0 || limit < avail)) {
+        if (why != NULL) *why = "address-space limit (ulimit -v)";
+        return limit;
+    }
+    return avail;
+}
+
+/* A byte count as text: "23.4 GB", "512 MB", "64 kB". */
+static inline void ex_bytes_text(double bytes, char *buf, size_t size)
+{
+    if (bytes >= 1e9) snprintf(buf, size, "%.3g GB", bytes / 1e9);
+    else if (bytes >= 1e6) snprintf(buf, size, "%.3g MB", bytes / 1e6);
+    else snprintf(buf, size, "%.3g kB", bytes / 1e3);
+}
+
+/* v for a "%.*f" field of a CSV with this many decimals: 0 where the value
+ * would print as -0.000... (a negative value, or -0.0, that rounds to zero),
+ * v otherwise. */
+static inline double ex_csv_fixed(double v, int decimals)
+{
+    char buf[64];
+    const char *c;
+    snprintf(buf, sizeof buf, "%.*f", decimals, v);
+    if (buf[0] != '-') return v;
+    for (c = buf + 1; *c; ++c)
+        if (*c != '0' && *c != '.') return v;
+    return 0.0;
+}
+
 /* A particle count from its factors, checked to fit sph_idx (int32_t):
- * SPH_OK and *n, or SPH_ESIZE (and a message naming what) when too many. */
+ * SPH_OK and *n, or SPH_ESIZE (and a message naming what is counted, e.g.
+ * "particles of --n 4000") when too many. */
 static inline int ex_particle_count(double count, const char *what, sph_idx *n)
 {
     if (!(count >= 0) || count > (double)INT32_MAX) {
-        fprintf(stderr, "%s: %.4g particles exceed what sph_idx counts (%ld)\n", what, count, (long)INT32_MAX);
+        fprintf(stderr, "%s: %.4g %s exceed what sph_idx counts (%ld)\n", ex_prog(), count, what, (long)INT32_MAX);
         return SPH_ESIZE;
     }
     *n = (sph_idx)count;
@@ -336,7 +469,10 @@ static inline int ex_mkdir_p(const char *path)
             buf[i] = c;
         }
     }
-    return 0;
+    { /* an existing file of that name is not a directory */
+        struct stat st;
+        return stat(path, &st) == 0 && S_ISDIR(st.st_mode) ? 0 : -1;
+    }
 }
 
 /* One particle field for ex_write_vtk: a name and a view of ncomp (1..3)
@@ -554,13 +690,13 @@ static inline int ex_series_open(ex_series *s, const char *dir, const char *name
     struct dirent *e;
     memset(s, 0, sizeof *s);
     if (strlen(dir) >= sizeof s->dir || strlen(name) >= sizeof s->name) {
-        fprintf(stderr, "output path too long: %s/%s\n", dir, name);
+        fprintf(stderr, "%s: output path too long: %s/%s\n", ex_prog(), dir, name);
         return -1;
     }
     strcpy(s->dir, dir), strcpy(s->name, name);
     s->ascii = ascii;
     if (ex_mkdir_p(dir) != 0 || (d = opendir(dir)) == NULL) {
-        fprintf(stderr, "cannot create or read the output directory %s\n", dir);
+        fprintf(stderr, "%s: cannot create or read the output directory %s\n", ex_prog(), dir);
         return -1;
     }
     while ((e = readdir(d)) != NULL) {
@@ -568,7 +704,7 @@ static inline int ex_series_open(ex_series *s, const char *dir, const char *name
         if (!ex__series_file(e->d_name, name)) continue;
         snprintf(path, sizeof path, "%s/%s", dir, e->d_name);
         if (remove(path) != 0) {
-            fprintf(stderr, "cannot remove %s of an earlier run\n", path);
+            fprintf(stderr, "%s: cannot remove %s of an earlier run\n", ex_prog(), path);
             closedir(d);
             return -1;
         }
@@ -591,14 +727,14 @@ static inline int ex_series_write(ex_series *s, double t, sph_idx n, int dim, sp
         const int cap = s->cap ? 2 * s->cap : 64;
         double *grown = (double *)realloc(s->time, (size_t)cap * sizeof *grown);
         if (grown == NULL) {
-            fprintf(stderr, "cannot allocate the frame list of %s\n", s->name);
+            fprintf(stderr, "%s: cannot allocate the frame list of %s\n", ex_prog(), s->name);
             return -1;
         }
         s->time = grown, s->cap = cap;
     }
     snprintf(s->last, sizeof s->last, "%s/%s_%04d.vtu", s->dir, s->name, s->count);
     if (ex_write_vtu(s->last, t, n, dim, x, f, nfields, s->ascii) != 0) {
-        fprintf(stderr, "cannot write %s\n", s->last);
+        fprintf(stderr, "%s: cannot write %s\n", ex_prog(), s->last);
         return -1;
     }
     s->time[s->count++] = t;
@@ -606,7 +742,7 @@ static inline int ex_series_write(ex_series *s, double t, sph_idx n, int dim, sp
     if (s->count == 1) s->t_first = t;
     snprintf(path, sizeof path, "%s/%s.pvd", s->dir, s->name);
     if ((pvd = fopen(path, "w")) == NULL) {
-        fprintf(stderr, "cannot write %s\n", path);
+        fprintf(stderr, "%s: cannot write %s\n", ex_prog(), path);
         return -1;
     }
     fprintf(pvd, "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\">\n  <Collection>\n");
@@ -615,7 +751,7 @@ static inline int ex_series_write(ex_series *s, double t, sph_idx n, int dim, sp
     fprintf(pvd, "  </Collection>\n</VTKFile>\n");
     err = ferror(pvd);
     if (fclose(pvd) != 0 || err) {
-        fprintf(stderr, "cannot write %s\n", path);
+        fprintf(stderr, "%s: cannot write %s\n", ex_prog(), path);
         return -1;
     }
     return 0;

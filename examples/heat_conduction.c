@@ -32,6 +32,11 @@
 #endif
 
 #define PI 3.14159265358979323846
+/* The maximum principle: T starts at 0 and the walls hold 0 and 1, so max |T|
+ * over the fluid stays at most 1; a run whose max |T| exceeds 1 + 0.05 has
+ * gone unstable and stops with exit 1. */
+#define HC_T_MARGIN 0.05
+#define HC_BOUNDS "a run stops with exit 1 when max |T| exceeds the wall temperature 1 by more than 0.05 (maximum principle)"
 
 typedef struct {
     int n;             /* particles across the slab */
@@ -91,6 +96,8 @@ static int hc_run(const hc_param *P, int two_layer, hc_result *R, FILE *csv, FIL
     sph_box box;
     sph_ctx c;
     long s, steps;
+    ex_growth tmax = {"max |T|", "the explicit step exceeds the diffusion limit of this resolution and conductivity", 1, 1,
+                      HC_T_MARGIN};
     if (kid < 0) return SPH_EKERNEL;
     if (!mirror && strcmp(P->wall, "fixed") != 0) return SPH_EINVAL;
     kappa = sph_kernel_support((sph_kernel)kid);
@@ -98,7 +105,7 @@ static int hc_run(const hc_param *P, int two_layer, hc_result *R, FILE *csv, FIL
     ny = (int)ceil(2 * kappa * P->hdx) + 1;  /* periodic rows: the period exceeds 2 kappa h */
     if (n < 2 * nl || !(P->hdx > 0) || !(t_end > 0)) return SPH_EINVAL;
     memset(&NL, 0, sizeof NL);
-    if ((st = ex_particle_count((double)(n + 2 * nl) * ny, "heat_conduction", &ns)) != SPH_OK) return st;
+    if ((st = ex_particle_count((double)(n + 2 * nl) * ny, "particles (--n)", &ns)) != SPH_OK) return st;
     nf = (sph_idx)n * ny;
     x = (sph_real *)ex_calloc((size_t)ns, sizeof *x, NULL), y = (sph_real *)ex_calloc((size_t)ns, sizeof *y, NULL);
     T = (sph_real *)ex_calloc((size_t)ns, sizeof *T, NULL), k = (sph_real *)ex_calloc((size_t)ns, sizeof *k, NULL);
@@ -151,10 +158,14 @@ static int hc_run(const hc_param *P, int two_layer, hc_result *R, FILE *csv, FIL
     c.V = sph_view_soa(V, NULL, NULL);
     for (s = 0; st == SPH_OK; ++s) {
         const double t = (double)s * dt;
+        double T_abs = 0;
         ex_field f[2];
         f[0].name = "temperature", f[0].v = sph_view_soa(T, NULL, NULL), f[0].ncomp = 1;
         f[1].name = "conductivity", f[1].v = sph_view_soa(k, NULL, NULL), f[1].ncomp = 1;
-        if ((st = ex_fields_finite("heat_conduction", f, 1, nf, t)) != SPH_OK) break;
+        for (q = 0; q < nf; ++q) T_abs = fabs(T[q]) > T_abs ? fabs(T[q]) : T_abs;
+        if ((st = ex_fields_finite("heat_conduction", f, 1, nf, t)) != SPH_OK ||
+            (st = ex_growth_check(&tmax, T_abs, t)) != SPH_OK)
+            break;
         for (q = nf; q < ns; ++q) { /* wall temperatures */
             const double Tb = x[q] < 0 ? 0 : 1;
             T[q] = (sph_real)(mirror ? 2 * Tb - T[img[q]] : Tb);
@@ -291,7 +302,7 @@ int main(int argc, char **argv)
     };
     P.n = 30, P.kernel = "wendland_c2", P.wall = "mirror", P.hdx = 1.3, P.k_ratio = 100, P.t_single = 0.1;
     P.t_end = 0.3, P.frames = 10;
-    st = ex_parse_args(argc, argv, "2-D heat conduction through two layers (k 1:100) and one, against analytic solutions",
+    st = ex_parse_args(argc, argv, "2-D heat conduction through two layers (k 1:100) and one, against analytic solutions; " HC_BOUNDS,
                        opt, (int)(sizeof opt / sizeof opt[0]));
     if (st != 0) return st > 0 ? 0 : 2;
     nl = (int)ceil(sph_kernel_support((sph_kernel)sph_kernel_from_name(P.kernel)) * P.hdx);

@@ -44,6 +44,11 @@
 #endif
 
 #define PI 3.14159265358979323846
+/* taylor_green.c's bounds: a run stops with exit 1 when its kinetic energy
+ * exceeds 1.01 E(0) or its relative L2 velocity error exceeds 1. */
+#define TG_ENERGY_TOL 0.01
+#define TG_L2_MAX 1.0
+#define MTG_BOUNDS "a run stops with exit 1 when its kinetic energy exceeds 1.01 E(0) or its relative L2 velocity error exceeds 1"
 
 typedef struct {
     int n;              /* particles per side */
@@ -710,7 +715,7 @@ static void mtg_vtk(mtg_state *S, sph_idx N, double *G, ex_series *frames, doubl
     mtg_gather(S, N, G);
     if (S->rank != 0) return;
     if ((R = (sph_real *)malloc((size_t)N * MTG_NOUT * sizeof(sph_real))) == NULL) {
-        fprintf(stderr, "no memory for VTK frame %d\n", frame);
+        fprintf(stderr, "mpi_taylor_green: no memory for VTK frame %d\n", frame);
         return;
     }
     for (i = 0; i < (size_t)N * MTG_NOUT; ++i) R[i] = (sph_real)G[i]; /* x, y, u, v, rho, p */
@@ -718,7 +723,7 @@ static void mtg_vtk(mtg_state *S, sph_idx N, double *G, ex_series *frames, doubl
     f[1].name = "pressure", f[1].v = sph_view_soa(R + 5 * (size_t)N, NULL, NULL), f[1].ncomp = 1;
     f[2].name = "density", f[2].v = sph_view_soa(R + 4 * (size_t)N, NULL, NULL), f[2].ncomp = 1;
     if (ex_series_write(frames, t, N, 2, sph_view_soa(R, R + N, NULL), f, 3) != 0)
-        fprintf(stderr, "cannot write VTK frame %d into %s\n", frame, frames->dir);
+        fprintf(stderr, "mpi_taylor_green: cannot write VTK frame %d into %s\n", frame, frames->dir);
     free(R);
 }
 
@@ -728,7 +733,8 @@ static void mtg_vtk(mtg_state *S, sph_idx N, double *G, ex_series *frames, doubl
  * E/E0, L2 error as taylor_green.c writes it; frames (may be NULL; opened on rank 0): VTK series;
  * with gather_final, final (rank 0) receives the fields of mtg_gather at the
  * end. Returns SPH_OK, or SPH_ENONFINITE (on every rank) when the energy
- * stops being finite; a failed allocation or search stops the job (mtg_ok). */
+ * stops being finite, EX_EGROWTH (on every rank, rank 0 says why) when it or
+ * the L2 error grows past taylor_green.c's bounds; a failed allocation or search stops the job (mtg_ok). */
 static int mtg_run(MPI_Comm comm, const mtg_param *P, mtg_result *R, FILE *csv, ex_series *frames, int gather_final,
                    double *final)
 {
@@ -749,6 +755,9 @@ static int mtg_run(MPI_Comm comm, const mtg_param *P, mtg_result *R, FILE *csv, 
     long s, nfb = 0;
     int st = SPH_OK, frame = 0, d, q;
     uint64_t seed = 12345;
+    ex_growth energy = {"kinetic energy", "the time step is too large for the resolution: lower --cfl", 0, 1 + TG_ENERGY_TOL, 0};
+    ex_growth error = {"relative L2 velocity error", "the weakly compressible pressure cannot follow a decay this fast: "
+                       "Re too low for c0 and the resolution, raise --re, --c0 or --n", 0, 1, TG_L2_MAX};
     memset(&S, 0, sizeof S);
     memset(R, 0, sizeof *R);
     S.comm = comm;
@@ -809,9 +818,14 @@ static int mtg_run(MPI_Comm comm, const mtg_param *P, mtg_result *R, FILE *csv, 
         const double t = (double)s * dt;
         const double e = mtg_energy(&S, t, nu, &l2);
         double vmax = 0, vg = 0;
-        if (s == 0) e0 = e;
+        if (s == 0) e0 = energy.start = e;
         if (!(e > 0) || !isfinite(e)) { /* the same e on every rank */
             st = SPH_ENONFINITE;
+            break;
+        }
+        if (!(e <= ex_growth_bound(&energy)) || !(l2 <= ex_growth_bound(&error))) { /* reduced: every rank decides alike */
+            if (S.rank == 0 && ex_growth_check(&energy, e, t) == SPH_OK) ex_growth_check(&error, l2, t);
+            st = EX_EGROWTH;
             break;
         }
         for (i = 0; i < S.nl; ++i) /* CFL number of the step: dt (c0 + max |v|) / h, MPI_MAX */
@@ -953,13 +967,6 @@ static int mtg_compare(const mtg_param *P, const char *label, double bound, int 
 }
 
 /* Refuses a value outside [lo, hi] (naming the option). 0 when it is inside. */
-static int mtg_range(int rank, const char *opt, double v, double lo, double hi)
-{
-    if (v >= lo && v <= hi) return 0;
-    if (rank == 0) fprintf(stderr, "mpi_taylor_green: --%s %g is outside its range [%g, %g]\n", opt, v, lo, hi);
-    return 1;
-}
-
 int main(int argc, char **argv)
 {
     mtg_param P;
@@ -967,48 +974,45 @@ int main(int argc, char **argv)
     const char *out = "build/mpi_taylor_green";
     int threads = 0, check = 0, compare = 0, rank, size, st, bad = 0;
     double bound = 0;
-    ex_option opt[22];
+    const ex_arg opt[] = {
+        {"n", "particles per side of the unit square", NULL, &P.n, NULL, NULL, 4, 46340, 0, NULL},
+        {"kernel", "smoothing kernel", NULL, NULL, &P.kernel, NULL, 0, 0, 0, ex_kernel_choices()},
+        {"scheme", "pressure gradient: pressure (O8), difference (O5), corrected (O7)", NULL, NULL, &P.scheme, NULL,
+         0, 0, 0, "pressure|difference|corrected"},
+        {"hdx", "smoothing length h / dx (0: 2 moving, 1.3 fixed)", &P.hdx, NULL, NULL, NULL, 1e-3, 10, EX_OR_ZERO, NULL},
+        {"t-end", "end time (L / U)", &P.t_end, NULL, NULL, NULL, 0, 100, EX_OPEN_LO, NULL},
+        {"re", "Reynolds number U L / nu", &P.re, NULL, NULL, NULL, 1e-3, 1e6, 0, NULL},
+        {"c0", "speed of sound (U)", &P.c0, NULL, NULL, NULL, 1, 1000, 0, NULL},
+        {"pb", "background pressure of the equation of state", &P.pb, NULL, NULL, NULL, -1e6, 1e6, 0, NULL},
+        {"perturb", "start: lattice moved by up to this fraction of dx", &P.perturb, NULL, NULL, NULL, 0, 0.5, 0, NULL},
+        {"out", "output directory (VTK frames, energy.csv; rank 0 writes)", NULL, NULL, &out, NULL, 0, 0, 0, NULL},
+        {"frames", "VTK frames: the start and this many more to the end (0: none)", NULL, &P.frames, NULL, NULL, 0,
+         10000, 0, NULL},
+        {"threads", "OpenMP threads per rank (0: the runtime's default)", NULL, &threads, NULL, NULL, 0, 4096, 0, NULL},
+        {"check", "fixed, moving and plain runs on these ranks against one process; exit 1 unless bitwise equal", NULL,
+         NULL, NULL, &check, 0, 0, 0, NULL},
+        {"lagrangian", "particles move with the flow, transport-velocity formulation", NULL, NULL, NULL, &P.lagrangian, 0,
+         0, 0, NULL},
+        {"pt", "background pressure of the transport velocity (-1: rho0 c0^2)", &P.pt, NULL, NULL, NULL, -1, 1e9, 0,
+         NULL},
+        {"plain", "with --lagrangian: standard WCSPH (continuity, no transport velocity)", NULL, NULL, NULL, &P.plain, 0,
+         0, 0, NULL},
+        {"shift", "with --plain: particle shifting D (0: off)", &P.shift, NULL, NULL, NULL, 0, 1, 0, NULL},
+        {"cfl", "time step dt = cfl h / (c0 + U)", &P.cfl, NULL, NULL, NULL, 0, 1, EX_OPEN_LO, NULL},
+        {"steps", "stop after this many steps of the t-end's dt (0: run to t-end)", NULL, &P.steps, NULL, NULL, 0, 1e9,
+         0, NULL},
+        {"compare", "also run on one process (rank 0) and print the differences", NULL, NULL, NULL, &compare, 0, 0, 0,
+         NULL},
+        {"bound", "--compare: largest relative difference accepted (0: bitwise)", &bound, NULL, NULL, NULL, 0, 1, 0, NULL},
+        {"unordered", "sum each target's neighbours in the search's order (locals, then halos): equal to one process to "
+                      "round-off only", NULL, NULL, NULL, &P.unordered, 0, 0, 0, NULL},
+    };
     MPI_Init(&argc, &argv);
     MPI_Comm_rank(MPI_COMM_WORLD, &rank);
     MPI_Comm_size(MPI_COMM_WORLD, &size);
     P.n = 40, P.kernel = "wendland_c2", P.scheme = "pressure", P.hdx = 0, P.t_end = 1, P.re = 100, P.c0 = 10;
     P.pb = 0, P.pt = -1, P.perturb = 0, P.frames = 10, P.shift = 0.05, P.lagrangian = 0, P.plain = 0, P.cfl = 0.25;
     P.steps = 0, P.unordered = 0;
-    memset(opt, 0, sizeof opt);
-    opt[0].name = "n", opt[0].help = "particles per side of the unit square (4..46340)", opt[0].integer = &P.n;
-    opt[1].name = "kernel", opt[1].help = "cubic, lucy, new_quartic, quintic, wendland_c2/c4/c6", opt[1].text = &P.kernel;
-    opt[2].name = "scheme", opt[2].help = "pressure gradient: pressure (O8), difference (O5), corrected (O7)",
-    opt[2].text = &P.scheme;
-    opt[3].name = "hdx", opt[3].help = "smoothing length h / dx (0: 2 moving, 1.3 fixed; up to 10)", opt[3].real = &P.hdx;
-    opt[4].name = "t-end", opt[4].help = "end time (L / U), up to 100", opt[4].real = &P.t_end;
-    opt[5].name = "re", opt[5].help = "Reynolds number U L / nu (1e-3..1e6)", opt[5].real = &P.re;
-    opt[6].name = "c0", opt[6].help = "speed of sound (U), 1..1000", opt[6].real = &P.c0;
-    opt[7].name = "pb", opt[7].help = "background pressure of the equation of state (|pb| <= 1e6)", opt[7].real = &P.pb;
-    opt[8].name = "perturb", opt[8].help = "start: lattice moved by up to this fraction of dx (0..0.5)",
-    opt[8].real = &P.perturb;
-    opt[9].name = "out", opt[9].help = "output directory (VTK frames, energy.csv; rank 0 writes)", opt[9].text = &out;
-    opt[10].name = "frames", opt[10].help = "number of VTK frames (0: none; up to 10000)", opt[10].integer = &P.frames;
-    opt[11].name = "threads", opt[11].help = "OpenMP threads per rank (0: the runtime's default)",
-    opt[11].integer = &threads;
-    opt[12].name = "check", opt[12].help = "fixed, moving and plain runs on these ranks against one process; "
-                                           "exit 1 unless bitwise equal", opt[12].flag = &check;
-    opt[13].name = "lagrangian", opt[13].help = "particles move with the flow, transport-velocity formulation",
-    opt[13].flag = &P.lagrangian;
-    opt[14].name = "pt", opt[14].help = "background pressure of the transport velocity (-1: rho0 c0^2)",
-    opt[14].real = &P.pt;
-    opt[15].name = "plain", opt[15].help = "with --lagrangian: standard WCSPH (continuity, no transport velocity)",
-    opt[15].flag = &P.plain;
-    opt[16].name = "shift", opt[16].help = "with --plain: particle shifting D (0: off; up to 1)", opt[16].real = &P.shift;
-    opt[17].name = "cfl", opt[17].help = "time step dt = cfl h / (c0 + U) (0..1)", opt[17].real = &P.cfl;
-    opt[18].name = "steps", opt[18].help = "stop after this many steps of the t-end's dt (0: run to t-end)",
-    opt[18].integer = &P.steps;
-    opt[19].name = "compare", opt[19].help = "also run on one process (rank 0) and print the differences",
-    opt[19].flag = &compare;
-    opt[20].name = "bound", opt[20].help = "--compare: largest relative difference accepted (0: bitwise)",
-    opt[20].real = &bound;
-    opt[21].name = "unordered", opt[21].help = "sum each target's neighbours in the search's order (locals, then "
-                                               "halos): equal to one process to round-off only";
-    opt[21].flag = &P.unordered;
     { /* every rank parses; only rank 0 prints the help or a refusal */
         int saved_out = -1, saved_err = -1, nul = rank != 0 ? open("/dev/null", O_WRONLY) : -1;
         if (nul >= 0) {
@@ -1016,8 +1020,8 @@ int main(int argc, char **argv)
             saved_out = dup(1), saved_err = dup(2);
             dup2(nul, 1), dup2(nul, 2), close(nul);
         }
-        st = ex_parse(argc, argv, "2-D Taylor-Green vortex (taylor_green.c) over MPI ranks, slab decomposition",
-                      opt, 22);
+        st = ex_parse_args(argc, argv, "2-D Taylor-Green vortex (taylor_green.c) over MPI ranks, slab decomposition; "
+                           MTG_BOUNDS, opt, (int)(sizeof opt / sizeof opt[0]));
         if (saved_out >= 0) fflush(stdout), dup2(saved_out, 1), close(saved_out);
         if (saved_err >= 0) fflush(stderr), dup2(saved_err, 2), close(saved_err);
     }
@@ -1026,25 +1030,10 @@ int main(int argc, char **argv)
         return st > 0 ? 0 : 2;
     }
     if (P.hdx == 0) P.hdx = P.lagrangian && !P.plain ? 2.0 : 1.3;
-    bad |= mtg_range(rank, "n", P.n, 4, 46340) | mtg_range(rank, "hdx", P.hdx, 1e-3, 10);
-    bad |= mtg_range(rank, "t-end", P.t_end, 1e-9, 100) | mtg_range(rank, "re", P.re, 1e-3, 1e6);
-    bad |= mtg_range(rank, "c0", P.c0, 1, 1000) | mtg_range(rank, "pb", P.pb, -1e6, 1e6);
-    bad |= mtg_range(rank, "pt", P.pt, -1, 1e9) | mtg_range(rank, "perturb", P.perturb, 0, 0.5);
-    bad |= mtg_range(rank, "frames", P.frames, 0, 10000) | mtg_range(rank, "threads", threads, 0, 4096);
-    bad |= mtg_range(rank, "shift", P.shift, 0, 1) | mtg_range(rank, "cfl", P.cfl, 1e-6, 1);
-    bad |= mtg_range(rank, "steps", P.steps, 0, 1e9) | mtg_range(rank, "bound", bound, 0, 1);
-    if (sph_kernel_from_name(P.kernel) < 0) {
-        if (rank == 0) fprintf(stderr, "mpi_taylor_green: --kernel '%s' is not a kernel (see --help)\n", P.kernel);
-        bad = 1;
-    } else if (!bad && sph_kernel_support((sph_kernel)sph_kernel_from_name(P.kernel)) * P.hdx / P.n >= 0.5) {
+    if (sph_kernel_support((sph_kernel)sph_kernel_from_name(P.kernel)) * P.hdx / P.n >= 0.5) {
         if (rank == 0)
             fprintf(stderr, "mpi_taylor_green: the support kappa h = %g exceeds half the box: raise --n or lower --hdx\n",
                     sph_kernel_support((sph_kernel)sph_kernel_from_name(P.kernel)) * P.hdx / P.n);
-        bad = 1;
-    }
-    if (strcmp(P.scheme, "pressure") != 0 && strcmp(P.scheme, "difference") != 0 &&
-        strcmp(P.scheme, "corrected") != 0) {
-        if (rank == 0) fprintf(stderr, "mpi_taylor_green: --scheme '%s' is not pressure, difference or corrected\n", P.scheme);
         bad = 1;
     }
     if (!bad && (long)P.n < (long)size) {
@@ -1090,7 +1079,7 @@ int main(int argc, char **argv)
         int ok = rank != 0 || ex_series_open(&frames, out, "taylor_green", 0) == 0;
         MPI_Bcast(&ok, 1, MPI_INT, 0, MPI_COMM_WORLD);
         if (!ok) {
-            if (rank == 0) fprintf(stderr, "cannot create %s\n", out);
+            if (rank == 0) fprintf(stderr, "mpi_taylor_green: cannot create %s\n", out);
             MPI_Finalize();
             return 2;
         }
@@ -1107,7 +1096,7 @@ int main(int argc, char **argv)
     }
     if (rank == 0) {
         if (st != SPH_OK) {
-            fprintf(stderr, "mpi_taylor_green: %s\n", sph_strerror(st));
+            fprintf(stderr, "mpi_taylor_green: run failed: %s\n", ex_strerror(st));
         } else {
             const int nth =
 #ifdef _OPENMP

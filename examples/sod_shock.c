@@ -54,6 +54,19 @@
 #include <omp.h>
 #endif
 
+/* Bounds every run stays within, else it stops with exit 1: the scheme
+ * conserves the total energy to round-off and time-integration error (below
+ * 1e-3 in the --check run), and the strongest compression of a gamma >= 1
+ * shock is (gamma + 1) / (gamma - 1) (4 at 5/3), so a density above 10 times
+ * the largest start density has blown up. */
+#define SD_ENERGY_TOL 0.01
+#define SD_RHO_FACTOR 10.0
+#define SD_BOUNDS "a run stops with exit 1 when its total energy drifts by more than 1 % or a density exceeds 10 times the largest start density"
+#define SD_EREFUSED 200 /* status of a run refused by its memory estimate (the message printed) */
+#define SD_EHSOLVE 201  /* smoothing lengths that did not converge */
+#define SD_EEXACT 202   /* no exact Riemann solution for the states */
+#define SD_NX_MAX 256 /* 73728 particles at the fewest ny, 0.9 GB, about 1300 steps: hours of one core (--help prints the memory) */
+
 typedef struct {
     int nx, ny;          /* left lattice: cells per unit length, and across the tube (0: the fewest allowed) */
     const char *kernel, *lattice; /* lattice: fcc (4 particles per cell) or cubic (1) */
@@ -177,6 +190,64 @@ static double sd_ny_min(const sd_param *P, double kappa)
     return 2 * kappa * 1.15 * P->eta * 2 / cbrt((double)sd_per_cell(P)) / 0.999;
 }
 
+/* Particles of the two lattices. */
+static double sd_particles(const sd_param *P)
+{
+    return (double)sd_per_cell(P) * ((double)P->nx * P->ny * P->ny + (double)(P->nx / 2) * (P->ny / 2) * (P->ny / 2));
+}
+
+/* Bytes a run allocates per particle: 28 reals, the state and three list
+ * offsets, the search's workspace (about 40 bytes), and per list entry the
+ * index, its half-list copy, its slot and 10 reals of pair terms, for 1.25
+ * times (the growth slack of sd_search) 1.1 times the neighbours in the
+ * sphere of radius kappa 1.15 h = kappa 1.15 eta (m / rho)^(1/3), i.e.
+ * 1.1 (4/3) pi (1.15 kappa eta)^3 (measured: 95 at the defaults, 88 in the sphere). */
+static double sd_bytes_per_particle(const sd_param *P)
+{
+    const double kappa = sph_kernel_support((sph_kernel)sph_kernel_from_name(P->kernel)), r = 1.15 * kappa * P->eta;
+    const double entries = 1.25 * 1.1 * 4.18879020478639 * r * r * r;
+    return 28.0 * sizeof(sph_real) + sizeof(int) + 3.0 * sizeof(sph_off) + 40 +
+           entries * (2.0 * sizeof(sph_idx) + sizeof(sph_off) + 10.0 * sizeof(sph_real));
+}
+
+/* Time steps to t_end: about 5 per left cell at t = 0.2 and CFL 0.3 (80 at nx = 16, 120 at 24). */
+static double sd_steps(const sd_param *P) { return 7.5 * P->nx * P->t_end / P->cfl; }
+
+/* The fewest even ny of P's kernel, eta and lattice (at least 4). */
+static int sd_ny_auto(const sd_param *P)
+{
+    const int ny = 2 * (int)ceil(sd_ny_min(P, (double)sph_kernel_support((sph_kernel)sph_kernel_from_name(P->kernel))) / 2);
+    return ny < 4 ? 4 : ny;
+}
+
+/* Whether the run's memory estimate fits what the process may allocate;
+ * if not, a message naming --nx (and --ny), the estimate and the largest
+ * --nx that fits. Prints the banner (particles, memory, steps) when it fits. */
+static int sd_fits(const sd_param *P)
+{
+    const char *why = NULL;
+    const double n = sd_particles(P), per = sd_bytes_per_particle(P), need = n * per;
+    const double avail = ex_memory_available(&why);
+    char b_need[32], b_per[32], b_avail[32];
+    ex_bytes_text(need, b_need, sizeof b_need), ex_bytes_text(per, b_per, sizeof b_per);
+    if (avail >= 0 && need > avail) {
+        sd_param Q = *P;
+        ex_bytes_text(avail, b_avail, sizeof b_avail);
+        while (Q.nx > 8 && sd_particles(&Q) * per > avail) Q.nx -= 2;
+        if (sd_particles(&Q) * per > avail)
+            fprintf(stderr, "%s: --nx %d --ny %d needs %s (%.0f particles x %s); not even --nx 8 fits in the %s of the %s: "
+                    "lower --ny\n", ex_prog(), P->nx, P->ny, b_need, n, b_per, b_avail, why);
+        else
+            fprintf(stderr, "%s: --nx %d needs %s (%.0f particles x %s at --ny %d); at most --nx %d fits in the %s of "
+                    "the %s\n", ex_prog(), P->nx, b_need, n, b_per, P->ny, Q.nx, b_avail, why);
+        return 0;
+    }
+    printf("%s: nx %d, ny %d, %s lattices: %.0f particles, about %s, about %.0f steps to t = %g\n", ex_prog(), P->nx,
+           P->ny, P->lattice, n, b_need, sd_steps(P), P->t_end);
+    fflush(stdout);
+    return 1;
+}
+
 /* malloc of count elements of size bytes, NULL on overflow or failure. */
 static void *sd_alloc(size_t count, size_t size) { return count > ((size_t)-1) / size ? NULL : malloc(count * size); }
 
@@ -245,7 +316,7 @@ static int sd_search(sd_sim *S)
         free(S->work);
         S->work = malloc(bytes);
         S->work_bytes = S->work != NULL ? bytes : 0;
-        if (S->work == NULL) return SPH_ESIZE;
+        if (S->work == NULL) return EX_ENOMEM;
     }
     sph_nsearch g;
     if ((st = sph_nsearch_build(&g, 3, xv, S->n, hv, S->kappa * hmax / 2, &S->box, S->work, S->work_bytes)) != SPH_OK)
@@ -258,7 +329,7 @@ static int sd_search(sd_sim *S)
         S->h_idx = (sph_idx *)sd_alloc((size_t)S->cap, sizeof(sph_idx));
         S->t_slot = (sph_off *)sd_alloc((size_t)S->cap, sizeof(sph_off));
         S->buf = (sph_real *)sd_alloc((size_t)sph_pairs_buffer_len(5, S->cap), sizeof(sph_real)); /* cap / 2 would do */
-        if (S->index == NULL || S->h_idx == NULL || S->t_slot == NULL || S->buf == NULL) return S->cap = 0, SPH_ESIZE;
+        if (S->index == NULL || S->h_idx == NULL || S->t_slot == NULL || S->buf == NULL) return S->cap = 0, EX_ENOMEM;
         st = sph_nsearch_fill(&g, xv, S->n, hv, 0, S->kappa, SPH_NSEARCH_SYMMETRIC, S->offset, S->index, S->cap);
     }
     return st;
@@ -290,7 +361,7 @@ static int sd_density(sd_sim *S)
         S->solves++;
         S->sums += (long)rep.iterations;
         S->max_sums = rep.max_iterations > S->max_sums ? rep.max_iterations : S->max_sums;
-        if (rep.n_not_converged > 0) return SPH_EINVAL;
+        if (rep.n_not_converged > 0) return SD_EHSOLVE;
         if (rep.n_beyond_list == 0) return SPH_OK;
         S->researches++;
         for (i = 0; i < S->n; ++i)
@@ -299,7 +370,7 @@ static int sd_density(sd_sim *S)
                 S->hl[i] = (sph_real)1.2 * S->h[i] < S->h_cap ? (sph_real)1.2 * S->h[i] : S->h_cap;
             }
     }
-    return SPH_EINVAL;
+    return SD_EHSOLVE;
 }
 
 /* (H5), (H6), (S3), (S4), conductivity and div v for the pair k = (i, j) of the half list. */
@@ -403,6 +474,9 @@ static int sd_run(const sd_param *P, sd_result *R, FILE *profile, const char *la
     double m, t = 0, E0, ps, us, pabs = 0, px = 0;
     ex_progress prog = ex_progress_start();
     double t0 = ex_now();
+    ex_growth energy = {"relative total energy error |E - E0| / E0", "the time step is too large: lower --cfl", 0, 0, 0};
+    ex_growth density = {"largest density", "the time step is too large or the viscosity too weak: lower --cfl, raise "
+                         "--alpha-max", 0, 0, 0};
     sph_idx i, nsel = 0;
     int st = SPH_OK, a;
     memset(&S, 0, sizeof S);
@@ -410,15 +484,18 @@ static int sd_run(const sd_param *P, sd_result *R, FILE *profile, const char *la
     S.P = *P;
     S.k = (sph_kernel)sph_kernel_from_name(P->kernel);
     S.kappa = sph_kernel_support(S.k);
+    if (!sd_fits(P)) return SD_EREFUSED;
     if (sd_setup(&S) != 0) {
         sd_free(&S);
-        return SPH_ESIZE;
+        return EX_ENOMEM;
     }
     m = 1.0 / ((double)sd_per_cell(P) * P->nx * P->nx * P->nx); /* rho_L a^3 / ppc = rho_R (2 a)^3 / ppc */
     S.m = (sph_real)m;
     E0 = sd_energy(&S, m);
     memcpy(S.vp, S.v, sizeof(sph_real) * 3 * (size_t)S.n);
     memcpy(S.up, S.u, sizeof(sph_real) * (size_t)S.n);
+    energy.start = 0, energy.factor = 1, energy.margin = SD_ENERGY_TOL;
+    density.start = 1, density.factor = SD_RHO_FACTOR, density.margin = 0; /* the left state's density is the largest */
     st = sd_forces(&S, m);
     while (st == SPH_OK && t < P->t_end * (1 - 1e-12)) {
         sph_real hmin = S.h[0];
@@ -447,10 +524,17 @@ static int sd_run(const sd_param *P, sd_result *R, FILE *profile, const char *la
         }
         t += dt;
         R->steps++;
+        {
+            sph_real rho_max = S.rho[0];
+            for (i = 1; i < S.n; ++i) rho_max = S.rho[i] > rho_max ? S.rho[i] : rho_max;
+            if ((st = ex_growth_check(&energy, fabs(sd_energy(&S, m) - E0) / E0, t)) != SPH_OK ||
+                (st = ex_growth_check(&density, (double)rho_max, t)) != SPH_OK)
+                break;
+        }
         if (label != NULL) ex_progress_update(&prog, label, t / P->t_end);
     }
     if (label != NULL) ex_progress_done(&prog, label);
-    if (st == SPH_OK && sd_star(L, Rs, P->gamma, &ps, &us) != 0) st = SPH_EINVAL;
+    if (st == SPH_OK && sd_star(L, Rs, P->gamma, &ps, &us) != 0) st = SD_EEXACT;
     if (st == SPH_OK) { /* densities at the final positions for the errors */
         memcpy(S.vp, S.v, sizeof(sph_real) * 3 * (size_t)S.n);
         memcpy(S.up, S.u, sizeof(sph_real) * (size_t)S.n);
@@ -468,8 +552,10 @@ static int sd_run(const sd_param *P, sd_result *R, FILE *profile, const char *la
                 R->l1_p += fabs(p - ex.p);
                 ++nsel;
                 if (profile != NULL)
-                    fprintf(profile, "%.6f,%.6f,%.6f,%.6f,%.6f,%.4f,%.6f,%.6f,%.6f\n", x, (double)S.rho[i],
-                            (double)S.v[3 * i], p, (double)S.u[i], (double)S.alpha[i], ex.rho, ex.u, ex.p);
+                    fprintf(profile, "%.6f,%.6f,%.6f,%.6f,%.6f,%.4f,%.6f,%.6f,%.6f\n", ex_csv_fixed(x, 6),
+                            ex_csv_fixed(S.rho[i], 6), ex_csv_fixed(S.v[3 * i], 6), ex_csv_fixed(p, 6),
+                            ex_csv_fixed(S.u[i], 6), ex_csv_fixed(S.alpha[i], 4), ex_csv_fixed(ex.rho, 6),
+                            ex_csv_fixed(ex.u, 6), ex_csv_fixed(ex.p, 6));
             }
         }
         R->l1_rho /= nsel, R->l1_v /= nsel, R->l1_p /= nsel;
@@ -524,9 +610,47 @@ static int sd_write_exact(const sd_param *P, const char *path)
     for (i = 0; i <= 1000; ++i) {
         const double x = -0.5 + i / 1000.0;
         const sd_state w = sd_sample(L, R, P->gamma, ps, us, x / P->t_end);
-        fprintf(f, "%.5f,%.6f,%.6f,%.6f\n", x, w.rho, w.u, w.p);
+        fprintf(f, "%.5f,%.6f,%.6f,%.6f\n", ex_csv_fixed(x, 5), ex_csv_fixed(w.rho, 6), ex_csv_fixed(w.u, 6),
+                ex_csv_fixed(w.p, 6));
     }
     return fclose(f) == 0 ? 0 : -1;
+}
+
+/* The checks that join two options (each option's own range is ex_parse_args'):
+ * the refusal names the option and what it accepts. */
+static int sd_validate(const sd_param *P)
+{
+    const double ny_min = sd_ny_min(P, (double)sph_kernel_support((sph_kernel)sph_kernel_from_name(P->kernel)));
+    if (P->alpha_min > P->alpha_max) {
+        fprintf(stderr, "%s: --alpha-min %g refused: accepted 0 <= alpha-min <= alpha-max = %g\n", ex_prog(), P->alpha_min,
+                P->alpha_max);
+        return -1;
+    }
+    if (P->ny < ny_min) { /* the search radius kappa 1.15 h of the right lattice (h = eta 2 dx) within half the cross-section */
+        fprintf(stderr, "%s: --ny %d refused: accepted ny >= %.1f, the cross-section must exceed 2 kappa 1.15 h of the "
+                "right lattice for --kernel %s, --eta %g, --lattice %s (0: the fewest)\n", ex_prog(), P->ny, ny_min,
+                P->kernel, P->eta, P->lattice);
+        return -1;
+    }
+    return 0;
+}
+
+/* A failed run's status as the option that caused it. */
+static void sd_explain(const sd_param *P, int st)
+{
+    if (st == EX_ENOMEM)
+        fprintf(stderr, "%s: out of memory for --nx %d --ny %d (%.0f particles): lower --nx\n", ex_prog(), P->nx, P->ny,
+                sd_particles(P));
+    else if (st == SPH_EPERIOD)
+        fprintf(stderr, "%s: a smoothing length grew beyond half the cross-section of --ny %d: raise --ny\n", ex_prog(),
+                P->ny);
+    else if (st == SD_EHSOLVE)
+        fprintf(stderr, "%s: the smoothing lengths did not converge with --eta %g, --kernel %s\n", ex_prog(), P->eta,
+                P->kernel);
+    else if (st == SD_EEXACT)
+        fprintf(stderr, "%s: no exact Riemann solution for these states (--gamma %g)\n", ex_prog(), P->gamma);
+    else if (st != EX_EGROWTH && st != EX_EWRITE && st != SD_EREFUSED) /* those printed theirs where they arose */
+        fprintf(stderr, "%s: nx %d: %s\n", ex_prog(), P->nx, ex_strerror(st));
 }
 
 /* One run into out/sod_nx<nx>.csv; 0 or a status. */
@@ -539,12 +663,12 @@ static int sd_run_to(const sd_param *P, const char *out, sd_result *R)
     f = fopen(path, "w");
     if (f == NULL) {
         fprintf(stderr, "sod_shock: cannot write %s\n", path);
-        return SPH_EINVAL;
+        return EX_EWRITE;
     }
     fprintf(f, "x,rho,v,P,u,alpha,exact rho,exact v,exact P\n");
     snprintf(label, sizeof label, "sod nx %d", P->nx);
     st = sd_run(P, R, f, label);
-    if (fclose(f) != 0) st = st == SPH_OK ? SPH_EINVAL : st;
+    if (fclose(f) != 0) st = st == SPH_OK ? EX_EWRITE : st;
     if (st == SPH_OK) sd_print(P, R);
     return st;
 }
@@ -562,7 +686,7 @@ static int sd_study(const sd_param *P0, const char *dir, const char *out)
         sd_param P = *P0;
         P.nx = nxs[r];
         if ((st = sd_run_to(&P, out, &R[r])) != SPH_OK) {
-            fprintf(stderr, "sod_shock: nx %d: %s\n", P.nx, sph_strerror(st));
+            sd_explain(&P, st);
             return -1;
         }
     }
@@ -595,84 +719,51 @@ static int sd_study(const sd_param *P0, const char *dir, const char *out)
     return fclose(md) == 0 ? 0 : -1;
 }
 
-/* Range checks before anything runs: the refusal names the option and its range. */
-static int sd_validate(const sd_param *P)
-{
-    const int k = sph_kernel_from_name(P->kernel);
-    double kappa, ny_min;
-    if (k < 0) {
-        fprintf(stderr, "sod_shock: --kernel '%s' unknown (cubic, lucy, new_quartic, quintic, wendland_c2/c4/c6)\n",
-                P->kernel);
-        return -1;
-    }
-    kappa = (double)sph_kernel_support((sph_kernel)k);
-#define SD_RANGE(ok, ...)                          \
-    if (!(ok)) {                                   \
-        fprintf(stderr, "sod_shock: " __VA_ARGS__); \
-        return -1;                                 \
-    }
-    SD_RANGE(strcmp(P->lattice, "fcc") == 0 || strcmp(P->lattice, "cubic") == 0, "--lattice '%s' unknown (fcc, cubic)\n",
-             P->lattice)
-    SD_RANGE(P->nx >= 8 && P->nx <= 2048 && P->nx % 2 == 0, "--nx %d outside the even numbers 8..2048\n", P->nx)
-    SD_RANGE(P->ny >= 4 && P->ny <= 64 && P->ny % 2 == 0, "--ny %d outside the even numbers 4..64\n", P->ny)
-    SD_RANGE(P->gamma > 1 && P->gamma <= 3, "--gamma %g outside (1, 3]\n", P->gamma)
-    SD_RANGE(P->t_end > 0 && P->t_end <= 0.25, "--t-end %g outside (0, 0.25] (the waves of x = 0 and x = +-1 meet later)\n",
-             P->t_end)
-    SD_RANGE(P->eta >= 1 && P->eta <= 2, "--eta %g outside [1, 2]\n", P->eta)
-    SD_RANGE(P->cfl > 0 && P->cfl <= 0.5, "--cfl %g outside (0, 0.5]\n", P->cfl)
-    SD_RANGE(P->alpha_max >= 0 && P->alpha_max <= 4, "--alpha-max %g outside [0, 4]\n", P->alpha_max)
-    SD_RANGE(P->alpha_min >= 0 && P->alpha_min <= P->alpha_max, "--alpha-min %g outside [0, alpha-max = %g]\n",
-             P->alpha_min, P->alpha_max)
-    SD_RANGE(P->beta >= 0 && P->beta <= 8, "--beta %g outside [0, 8]\n", P->beta)
-    SD_RANGE(P->alpha_u >= 0 && P->alpha_u <= 4, "--alpha-u %g outside [0, 4]\n", P->alpha_u)
-    /* the search radius kappa 1.15 h of the right lattice (h = eta 2 dx) within half the cross-section */
-    ny_min = sd_ny_min(P, kappa);
-    SD_RANGE(P->ny >= ny_min, "--ny %d below %.1f: the cross-section must exceed 2 kappa 1.15 h of the right lattice "
-             "for %s, eta %g, %s\n", P->ny, ny_min, P->kernel, P->eta, P->lattice)
-#undef SD_RANGE
-    return 0;
-}
-
 int main(int argc, char **argv)
 {
     sd_param P;
     sd_result R;
     const char *out = "build/sod_shock_out", *study = NULL;
     int threads = 0, check = 0, st;
-    ex_option opt[16];
+    char nx_help[200];
+    const ex_arg opt[] = {
+        {"nx", nx_help, NULL, &P.nx, NULL, NULL, 8, SD_NX_MAX, EX_EVEN, NULL},
+        {"ny", "left lattice: cells across the tube (right: ny / 2; 0: the fewest allowed)", NULL, &P.ny, NULL, NULL, 4,
+         64, EX_EVEN | EX_OR_ZERO, NULL},
+        {"lattice", "fcc (close packed, 4 per cell) or cubic", NULL, NULL, &P.lattice, NULL, 0, 0, 0, "fcc|cubic"},
+        {"kernel", "smoothing kernel", NULL, NULL, &P.kernel, NULL, 0, 0, 0, ex_kernel_choices()},
+        {"gamma", "adiabatic index (SWIFT and Phantom: 5/3; Sod 1978: 1.4)", &P.gamma, NULL, NULL, NULL, 1, 3,
+         EX_OPEN_LO, NULL},
+        {"t-end", "end time (the waves of x = 0 and x = +-1 meet after 0.25)", &P.t_end, NULL, NULL, NULL, 0, 0.25,
+         EX_OPEN_LO, NULL},
+        {"eta", "h = eta (m / rho)^(1/3)", &P.eta, NULL, NULL, NULL, 1, 2, 0, NULL},
+        {"cfl", "dt = cfl h_min / v_sig,max", &P.cfl, NULL, NULL, NULL, 0, 0.5, EX_OPEN_LO, NULL},
+        {"alpha-min", "viscosity switch: alpha far from shocks (at most alpha-max)", &P.alpha_min, NULL, NULL, NULL, 0,
+         4, 0, NULL},
+        {"alpha-max", "viscosity switch: alpha in shocks", &P.alpha_max, NULL, NULL, NULL, 0, 4, 0, NULL},
+        {"beta", "signal-velocity viscosity beta", &P.beta, NULL, NULL, NULL, 0, 8, 0, NULL},
+        {"alpha-u", "artificial conductivity (0: none)", &P.alpha_u, NULL, NULL, NULL, 0, 4, 0, NULL},
+        {"out", "output directory (profiles, exact solution)", NULL, NULL, &out, NULL, 0, 0, 0, NULL},
+        {"threads", "OpenMP threads (0: the runtime's default)", NULL, &threads, NULL, NULL, 0, 1024, 0, NULL},
+        {"check", "nx = 16 run; exit 1 if it misses its validation bounds", NULL, NULL, NULL, &check, 0, 0, 0, NULL},
+        {"study", "nx = 16, 24, 32, 48: the error table into this directory", NULL, NULL, &study, NULL, 0, 0, 0, NULL},
+    };
     P.nx = 32, P.ny = 0, P.kernel = "cubic", P.lattice = "fcc", P.gamma = 5.0 / 3.0, P.t_end = 0.2, P.eta = 1.2, P.cfl = 0.3;
     P.alpha_min = 0.1, P.alpha_max = 1, P.beta = 3, P.alpha_u = 1;
-    memset(opt, 0, sizeof opt);
-    opt[0].name = "nx", opt[0].help = "left lattice: cells per unit length (even; right: nx / 2)", opt[0].integer = &P.nx;
-    opt[1].name = "ny", opt[1].help = "left lattice: cells across the tube (even; right: ny / 2; 0: the fewest allowed)",
-    opt[1].integer = &P.ny;
-    opt[15].name = "lattice", opt[15].help = "fcc (close packed, 4 per cell) or cubic", opt[15].text = &P.lattice;
-    opt[2].name = "kernel", opt[2].help = "cubic, lucy, new_quartic, quintic, wendland_c2/c4/c6", opt[2].text = &P.kernel;
-    opt[3].name = "gamma", opt[3].help = "adiabatic index (SWIFT and Phantom: 5/3; Sod 1978: 1.4)", opt[3].real = &P.gamma;
-    opt[4].name = "t-end", opt[4].help = "end time", opt[4].real = &P.t_end;
-    opt[5].name = "eta", opt[5].help = "h = eta (m / rho)^(1/3)", opt[5].real = &P.eta;
-    opt[6].name = "cfl", opt[6].help = "dt = cfl h_min / v_sig,max", opt[6].real = &P.cfl;
-    opt[7].name = "alpha-min", opt[7].help = "viscosity switch: alpha far from shocks", opt[7].real = &P.alpha_min;
-    opt[8].name = "alpha-max", opt[8].help = "viscosity switch: alpha in shocks", opt[8].real = &P.alpha_max;
-    opt[9].name = "beta", opt[9].help = "signal-velocity viscosity beta", opt[9].real = &P.beta;
-    opt[10].name = "alpha-u", opt[10].help = "artificial conductivity (0: none)", opt[10].real = &P.alpha_u;
-    opt[11].name = "out", opt[11].help = "output directory (profiles, exact solution)", opt[11].text = &out;
-    opt[12].name = "threads", opt[12].help = "OpenMP threads (0: the runtime's default)", opt[12].integer = &threads;
-    opt[13].name = "check", opt[13].help = "nx = 16 run; exit 1 if it misses its validation bounds", opt[13].flag = &check;
-    opt[14].name = "study", opt[14].help = "nx = 16, 24, 32, 48: the error table into this directory", opt[14].text = &study;
-    st = ex_parse(argc, argv, "3-D Sod shock tube with adaptive h and grad-h terms against the exact Riemann solution",
-                  opt, 16);
+    { /* what the top of --nx needs at the defaults: memory grows as nx ny^2 */
+        sd_param Q = P;
+        char b[32];
+        Q.nx = SD_NX_MAX, Q.ny = sd_ny_auto(&Q);
+        ex_bytes_text(sd_particles(&Q) * sd_bytes_per_particle(&Q), b, sizeof b);
+        snprintf(nx_help, sizeof nx_help, "left lattice: cells per unit length (right: nx / 2); memory grows as nx ny^2: "
+                 "--nx %d needs %s at ny %d", SD_NX_MAX, b, Q.ny);
+    }
+    st = ex_parse_args(argc, argv, "3-D Sod shock tube with adaptive h and grad-h terms against the exact Riemann "
+                       "solution; " SD_BOUNDS, opt, (int)(sizeof opt / sizeof opt[0]));
     if (st != 0) return st > 0 ? 0 : 2;
     if (check) P.nx = 16;
-    if (P.ny == 0 && (strcmp(P.lattice, "fcc") == 0 || strcmp(P.lattice, "cubic") == 0) && sph_kernel_from_name(P.kernel) >= 0) {
-        P.ny = 2 * (int)ceil(sd_ny_min(&P, (double)sph_kernel_support((sph_kernel)sph_kernel_from_name(P.kernel))) / 2);
-        P.ny = P.ny < 4 ? 4 : P.ny;
-    }
+    if (P.ny == 0) P.ny = sd_ny_auto(&P);
     if (sd_validate(&P) != 0) return 2;
-    if (threads < 0 || threads > 1024) {
-        fprintf(stderr, "sod_shock: --threads %d outside 0..1024\n", threads);
-        return 2;
-    }
 #ifdef _OPENMP
     if (threads > 0) omp_set_num_threads(threads);
 #endif
@@ -680,7 +771,8 @@ int main(int argc, char **argv)
         int ok = sd_check_riemann();
         st = sd_run(&P, &R, NULL, NULL);
         if (st != SPH_OK) {
-            printf("sod_shock --check: run failed: %s\n", sph_strerror(st));
+            sd_explain(&P, st);
+            printf("sod_shock --check: run failed (status %d, explained above)\n", st);
             return 1;
         }
         sd_print(&P, &R);
@@ -708,7 +800,7 @@ int main(int argc, char **argv)
     if (study != NULL) return sd_study(&P, study, out) == 0 ? 0 : 1;
     st = sd_run_to(&P, out, &R);
     if (st != SPH_OK) {
-        fprintf(stderr, "sod_shock: %s\n", sph_strerror(st));
+        sd_explain(&P, st);
         return 1;
     }
     printf("wrote %s/sod_nx%d.csv and %s/sod_exact.csv\n", out, P.nx, out);

@@ -1,6 +1,9 @@
 /* tests/test_example_io.c - the I/O of the example programs
  * (examples/example_io.h): options refused outside their accepted range,
- * checked allocations and particle counts, the NaN/Inf stop, and the VTK
+ * checked allocations and particle counts, the NaN/Inf stop, the bound a
+ * growing quantity stops a run at (its message read back from stderr), the
+ * program name that starts every message, CSV values never printed as
+ * -0.000, an output directory that is a file refused, and the VTK
  * series: a binary .vtu frame read back value by value with a reader written
  * here from the VTK XML file format (appended raw data: an 8-byte byte count
  * per array, then the values, at the array's offset after the '_' mark;
@@ -8,6 +11,8 @@
  * TIME field, the .pvd listing, the ASCII variant, and the removal of an
  * earlier run's frames. */
 #include "examples/example_io.h"
+
+#include <unistd.h>
 
 #include "harness.h"
 
@@ -76,28 +81,33 @@ static int parse(int argc, const char **argv, const ex_arg *opt, int n)
 static void test_options(void)
 {
     double cfl = 0.25, hdx = 0;
-    int n = 40;
-    const char *kernel = "cubic";
+    int n = 40, nx = 16;
+    const char *kernel = "cubic", *out = "build";
     const ex_arg opt[] = {
         {"n", "", NULL, &n, NULL, NULL, 8, 4000, 0, NULL},
         {"cfl", "", &cfl, NULL, NULL, NULL, 0, 1, EX_OPEN_LO, NULL},
         {"hdx", "", &hdx, NULL, NULL, NULL, 1, 4, EX_OR_ZERO, NULL},
         {"kernel", "", NULL, NULL, &kernel, NULL, 0, 0, 0, ex_kernel_choices()},
+        {"nx", "", NULL, &nx, NULL, NULL, 8, 64, EX_EVEN, NULL},
+        {"out", "", NULL, NULL, &out, NULL, 0, 0, 0, NULL},
     };
     const int no = (int)(sizeof opt / sizeof opt[0]);
     static const char *refused[][3] = {
         {"p", "--n", "100000"}, {"p", "--n", "7"},      {"p", "--n", "12.5"},   {"p", "--n", "1e12"},
         {"p", "--cfl", "-1"},   {"p", "--cfl", "0"},    {"p", "--cfl", "1.5"},  {"p", "--cfl", "nan"},
         {"p", "--cfl", "inf"},  {"p", "--cfl", "0.2x"}, {"p", "--hdx", "-1"},   {"p", "--hdx", "0.5"},
-        {"p", "--kernel", "foo"}, {"p", "--kernel", ""}, {"p", "--bogus", "1"}, {"p", "--kernel", "cubicx"}};
+        {"p", "--kernel", "foo"}, {"p", "--kernel", ""}, {"p", "--bogus", "1"}, {"p", "--kernel", "cubicx"},
+        {"p", "--nx", "17"},    {"p", "--nx", "66"},    {"p", "--nx", "6"}};
     size_t q;
     th_begin("options: values outside the range refused");
     for (q = 0; q < sizeof refused / sizeof refused[0]; ++q)
         TH_CHECK(parse(3, refused[q], opt, no) == -1, "%s %s accepted", refused[q][1], refused[q][2]);
-    TH_CHECK(n == 40 && cfl == 0.25 && hdx == 0 && strcmp(kernel, "cubic") == 0, "a refused value was stored");
+    TH_CHECK(n == 40 && cfl == 0.25 && hdx == 0 && nx == 16 && strcmp(kernel, "cubic") == 0,
+             "a refused value was stored");
     {
-        const char *missing[] = {"p", "--n"};
+        const char *missing[] = {"p", "--n"}, *followed[] = {"p", "--out", "--n", "10"};
         TH_CHECK(parse(2, missing, opt, no) == -1, "missing value accepted");
+        TH_CHECK(parse(4, followed, opt, no) == -1 && strcmp(out, "build") == 0, "the next option taken as value");
     }
     th_end();
     th_begin("options: values inside the range stored");
@@ -108,8 +118,15 @@ static void test_options(void)
                  cfl, hdx, kernel);
     }
     {
-        const char *ok[] = {"p", "--n", "8", "--hdx", "4", "--cfl", "1e-9"};
-        TH_CHECK(parse(7, ok, opt, no) == 0 && n == 8 && hdx == 4 && cfl == 1e-9, "ends of the ranges");
+        const char *ok[] = {"p", "--n", "8", "--hdx", "4", "--cfl", "1e-9", "--nx", "64"};
+        TH_CHECK(parse(9, ok, opt, no) == 0 && n == 8 && hdx == 4 && cfl == 1e-9 && nx == 64, "ends of the ranges");
+    }
+    th_end();
+    th_begin("options: the program name is argv[0] without its directory");
+    {
+        const char *args[] = {"./build/flows/sod_shock", "--nx", "18"};
+        TH_CHECK(ex_parse_args(3, (char **)(void *)args, "test", opt, no) == 0 && nx == 18, "refused");
+        TH_CHECK(strcmp(ex_prog(), "sod_shock") == 0, "program name '%s'", ex_prog());
     }
     th_end();
 }
@@ -136,6 +153,97 @@ static void test_finite(void)
     TH_CHECK(ex_fields_finite("test", f, 2, NP, 0.5) == SPH_ENONFINITE, "Inf accepted");
     b[2 * 3 + 1] = 0, a[5] = (sph_real)NAN;
     TH_CHECK(ex_fields_finite("test", f, 2, NP, 0.5) == SPH_ENONFINITE, "NaN accepted");
+    th_end();
+}
+
+/* What fn wrote on stderr (at most size - 1 characters), read back from a temporary file. */
+static void capture_stderr(void (*fn)(void *), void *arg, char *out, size_t size)
+{
+    FILE *tmp = tmpfile();
+    int saved;
+    size_t got = 0;
+    out[0] = '\0';
+    if (tmp == NULL) return;
+    fflush(stderr);
+    saved = dup(2);
+    dup2(fileno(tmp), 2);
+    fn(arg);
+    fflush(stderr);
+    dup2(saved, 2);
+    close(saved);
+    rewind(tmp);
+    got = fread(out, 1, size - 1, tmp);
+    out[got] = '\0';
+    fclose(tmp);
+}
+
+typedef struct {
+    ex_growth g;
+    double value, t;
+    int st;
+} growth_case;
+
+static void run_growth(void *arg)
+{
+    growth_case *c = (growth_case *)arg;
+    c->st = ex_growth_check(&c->g, c->value, c->t);
+}
+
+static void test_growth(void)
+{
+    growth_case c;
+    char msg[512], text[128];
+    th_begin("a quantity past its bound stops the run, the message names it");
+    c.g.quantity = "kinetic energy", c.g.hint = "time step too large";
+    c.g.start = 0.25, c.g.factor = 1.01, c.g.margin = 0;
+    TH_CHECK(ex_growth_bound(&c.g) == 0.25 * 1.01, "bound %.17g", ex_growth_bound(&c.g));
+    c.value = 0.25 * 1.01, c.t = 0.5;
+    capture_stderr(run_growth, &c, msg, sizeof msg);
+    TH_CHECK(c.st == SPH_OK && msg[0] == '\0', "the bound itself refused: %d '%s'", c.st, msg);
+    c.value = 0.2526, c.t = 0.125;
+    capture_stderr(run_growth, &c, msg, sizeof msg);
+    TH_CHECK(c.st == EX_EGROWTH, "0.2526 > 0.2525 accepted");
+    TH_CHECK(strncmp(msg, ex_prog(), strlen(ex_prog())) == 0 && strstr(msg, "kinetic energy = 0.2526") != NULL &&
+                 strstr(msg, "t = 0.125") != NULL && strstr(msg, "bound 0.2525") != NULL &&
+                 strstr(msg, "time step too large") != NULL,
+             "message: '%s'", msg);
+    c.value = NAN;
+    capture_stderr(run_growth, &c, msg, sizeof msg);
+    TH_CHECK(c.st == EX_EGROWTH, "NaN accepted");
+    c.g.start = 0, c.g.factor = 1, c.g.margin = 1, c.value = 1.5;
+    capture_stderr(run_growth, &c, msg, sizeof msg);
+    TH_CHECK(c.st == EX_EGROWTH && strstr(msg, "bound 1:") != NULL, "error bound: %d '%s'", c.st, msg);
+    ex_growth_text(&c.g, text, sizeof text);
+    TH_CHECK(strcmp(text, "kinetic energy <= 1") == 0, "text '%s'", text);
+    c.g.start = 2, c.g.factor = 1.01;
+    ex_growth_text(&c.g, text, sizeof text);
+    TH_CHECK(strcmp(text, "kinetic energy <= 1.01 x its start value 2 + 1") == 0, "text '%s'", text);
+    TH_CHECK(strcmp(ex_strerror(EX_EGROWTH), ex_strerror(SPH_ENONFINITE)) != 0, "no message of its own");
+    th_end();
+}
+
+static void test_csv_and_dirs(void)
+{
+    char dir[] = "/tmp/sph_example_dir_XXXXXX", path[256];
+    FILE *f;
+    th_begin("CSV values: no -0.000");
+    TH_CHECK(!signbit(ex_csv_fixed(-0.0, 6)) && !signbit(ex_csv_fixed(-4e-7, 6)), "negative zero kept");
+    TH_CHECK(ex_csv_fixed(-6e-7, 6) == -6e-7 && ex_csv_fixed(-4e-7, 7) == -4e-7 && ex_csv_fixed(3e-7, 6) == 3e-7,
+             "a value that prints as a non-zero changed");
+    th_end();
+    th_begin("an output directory that exists as a file is refused");
+    TH_CHECK(mkdtemp(dir) != NULL, "no temporary directory");
+    TH_CHECK(ex_mkdir_p(dir) == 0, "an existing directory refused");
+    snprintf(path, sizeof path, "%s/file", dir);
+    if ((f = fopen(path, "w")) != NULL) fclose(f);
+    TH_CHECK(ex_mkdir_p(path) != 0, "a file accepted as directory");
+    remove(path);
+    snprintf(path, sizeof path, "%s/a/b", dir);
+    TH_CHECK(ex_mkdir_p(path) == 0, "nested directories not created");
+    remove(path);
+    snprintf(path, sizeof path, "%s/a", dir);
+    remove(path);
+    TH_CHECK(remove(dir) == 0, "temporary directory not empty");
     th_end();
 }
 
@@ -233,6 +341,8 @@ int main(void)
     test_options();
     test_sizes();
     test_finite();
+    test_growth();
+    test_csv_and_dirs();
     test_series();
     return th_summary();
 }
