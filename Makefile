@@ -9,6 +9,7 @@
 #   make report     error against run time of every operator: docs/results/report.md, docs/results/report/
 #   make install PREFIX=/usr/local   header + pkg-config file
 #   make bench      operator and neighbour-search timings (bench/benchmark.c)
+#   make bench-step the Sod shock tube's step per particle and phase (bench/bench_step.sh)
 #   make run-mpi    the Taylor-Green vortex over MPI ranks (mpicc, mpirun; docs/mpi.md)
 #
 # Tree: examples/ what a user copies (quickstarts, solvers); bench/ timings and
@@ -28,7 +29,7 @@ RESULTS := docs/results
 # not depend on the thread count)
 OPENMP  := $(shell printf 'int main(void){return 0;}\n' | $(CC) -fopenmp -x c - -o /dev/null > /dev/null 2>&1 && echo -fopenmp)
 
-.PHONY: all test check print-check-examples demo plots install uninstall clean fuzz stability report report-full plots-report report-plots-if-gnuplot bench tiny-size compile-cost
+.PHONY: all test check print-check-examples demo plots install uninstall clean fuzz stability report report-full plots-report report-plots-if-gnuplot bench bench-step tiny-size compile-cost
 
 all: $(BUILD)/kernel_table $(BUILD)/kernel_plots $(BUILD)/quickstart
 
@@ -303,6 +304,15 @@ bench: $(BUILD)/bench/benchmark_double $(BUILD)/bench/benchmark_float tiny-size
 	./$(BUILD)/avx2/bench/benchmark_double 64 7 $(RESULTS)/benchmark.md
 	@echo
 	./$(BUILD)/avx2/bench/benchmark_float 64 7 $(RESULTS)/benchmark.md
+
+# bench-step: the step of examples/sod_shock.c per particle (search, density / h,
+# forces, the rest; pairs, candidates, bytes) at nx = 16, 32, 48 on 1 and 2
+# threads, built with CFLAGS and with -O3 -march=native, medians of 3 repeats
+# (bench/bench_step.sh; a few minutes): $(RESULTS)/step.md. Shorter:
+# make bench-step BENCH_STEP_NX=16 BENCH_STEP_REPEATS=3
+bench-step:
+	@CC="$(CC)" CFLAGS="$(CFLAGS)" OPENMP="$(OPENMP)" LDLIBS="$(LDLIBS)" BUILD="$(BUILD)" \
+	    BENCH_STEP_OUT="$(RESULTS)/step.md" sh bench/bench_step.sh
 
 # compile-cost: CPU time, peak memory and code size of typical units
 # (bench/compile_cost.sh; README "Build cost").

@@ -46,6 +46,9 @@
  *   ./sod_shock --check             nx = 16 run with validation bounds (make test)
  *   ./sod_shock --study docs/results  nx = 16, 24, 32, 48: L1 errors and orders into
  *                                   docs/results/sod_shock.md, profiles into --out
+ *   ./sod_shock --profile           also the step's wall time per particle by phase (search,
+ *                                   density / h, forces, rest), pairs and bytes per particle
+ *                                   (make bench-step: bench/bench_step.sh)
  */
 #include "example_io.h"
 
@@ -71,7 +74,19 @@ typedef struct {
     int nx, ny;          /* left lattice: cells per unit length, and across the tube (0: the fewest allowed) */
     const char *kernel, *lattice; /* lattice: fcc (4 particles per cell) or cubic (1) */
     double gamma, t_end, eta, cfl, alpha_min, alpha_max, beta, alpha_u;
+    int profile; /* --profile: time the phases of the step (sd_prof) */
 } sd_param;
+
+/* --profile: wall time of the step loop per phase, and what the step handles. */
+enum { SD_SEARCH, SD_H, SD_FORCES, SD_REST, SD_PHASES };
+typedef struct {
+    double t[SD_PHASES], last;  /* seconds per phase; the clock at the last mark */
+    double entries, half;       /* sums over the steps: symmetric list entries, half-list pairs */
+    double candidates, sampled; /* sums over the sampled steps: search candidates, list entries */
+    long steps, samples, researches;
+    double bytes[4];            /* held at the end: fields, lists, pair buffers, search workspace */
+    int threads;
+} sd_prof;
 
 typedef struct {
     double l1_rho, l1_v, l1_p;  /* L1 errors over |x| <= 0.5 at t_end */
@@ -81,6 +96,7 @@ typedef struct {
     long steps, solves, sums, researches;
     int max_sums;
     sph_idx n;
+    sd_prof prof; /* --profile */
 } sd_result;
 
 /* ---- the exact Riemann solution (Toro 2009, chapter 4) ---- */
@@ -170,6 +186,8 @@ typedef struct {
     double vsig_max;
     long solves, sums, researches;
     int max_sums;
+    sph_nsearch grid; /* the last search's cells (sph_nsearch_stats of --profile) */
+    sd_prof *prof;    /* inside the step loop with --profile, NULL otherwise */
 } sd_sim;
 
 static void sd_free(sd_sim *S)
@@ -321,6 +339,7 @@ static int sd_search(sd_sim *S)
     sph_nsearch g;
     if ((st = sph_nsearch_build(&g, 3, xv, S->n, hv, S->kappa * hmax / 2, &S->box, S->work, S->work_bytes)) != SPH_OK)
         return st;
+    S->grid = g;
     st = sph_nsearch_lists(&g, xv, S->n, hv, 0, S->kappa, SPH_NSEARCH_SYMMETRIC, S->offset, S->index, S->cap, &pairs);
     if (st == SPH_ESIZE) { /* grow the index arrays with slack, then fill */
         free(S->index), free(S->h_idx), free(S->t_slot), free(S->buf);
@@ -335,6 +354,16 @@ static int sd_search(sd_sim *S)
     return st;
 }
 
+/* --profile: the wall time since the last mark goes to phase p; without --profile nothing happens. */
+static void sd_mark(sd_sim *S, int p)
+{
+    if (S->prof != NULL) {
+        const double now = ex_now();
+        S->prof->t[p] += now - S->prof->last;
+        S->prof->last = now;
+    }
+}
+
 /* Lists and h together: search at 1.15 h, solve; particles beyond their
  * list get 1.2 times the solver's estimate and the search is repeated. */
 static int sd_density(sd_sim *S)
@@ -347,6 +376,7 @@ static int sd_density(sd_sim *S)
     for (i = 0; i < S->n; ++i) S->hl[i] = (sph_real)1.15 * S->h[i] < S->h_cap ? (sph_real)1.15 * S->h[i] : S->h_cap;
     for (round = 0; round < 6; ++round) {
         if ((st = sd_search(S)) != SPH_OK) return st;
+        sd_mark(S, round == 0 ? SD_SEARCH : SD_H); /* a re-search counts to the h solve that asked for it */
         L.n_targets = L.n_sources = S->n;
         L.offset = S->offset;
         L.index = S->index;
@@ -358,6 +388,7 @@ static int sd_density(sd_sim *S)
         st = sph_h_solve(&c, sph_out_soa(S->h, NULL, NULL), sph_out_soa(S->rho, NULL, NULL), sph_out_soa(S->om, NULL, NULL),
                          NULL, S->state, &rep);
         if (st != SPH_OK) return st;
+        sd_mark(S, SD_H);
         S->solves++;
         S->sums += (long)rep.iterations;
         S->max_sums = rep.max_iterations > S->max_sums ? rep.max_iterations : S->max_sums;
@@ -456,6 +487,54 @@ static int sd_forces(sd_sim *S, double m)
     return SPH_OK;
 }
 
+/* --profile: the step loop's timing starts (the first forces before it and the densities after it are not timed). */
+static void sd_profile_start(sd_sim *S, sd_prof *Q)
+{
+#ifdef _OPENMP
+    Q->threads = omp_get_max_threads();
+#else
+    Q->threads = 1;
+#endif
+    Q->researches = S->researches;
+    S->prof = Q;
+    Q->last = ex_now();
+}
+
+/* --profile, after each step's forces: the list entries (symmetric, self included) and half-list pairs it used, and
+ * every SD_SAMPLE-th step the candidates its last search checked (sph_nsearch_stats runs that search again without
+ * writing lists; its time goes to no phase). */
+enum { SD_SAMPLE = 10 };
+static void sd_profile_count(sd_sim *S)
+{
+    sd_prof *Q = S->prof;
+    Q->entries += (double)S->offset[S->n];
+    Q->half += (double)S->h_off[S->n];
+    if (Q->steps++ % SD_SAMPLE == 0) {
+        sph_off pairs = 0, cand = 0;
+        if (sph_nsearch_stats(&S->grid, sph_view_interleaved(S->x, 3), S->n, sph_view_soa(S->hl, NULL, NULL), 0, S->kappa,
+                              SPH_NSEARCH_SYMMETRIC, &pairs, &cand, NULL) == SPH_OK)
+            Q->candidates += (double)cand, Q->sampled += (double)pairs, Q->samples++;
+        Q->last = ex_now();
+    }
+}
+
+/* --profile, after the step loop: the last rest, the re-searches, and the bytes per particle the step holds, from the
+ * sizes sd_setup and sd_search allocated: fields (x, v, vp, a: 3 reals; u, up, du, h, rho, om, hl, A, cs, alpha,
+ * dalpha: 1; f5: 5; state; offset, h_off, t_off: n + 1 each), lists (index, h_idx, t_slot: cap entries each), the
+ * pair buffers of sph_pairs_reduce (sph_pairs_buffer_len(5, cap) reals) and the search workspace. */
+static void sd_profile_end(sd_sim *S)
+{
+    sd_prof *Q = S->prof;
+    const double n = (double)S->n, cap = (double)S->cap;
+    sd_mark(S, SD_REST);
+    Q->researches = S->researches - Q->researches;
+    Q->bytes[0] = (double)((4 * 3 + 11 + 5) * sizeof(sph_real) + sizeof(int)) + 3 * (n + 1) / n * (double)sizeof(sph_off);
+    Q->bytes[1] = cap / n * (double)(2 * sizeof(sph_idx) + sizeof(sph_off));
+    Q->bytes[2] = (double)sph_pairs_buffer_len(5, S->cap) / n * (double)sizeof(sph_real);
+    Q->bytes[3] = (double)S->work_bytes / n;
+    S->prof = NULL;
+}
+
 static double sd_energy(const sd_sim *S, double m)
 {
     double E = 0;
@@ -497,6 +576,7 @@ static int sd_run(const sd_param *P, sd_result *R, FILE *profile, const char *la
     energy.start = 0, energy.factor = 1, energy.margin = SD_ENERGY_TOL;
     density.start = 1, density.factor = SD_RHO_FACTOR, density.margin = 0; /* the left state's density is the largest */
     st = sd_forces(&S, m);
+    if (P->profile) sd_profile_start(&S, &R->prof);
     while (st == SPH_OK && t < P->t_end * (1 - 1e-12)) {
         sph_real hmin = S.h[0];
         double dt;
@@ -514,7 +594,10 @@ static int sd_run(const sd_param *P, sd_result *R, FILE *profile, const char *la
             S.up[i] = S.u[i] + (sph_real)(dt / 2) * S.du[i];
             S.alpha[i] += (sph_real)(dt / 2) * S.dalpha[i];
         }
+        sd_mark(&S, SD_REST);
         if ((st = sd_forces(&S, m)) != SPH_OK) break;
+        sd_mark(&S, SD_FORCES); /* sd_density marked its search and h solve: the rest of sd_forces */
+        if (S.prof != NULL) sd_profile_count(&S);
         for (i = 0; i < S.n; ++i) { /* kick */
             for (a = 0; a < 3; ++a) S.v[3 * i + a] += (sph_real)(dt / 2) * S.a[3 * i + a];
             S.u[i] += (sph_real)(dt / 2) * S.du[i];
@@ -533,6 +616,7 @@ static int sd_run(const sd_param *P, sd_result *R, FILE *profile, const char *la
         }
         if (label != NULL) ex_progress_update(&prog, label, t / P->t_end);
     }
+    if (S.prof != NULL) sd_profile_end(&S);
     if (label != NULL) ex_progress_done(&prog, label);
     if (st == SPH_OK && sd_star(L, Rs, P->gamma, &ps, &us) != 0) st = SD_EEXACT;
     if (st == SPH_OK) { /* densities at the final positions for the errors */
@@ -569,12 +653,44 @@ static int sd_run(const sd_param *P, sd_result *R, FILE *profile, const char *la
     return st;
 }
 
+/* --profile: the step's phases in microseconds of wall time per particle and step, what it handles and holds. */
+static void sd_print_profile(const sd_result *R)
+{
+    static const char *name[SD_PHASES] = {"search", "density/h", "forces", "rest"};
+    static const char *what[SD_PHASES] = {"list radii, sph_nsearch_build, sph_nsearch_lists (and _fill when the lists grew)",
+                                          "sph_h_solve, and the re-searches it asked for",
+                                          "c_s and A, sph_pairs_build, the pair loop, sph_pairs_reduce, d alpha/dt",
+                                          "h_min and dt, kicks, drift, progress line"};
+    const sd_prof *Q = &R->prof;
+    const double n = (double)R->n, ps = n * (double)Q->steps;
+    double total = 0;
+    int p;
+    if (Q->steps == 0) return;
+    for (p = 0; p < SD_PHASES; ++p) total += Q->t[p];
+    printf("profile: %ld steps of %ld particles, %d thread%s; wall time per particle and step:\n", Q->steps, (long)R->n,
+           Q->threads, Q->threads == 1 ? "" : "s");
+    for (p = 0; p < SD_PHASES; ++p)
+        printf("  %-28s %10.3f us %5.1f %%  %s\n", name[p], 1e6 * Q->t[p] / ps, 100 * Q->t[p] / total, what[p]);
+    printf("  %-28s %10.3f us 100.0 %%  %.3f s in the step loop\n", "total", 1e6 * total / ps, total);
+    printf("  %-28s %10.2f     (symmetric lists, self included: the sums of the h solve)\n", "list entries per particle",
+           Q->entries / ps);
+    printf("  %-28s %10.2f     (the pair-once force loop)\n", "half-list pairs per particle", Q->half / ps);
+    if (Q->samples > 0)
+        printf("  %-28s %10.2f     (%.2f per list entry; sph_nsearch_stats on %ld of the steps, untimed)\n",
+               "candidates per particle", Q->candidates / (n * (double)Q->samples), Q->candidates / Q->sampled, Q->samples);
+    printf("  %-28s %10.0f     (fields %.0f, lists %.0f, pair buffers %.0f, search workspace %.0f)\n",
+           "bytes per particle", Q->bytes[0] + Q->bytes[1] + Q->bytes[2] + Q->bytes[3], Q->bytes[0], Q->bytes[1],
+           Q->bytes[2], Q->bytes[3]);
+    printf("  %-28s %10ld     (their time counts to density/h)\n", "re-searches", Q->researches);
+}
+
 static void sd_print(const sd_param *P, const sd_result *R)
 {
     printf("nx %4d  N %7ld  steps %5ld  L1 rho %.4e  v %.4e  P %.4e  h: %.2f density sums per particle and solve "
            "(max %d), %ld re-searches  |dE|/E %.1e  |P_x|/sum m|v| %.1e  %.1f s\n",
            P->nx, (long)R->n, R->steps, R->l1_rho, R->l1_v, R->l1_p, (double)R->sums / ((double)R->solves * R->n),
            R->max_sums, R->researches, R->energy_drift, R->momentum, R->seconds);
+    if (P->profile) sd_print_profile(R);
 }
 
 /* Toro (2009) Table 4.3, test 1 (Sod's problem with gamma = 1.4): p* = 0.30313, u* = 0.92745,
@@ -747,9 +863,11 @@ int main(int argc, char **argv)
         {"threads", "OpenMP threads (0: the runtime's default)", NULL, &threads, NULL, NULL, 0, 1024, 0, NULL},
         {"check", "nx = 16 run; exit 1 if it misses its validation bounds", NULL, NULL, NULL, &check, 0, 0, 0, NULL},
         {"study", "nx = 16, 24, 32, 48: the error table into this directory", NULL, NULL, &study, NULL, 0, 0, 0, NULL},
+        {"profile", "print the step's time per phase, pairs and bytes per particle", NULL, NULL, NULL, &P.profile, 0, 0,
+         0, NULL},
     };
     P.nx = 32, P.ny = 0, P.kernel = "cubic", P.lattice = "fcc", P.gamma = 5.0 / 3.0, P.t_end = 0.2, P.eta = 1.2, P.cfl = 0.3;
-    P.alpha_min = 0.1, P.alpha_max = 1, P.beta = 3, P.alpha_u = 1;
+    P.alpha_min = 0.1, P.alpha_max = 1, P.beta = 3, P.alpha_u = 1, P.profile = 0;
     { /* what the top of --nx needs at the defaults: memory grows as nx ny^2 */
         sd_param Q = P;
         char b[32];

@@ -1,0 +1,148 @@
+#!/bin/sh
+# bench/bench_step.sh - the step of examples/sod_shock.c per particle: wall
+# time of search, density / h solve, forces and the rest (sod_shock
+# --profile), list entries, half-list pairs, search candidates and bytes held
+# per particle, for nx = 16, 32, 48 on 1 and 2 threads, built with the
+# Makefile's flags and with -O3 -march=native. Run by `make bench-step`; prints
+# the table and writes it to docs/results/step.md.
+#   BENCH_STEP_NX="16"        resolutions (fcc cells per unit length, left)
+#   BENCH_STEP_REPEATS=3      repeats of every run (a time is their median)
+#   BENCH_STEP_T_END=0.05     simulated time of each run
+#   BENCH_STEP_OUT=file       where the table goes
+# Each repeat runs every (nx, build, threads) once, the 1- and 2-thread runs of a
+# build back to back, so that a ratio (speed-up, -O3 against -O2, a phase's
+# share) is taken within one repeat or one run and load that comes and goes
+# between repeats cancels; the table gives the median over the repeats.
+cd "$(dirname "$0")/.." || exit 2
+CC=${CC:-cc}
+CFLAGS=${CFLAGS:--O2 -std=c99 -Wall -Wextra -pedantic -Werror}
+OPENMP=${OPENMP-$(printf 'int main(void){return 0;}\n' | $CC -fopenmp -x c - -o /dev/null > /dev/null 2>&1 && echo -fopenmp)}
+LDLIBS=${LDLIBS:--lm}
+NX=${BENCH_STEP_NX:-16 32 48}
+REPEATS=${BENCH_STEP_REPEATS:-3}
+T_END=${BENCH_STEP_T_END:-0.05}
+OUT=${BENCH_STEP_OUT:-docs/results/step.md}
+DIR=${BUILD:-build}/bench_step
+case $DIR in /*) ;; *) DIR=./$DIR ;; esac
+NATIVE="-O3 -march=native -std=c99 -Wall -Wextra -pedantic -Werror"
+THREADS="1 2"
+if [ -z "$OPENMP" ]; then
+    echo "bench/bench_step.sh: $CC has no -fopenmp: 1 thread only"
+    THREADS=1
+fi
+case $REPEATS in '' | *[!0-9]* | 0) echo "bench/bench_step.sh: BENCH_STEP_REPEATS=$REPEATS is not a positive integer"; exit 2 ;; esac
+mkdir -p "$DIR/out" || exit 1
+START=$(date -u '+%Y-%m-%d %H:%M UTC')
+LOAD0=$(cut -d' ' -f1-3 /proc/loadavg 2> /dev/null)
+T0=$(date +%s)
+# shellcheck disable=SC2086
+$CC $CFLAGS $OPENMP -I. examples/sod_shock.c -o "$DIR/sod_shock_O2" $LDLIBS || exit 1
+# shellcheck disable=SC2086
+$CC $NATIVE $OPENMP -I. examples/sod_shock.c -o "$DIR/sod_shock_native" $LDLIBS || exit 1
+: > "$DIR/runs.txt"
+r=1
+while [ "$r" -le "$REPEATS" ]; do
+    for nx in $NX; do
+        for b in O2 native; do
+            for th in $THREADS; do
+                echo "repeat $r/$REPEATS  nx $nx  $b  $th thread(s)" >&2
+                if ! OMP_NUM_THREADS=$th "$DIR/sod_shock_$b" --nx "$nx" --t-end "$T_END" --threads "$th" --profile \
+                    --out "$DIR/out" > "$DIR/run.txt" 2>&1; then
+                    cat "$DIR/run.txt"
+                    echo "bench/bench_step.sh: sod_shock --nx $nx ($b, $th threads) failed"
+                    exit 1
+                fi
+                # one line per run: repeat build nx threads n steps, us of total search density/h forces rest, list
+                # entries, half-list pairs, candidates, bytes (per particle)
+                awk -v r="$r" -v b="$b" -v nx="$nx" -v th="$th" '
+                    /^profile: / { steps = $2; n = $5 }
+                    $1 == "search" || $1 == "density/h" || $1 == "forces" || $1 == "rest" || $1 == "total" { us[$1] = $2 }
+                    /^  list entries per particle/ { e = $5 }
+                    /^  half-list pairs per particle/ { hp = $5 }
+                    /^  candidates per particle/ { c = $4 }
+                    /^  bytes per particle/ { by = $4 }
+                    END {
+                        if (steps == "") exit 1
+                        print r, b, nx, th, n, steps, us["total"], us["search"], us["density/h"], us["forces"], us["rest"], e, hp, c, by
+                    }' "$DIR/run.txt" >> "$DIR/runs.txt" || { cat "$DIR/run.txt"; echo "bench/bench_step.sh: no --profile table"; exit 1; }
+            done
+        done
+    done
+    r=$((r + 1))
+done
+LOAD1=$(cut -d' ' -f1-3 /proc/loadavg 2> /dev/null)
+T1=$(date +%s)
+{
+    echo "# Step benchmark: examples/sod_shock.c"
+    echo
+    echo "Written by \`make bench-step\` (bench/bench_step.sh) on $START, $((T1 - T0)) s of wall time."
+    echo
+    echo "- CPU: $(grep -m1 'model name' /proc/cpuinfo 2> /dev/null | sed 's/.*: //'), $(nproc 2> /dev/null) cores online ($(grep -c '^processor' /proc/cpuinfo 2> /dev/null) logical CPUs)"
+    echo "- compiler: $($CC --version 2> /dev/null | head -n 1)"
+    echo "- builds: O2 = \`$CC $CFLAGS $OPENMP\` (the Makefile's flags), native = \`$CC $NATIVE $OPENMP\`"
+    echo "- load average (1, 5, 15 min): $LOAD0 at the start, $LOAD1 at the end"
+    echo "- commit: $(git rev-parse --short HEAD 2> /dev/null || echo unknown)$(git diff --quiet HEAD -- examples/sod_shock.c sph_kernel.h 2> /dev/null || echo ' with local changes')"
+    echo "- runs: \`sod_shock --nx NX --t-end $T_END --threads T --profile\`, $REPEATS repeats each"
+    echo
+    echo "Microseconds of wall time per particle and step (monotonic clock), medians over the"
+    echo "repeats; in brackets the median share of the step within a run. search: list radii,"
+    echo "cells and symmetric lists; density/h: sph_h_solve and any re-search it asks for;"
+    echo "forces: sound speeds, the half list, the pair loop, the reduction; rest: time step,"
+    echo "kicks, drift. The first forces before the step loop and the final densities are not"
+    echo "timed. Entries: symmetric list entries (self included, the h solve's sums); pairs: the"
+    echo "half list of the force loop; candidates: positions the search checked"
+    echo "(sph_nsearch_stats every 10th step, outside the timed phases); bytes: held by the step"
+    echo "(fields, lists, pair buffers, search workspace). spread: the slowest and fastest total."
+    echo
+    awk '
+        function median(s,    a, m, i, j, t) { # of the space-separated numbers in s
+            m = split(s, a, " ")
+            for (i = 2; i <= m; ++i) for (j = i; j > 1 && a[j - 1] + 0 > a[j] + 0; --j) { t = a[j]; a[j] = a[j - 1]; a[j - 1] = t }
+            return m % 2 ? a[(m + 1) / 2] : (a[m / 2] + a[m / 2 + 1]) / 2
+        }
+        function lo(s,    a, m, i, v) { m = split(s, a, " "); v = a[1]; for (i = 2; i <= m; ++i) if (a[i] + 0 < v + 0) v = a[i]; return v }
+        function hi(s,    a, m, i, v) { m = split(s, a, " "); v = a[1]; for (i = 2; i <= m; ++i) if (a[i] + 0 > v + 0) v = a[i]; return v }
+        {
+            k = $2 " " $3 " " $4
+            if (!(k in n)) { order[++nk] = k; n[k] = $5; steps[k] = $6 }
+            for (c = 7; c <= 15; ++c) v[k, c] = v[k, c] " " $c
+            for (c = 8; c <= 11; ++c) share[k, c] = share[k, c] " " 100 * $c / $7
+            tot[$1, k] = $7
+            builds[$2] = 1; nxs[$3] = 1; ths[$4] = 1
+        }
+        END {
+            print "| build | nx | particles | steps | threads | total | search | density/h | forces | rest | spread of total | entries | pairs | candidates | bytes |"
+            print "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
+            for (i = 1; i <= nk; ++i) {
+                k = order[i]; split(k, f, " ")
+                printf "| %s | %s | %s | %s | %s | %.2f |", f[1], f[2], n[k], steps[k], f[3], median(v[k, 7])
+                for (c = 8; c <= 11; ++c) printf " %.2f (%.0f %%) |", median(v[k, c]), median(share[k, c])
+                printf " %.2f-%.2f | %.1f | %.1f | %.0f | %.0f |\n", lo(v[k, 7]), hi(v[k, 7]), median(v[k, 12]), median(v[k, 13]), median(v[k, 14]), median(v[k, 15])
+            }
+            if (!(2 in ths)) exit
+            print ""
+            print "Ratios of the total, each the median over the repeats of the ratio within one repeat:"
+            print "the 2-thread speed-up (1-thread time / 2-thread time) and native against O2 (O2 time /"
+            print "native time, same threads)."
+            print ""
+            print "| nx | 2-thread speed-up, O2 | 2-thread speed-up, native | native / O2, 1 thread | native / O2, 2 threads |"
+            print "|---|---|---|---|---|"
+            for (i = 1; i <= nk; ++i) {
+                k = order[i]; split(k, f, " ")
+                if (f[1] != "O2" || f[3] != 1 || done[f[2]]++) continue
+                s2 = sn = r1 = r2 = ""
+                for (rr = 1; ((rr, "O2 " f[2] " 1") in tot); ++rr) {
+                    s2 = s2 " " tot[rr, "O2 " f[2] " 1"] / tot[rr, "O2 " f[2] " 2"]
+                    sn = sn " " tot[rr, "native " f[2] " 1"] / tot[rr, "native " f[2] " 2"]
+                    r1 = r1 " " tot[rr, "O2 " f[2] " 1"] / tot[rr, "native " f[2] " 1"]
+                    r2 = r2 " " tot[rr, "O2 " f[2] " 2"] / tot[rr, "native " f[2] " 2"]
+                }
+                printf "| %s | %.2f | %.2f | %.2f | %.2f |\n", f[2], median(s2), median(sn), median(r1), median(r2)
+            }
+        }' "$DIR/runs.txt"
+    echo
+    echo "One line per run (repeat, build, nx, threads, particles, steps, total, search, density/h,"
+    echo "forces, rest, entries, pairs, candidates, bytes): \`${DIR#./}/runs.txt\`."
+} > "$DIR/step.md" || exit 1
+cat "$DIR/step.md"
+cp "$DIR/step.md" "$OUT" && echo "wrote $OUT"

@@ -1,0 +1,50 @@
+#!/bin/sh
+# tests/check_sod_profile.sh - examples/sod_shock.c --profile and the step
+# benchmark built on it: a run with --profile writes the profile CSV of the
+# run without it byte for byte; its table counts what the step handles
+# consistently (symmetric list entries = 2 half-list pairs + the particle
+# itself, search candidates at least the list entries, its steps those of the
+# run); bench/bench_step.sh turns the runs into its table. nx = 8 to
+# t = 0.03: a few seconds. Exit 1 naming the first failed check.
+cd "$(dirname "$0")/.." || exit 2
+CC=${CC:-gcc}
+tmp=$(mktemp -d) || exit 2
+trap 'rm -rf "$tmp"' EXIT
+OPENMP=$(printf 'int main(void){return 0;}\n' | $CC -fopenmp -x c - -o /dev/null > /dev/null 2>&1 && echo -fopenmp)
+fail() {
+    echo "FAILED: $*"
+    exit 1
+}
+# shellcheck disable=SC2086
+$CC -O2 -std=c99 -Wall -Wextra -pedantic -Werror $OPENMP -I. examples/sod_shock.c -o "$tmp/sod_shock" -lm ||
+    fail "examples/sod_shock.c does not build"
+mkdir -p "$tmp/plain" "$tmp/prof"
+OMP_NUM_THREADS=2 "$tmp/sod_shock" --nx 8 --t-end 0.03 --out "$tmp/plain" > "$tmp/plain.txt" 2>&1 ||
+    fail "sod_shock --nx 8 --t-end 0.03: $(cat "$tmp/plain.txt")"
+OMP_NUM_THREADS=2 "$tmp/sod_shock" --nx 8 --t-end 0.03 --out "$tmp/prof" --profile > "$tmp/prof.txt" 2>&1 ||
+    fail "sod_shock --nx 8 --t-end 0.03 --profile: $(cat "$tmp/prof.txt")"
+cmp -s "$tmp/plain/sod_nx8.csv" "$tmp/prof/sod_nx8.csv" || fail "--profile changed the run: sod_nx8.csv differs"
+awk '
+    /^nx / { steps = $6 }
+    /^profile: / { psteps = $2 }
+    $1 == "search" || $1 == "density/h" || $1 == "forces" || $1 == "rest" { ++phases; sum += $2 }
+    $1 == "total" { total = $2 }
+    /^  list entries per particle/ { e = $5 }
+    /^  half-list pairs per particle/ { p = $5 }
+    /^  candidates per particle/ { c = $4 }
+    /^  bytes per particle/ { b = $4 }
+    END {
+        if (phases != 4 || total <= 0 || sum < total - 0.01 || sum > total + 0.01) { print "phases", phases, "sum", sum, "total", total; exit 1 }
+        if (psteps == "" || psteps != steps) { print "profile steps", psteps, "run steps", steps; exit 1 }
+        if (e < 2 * p + 1 - 0.011 || e > 2 * p + 1 + 0.011) { print "list entries", e, "half-list pairs", p, "(entries = 2 pairs + 1)"; exit 1 }
+        if (c < e) { print "candidates", c, "below list entries", e; exit 1 }
+        if (b <= 0) { print "bytes per particle", b; exit 1 }
+    }' "$tmp/prof.txt" > "$tmp/why" || fail "sod_shock --profile table: $(cat "$tmp/why")"
+BUILD="$tmp/build" BENCH_STEP_NX=8 BENCH_STEP_REPEATS=1 BENCH_STEP_T_END=0.01 BENCH_STEP_OUT="$tmp/step.md" \
+    sh bench/bench_step.sh > "$tmp/bench.txt" 2>&1 || fail "bench/bench_step.sh: $(tail -n 5 "$tmp/bench.txt")"
+# rows of (build, nx 8, threads): total, search, density/h, forces, entries, pairs, candidates and bytes all > 0
+rows=$(awk -F'|' '$3 == " 8 " && $7 + 0 > 0 && $8 + 0 > 0 && $9 + 0 > 0 && $10 + 0 > 0 && $13 + 0 > 0 && $14 + 0 > 0 &&
+    $15 + 0 > 0 && $16 + 0 > 0 { ++n } END { print n + 0 }' "$tmp/step.md")
+want=$([ -n "$OPENMP" ] && echo 4 || echo 2)
+[ "$rows" = "$want" ] || fail "bench/bench_step.sh: $rows complete table rows instead of $want: $(cat "$tmp/step.md")"
+echo "tests/check_sod_profile.sh: --profile leaves the run unchanged, its counts agree, bench/bench_step.sh writes its $rows rows"
