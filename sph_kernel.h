@@ -48,6 +48,11 @@
  *               sum either way, tested; the order of the sum over j
  *               differs) and no AVX-512 compress in the neighbour fill
  *               (same lists); slower.
+ *   SPH_NSEARCH_PLAIN  the plain neighbour search: cells of the given edge
+ *               and, in symmetric mode, one radius kappa max(h_i, h_max) for
+ *               every target. Default: cells refined to the sources' h and a
+ *               reach bounded per target (docs/neighbours.md, "Varying h");
+ *               the same lists, tested equal.
  *   SPH_ONLY_KERNELS   sections 1-3 only: the scalar kernel functions.
  *   SPH_ONLY_PAIRS     sections 1-5: kernels, views and pair terms, for a
  *               solver with its own neighbour loop (no operators, no search),
@@ -2761,7 +2766,9 @@ SPH_API int sph_check_field(sph_view f, int ncomp, sph_idx n, sph_idx *first_bad
  * the same for any number of OpenMP threads).
  *
  * Sources (xs, ns, optional per-source h hs) are binned once by build into a
- * grid of cells of edge >= cell (recommended: kappa h / 2); targets (xt, nt,
+ * grid of cells of edge >= cell (recommended: kappa h / 2; with per-source
+ * h, kappa h_max / 2, which the build refines to the h the sources have:
+ * docs/neighbours.md, "Varying h"); targets (xt, nt,
  * optional per-target h ht) are any point set: the sources themselves,
  * probe points, ghosts. Per-particle h are views like every other field
  * (sph_view_soa(h, NULL, NULL), or sph_view_none() when absent); h is the
@@ -2780,7 +2787,10 @@ SPH_API int sph_check_field(sph_view f, int ncomp, sph_idx n, sph_idx *first_bad
  * 2.5 candidate checks per neighbour in 3-D (docs/neighbours.md). A target
  * whose reach is at most 4 cells finds its rows from squared cell gaps
  * computed once per axis (clamped at open faces, wrapped round periodic
- * axes); each run carries its periodic image offset, so the checks need no
+ * axes). In symmetric mode with per-source h a target reaches only as far
+ * as the sources that may reach it (per-cell largest h, reach tables), and
+ * of each row only the cells whose own reach covers it (SPH_NSEARCH_PLAIN:
+ * one radius kappa max(h_i, h_max), cells of cell). Each run carries its periodic image offset, so the checks need no
  * minimum image. Runs are checked in branch-free blocks of 8
  * sources (16, two vectors, with AVX-512). Count, fill and lists run in
  * parallel over targets under OpenMP.
