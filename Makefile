@@ -29,7 +29,7 @@ RESULTS := docs/results
 # not depend on the thread count)
 OPENMP  := $(shell printf 'int main(void){return 0;}\n' | $(CC) -fopenmp -x c - -o /dev/null > /dev/null 2>&1 && echo -fopenmp)
 
-.PHONY: all test check print-check-examples demo plots install uninstall clean fuzz stability report report-full plots-report report-plots-if-gnuplot bench bench-step tiny-size compile-cost
+.PHONY: all test check print-check-examples demo plots install uninstall clean fuzz stability report report-full plots-report report-plots-if-gnuplot bench bench-step bench-search tiny-size compile-cost
 
 all: $(BUILD)/kernel_table $(BUILD)/kernel_plots $(BUILD)/quickstart
 
@@ -261,6 +261,24 @@ fuzz:
 	        tests/test_fuzz_seeded.c -o $(BUILD)/fuzz/test_fuzz_seeded -lm && \
 	    ./$(BUILD)/fuzz/test_fuzz_seeded $(FUZZ_SECONDS); \
 	fi
+
+# ---- bench-search: cost per listed pair of the neighbour search with
+# varying h (bench/bench_search_h.c, docs/neighbours.md "Varying h"), built
+# -O3 -march=native and -O2 generic; BEFORE=path/to/sph_kernel.h also builds
+# and runs it against that header (before/after figures in one run). ----
+BEFORE ?=
+bench-search: bench/bench_search_h.c sph_kernel.h support/particles.h support/timing.h
+	@mkdir -p $(BUILD)/bench
+	$(CC) -O3 -march=native -std=c99 -I. bench/bench_search_h.c -o $(BUILD)/bench/search_h_native -lm
+	$(CC) -O2 -std=c99 -I. bench/bench_search_h.c -o $(BUILD)/bench/search_h_generic -lm
+	@if [ -n "$(BEFORE)" ]; then \
+	    $(CC) -O3 -march=native -std=c99 -DSPH_HEADER='"$(abspath $(BEFORE))"' -I. bench/bench_search_h.c -o $(BUILD)/bench/search_h_native_before -lm && \
+	    $(CC) -O2 -std=c99 -DSPH_HEADER='"$(abspath $(BEFORE))"' -I. bench/bench_search_h.c -o $(BUILD)/bench/search_h_generic_before -lm || exit 1; \
+	    echo "== before ($(BEFORE)), -O3 -march=native"; ./$(BUILD)/bench/search_h_native_before $(BENCH_REPEATS) || exit 1; \
+	    echo "== before ($(BEFORE)), -O2"; ./$(BUILD)/bench/search_h_generic_before $(BENCH_REPEATS) || exit 1; fi
+	@echo "== -O3 -march=native"; ./$(BUILD)/bench/search_h_native $(BENCH_REPEATS)
+	@echo "== -O2"; ./$(BUILD)/bench/search_h_generic $(BENCH_REPEATS)
+BENCH_REPEATS ?= 5
 
 # ---- bench, tiny-size: timings (bench/benchmark.c) and the size of a
 # program pinned to 2-D cubic density (bench/tiny_density.c) ----

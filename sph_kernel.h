@@ -62,6 +62,11 @@
  *               sum either way, tested; the order of the sum over j
  *               differs) and no AVX-512 compress in the neighbour fill
  *               (same lists); slower.
+ *   SPH_NSEARCH_PLAIN  the plain neighbour search: cells of the given edge
+ *               and, in symmetric mode, one radius kappa max(h_i, h_max) for
+ *               every target. Default: cells refined to the sources' h and a
+ *               reach bounded per target (docs/neighbours.md, "Varying h");
+ *               the same lists, tested equal.
  *   SPH_ONLY_KERNELS   sections 1-3 only: the scalar kernel functions.
  *   SPH_ONLY_PAIRS     sections 1-5: kernels, views and pair terms, for a
  *               solver with its own neighbour loop (no operators, no search),
@@ -2852,7 +2857,9 @@ SPH_API int sph_check_field(sph_view f, int ncomp, sph_idx n, sph_idx *first_bad
  * the same for any number of OpenMP threads).
  *
  * Sources (xs, ns, optional per-source h hs) are binned once by build into a
- * grid of cells of edge >= cell (recommended: kappa h / 2); targets (xt, nt,
+ * grid of cells of edge >= cell (recommended: kappa h / 2; with per-source
+ * h, kappa h_max / 2, which the build refines to the h the sources have:
+ * docs/neighbours.md, "Varying h"); targets (xt, nt,
  * optional per-target h ht) are any point set: the sources themselves,
  * probe points, ghosts. Per-particle h are views like every other field
  * (sph_view_soa(h, NULL, NULL), or sph_view_none() when absent); h is the
@@ -2871,7 +2878,10 @@ SPH_API int sph_check_field(sph_view f, int ncomp, sph_idx n, sph_idx *first_bad
  * 2.5 candidate checks per neighbour in 3-D (docs/neighbours.md). A target
  * whose reach is at most 4 cells finds its rows from squared cell gaps
  * computed once per axis (clamped at open faces, wrapped round periodic
- * axes); each run carries its periodic image offset, so the checks need no
+ * axes). In symmetric mode with per-source h a target reaches only as far
+ * as the sources that may reach it (per-cell largest h, reach tables), and
+ * of each row only the cells whose own reach covers it (SPH_NSEARCH_PLAIN:
+ * one radius kappa max(h_i, h_max), cells of cell). Each run carries its periodic image offset, so the checks need no
  * minimum image. Runs are checked in branch-free blocks of 8
  * sources (16, two vectors, with AVX-512). Count, fill and lists run in
  * parallel over targets under OpenMP.
@@ -2935,6 +2945,14 @@ typedef struct {
     sph_real *h;          /* [n_padded] per-source h in sorted order, or NULL */
     sph_idx n_padded;     /* n_sources + SPH__NS_BLOCK: the arrays' length (padding read by the blocked checks) */
     int n_occupied;       /* cells holding at least one source (fill ratio n_occupied / n_cells) */
+    sph_real w_min;       /* smallest cell width of the used axes */
+    sph_real cell_hint;   /* the cell edge given to build */
+    sph_real h_min;       /* smallest per-source h (h_max without per-source h) */
+    sph_real *hcell;      /* [n_cells] largest per-source h of each cell, or NULL (no per-source h, or plain) */
+    sph_real *hpyr;       /* [(levels + 1) n_cells] a scratch table, then the reach tables 1..levels
+                             (sph__nsearch_hbuild), or NULL */
+    int levels;           /* reach tables */
+    int plain;            /* 1: the plain reference search (SPH_NSEARCH_PLAIN) */
 } sph_nsearch;
 
 /* Candidates are checked in blocks of SPH__NS_BLOCK consecutive sorted
@@ -2957,6 +2975,14 @@ SPH__INLINE __m512d sph__load8(const sph_real *p)
 #define SPH__NS_BLOCK 8
 #endif
 #define SPH__NS_RUNS 32
+
+/* SPH_NSEARCH_PLAIN: the plain reference search (docs/neighbours.md,
+ * "Varying h"), tested equal to the default. */
+#if defined(SPH_NSEARCH_PLAIN)
+#define SPH__NS_PLAIN 1
+#else
+#define SPH__NS_PLAIN 0
+#endif
 
 /* Cells of one axis within reach of a target: up to two runs of cells
  * (wrapped index lo..hi, geometric position of cell k is k + shift), in
@@ -3120,6 +3146,9 @@ typedef struct {
     sph_off found;    /* neighbours found so far */
     sph_off checked;  /* candidates checked so far */
     sph_off redone;   /* blocks redone by sph__nsearch_in for the minimum image (tests read it) */
+    sph_real Rm;      /* pruning radius of the rows (with the rounding allowance) */
+    sph_real add;     /* the allowance's additive part */
+    int hull;         /* 1: keep of each row only the cells that reach the target (sph__nsearch_keep) */
     int n_runs;       /* runs of sorted sources collected, not yet checked */
     sph_idx runs[2 * SPH__NS_RUNS];
     int image[SPH__NS_RUNS]; /* per run: the sources are seen at x_j + w L, eq. (N7): sph__ns_image */
@@ -3367,26 +3396,51 @@ SPH__INLINE void sph__nsearch_put(sph__probe *p, int r, sph_idx k0, sph_idx k1, 
  * left to the minimum image of sph__nsearch_in). */
 SPH_API int sph__nsearch_image(int a, const sph__span *s, int r) { return sph__ns_image(s->shift[r], a); }
 
+/* Squared distance along axis a from t to the k-th cell of run r of span s. */
+SPH_API sph_real sph__nsearch_gap2(const sph_nsearch *g, int a, sph_real t, const sph__span *s, int r, int k)
+{
+    sph_real d = s->full ? 0 : sph__nsearch_gap(g, a, t, k + s->shift[r]);
+    return d * d;
+}
+
+/* 1 when a cell whose sources have h at most hc, at squared distance gap2
+ * from the target, may hold a neighbour under (N2): gap2 within the
+ * pruning radius of R = kappa max(h_i, hc) (docs/neighbours.md, "Rounding
+ * allowance"), never beyond the rows' radius. */
+SPH__INLINE int sph__nsearch_keep(const sph__probe *p, sph_real hc, sph_real gap2)
+{
+    const sph_real R = p->kappa * (hc > p->hi ? hc : p->hi);
+    sph_real Rm = R + R / 1024 + p->add;
+    Rm = Rm < p->Rm ? Rm : p->Rm;
+    return gap2 <= Rm * Rm;
+}
+
 /* One row of cells along axis 0 (cells ky, kz of axes 1, 2, image code
  * img of theirs), radius^2 rem left: its runs of sorted sources (one, or two
  * where a periodic axis wraps) into the probe from run nr on; returns how
  * many. */
 SPH__INLINE int sph__nsearch_row(const sph_nsearch *g, sph__probe *p, int nr, int ky, int kz, int img,
-                                 sph_real rem)
+                                 sph_real rem, sph_real yz2)
 {
     sph__span s;
-    const sph_idx *cs = g->cell_start + g->n[0] * (ky + g->n[1] * kz);
+    const int row = g->n[0] * (ky + g->n[1] * kz);
+    const sph_idx *cs = g->cell_start + row;
     const sph_real hw = sph__sqrt(rem), k0 = sph__floor((p->t[0] - hw) * g->inv_w[0]),
                    k1 = sph__floor((p->t[0] + hw) * g->inv_w[0]);
     int r, n = 0;
-    if (k0 >= 0 && k1 < (sph_real)g->n[0]) { /* inside the grid: one run, as sph__nsearch_span finds */
+    if (!p->hull && k0 >= 0 && k1 < (sph_real)g->n[0]) { /* inside the grid: one run, as sph__nsearch_span finds */
         sph__nsearch_put(p, nr, cs[(int)k0], cs[(int)k1 + 1], img);
         return 1;
     }
     sph__nsearch_span(g, 0, p->t[0], hw, &s);
-    for (r = 0; r < s.count; ++r)
-        if (s.lo[r] <= s.hi[r])
-            sph__nsearch_put(p, nr + n++, cs[s.lo[r]], cs[s.hi[r] + 1], img | sph__nsearch_image(0, &s, r));
+    for (r = 0; r < s.count; ++r) {
+        int lo = s.lo[r], hi = s.hi[r];
+        while (p->hull && lo <= hi && !sph__nsearch_keep(p, g->hcell[row + lo], sph__nsearch_gap2(g, 0, p->t[0], &s, r, lo) + yz2))
+            ++lo;
+        while (p->hull && lo <= hi && !sph__nsearch_keep(p, g->hcell[row + hi], sph__nsearch_gap2(g, 0, p->t[0], &s, r, hi) + yz2))
+            --hi;
+        if (lo <= hi) sph__nsearch_put(p, nr + n++, cs[lo], cs[hi + 1], img | sph__nsearch_image(0, &s, r));
+    }
     return n;
 }
 
@@ -3413,16 +3467,10 @@ SPH_API void sph__ns_sort(sph_idx *v, sph_off n)
     }
 }
 
-/* Squared distance along axis a from t to the k-th cell of run r of span s. */
-SPH_API sph_real sph__nsearch_gap2(const sph_nsearch *g, int a, sph_real t, const sph__span *s, int r, int k)
-{
-    sph_real d = s->full ? 0 : sph__nsearch_gap(g, a, t, k + s->shift[r]);
-    return d * d;
-}
 
 /* Cells a target reaches on each side along one axis, at most, for the
  * interior path of sph__nsearch_target (cells of R/2: 3). */
-#define SPH__NS_REACH 4
+#define SPH__NS_REACH 6
 
 /* The i-th of the 2 E + 1 offsets of an axis in ascending cell order: from
  * first (the offset of cell 0 where the axis wraps, else 0) round to first - 1. */
@@ -3443,7 +3491,7 @@ SPH_API int sph__ns_turn(int i, int first, int E) { return i + first - (i + firs
  * constant): some cell kc + d lies beyond the grid; without, the cells are
  * kc + d themselves (the usual case, kept free of the work of edges). */
 SPH__INLINE void sph__nsearch_interior(const sph_nsearch *g, sph__probe *p, sph_real Rm, const int *kc, const int *E,
-                                       const int EDGE)
+                                       const int EDGE, const int HULL)
 {
     sph_real G[3][2 * SPH__NS_REACH + 1];
     int K[3][2 * SPH__NS_REACH + 1], C[3][2 * SPH__NS_REACH + 1], first[3] = {0, 0, 0}, a, i, d, iy, iz, nr = 0;
@@ -3468,13 +3516,28 @@ SPH__INLINE void sph__nsearch_interior(const sph_nsearch *g, sph__probe *p, sph_
             const int n0 = g->n[0];
             int k0 = kc[0], k1 = kc[0];
             if (left_y < 0) continue;
-            for (d = 1; d <= E[0]; ++d) {
+            if (HULL) { /* the cells that reach the target (sph__nsearch_keep), first to last */
+                const sph_real *hc = g->hcell + n0 * (K[1][dy] + g->n[1] * K[2][dz]), yz = G[1][dy] + G[2][dz];
+                int lo = 2 * E[0] + 1, hi = -1;
+                for (i = 0; i <= 2 * E[0]; ++i) {
+                    const int keep = sph__nsearch_keep(p, hc[K[0][i]], G[0][i] + yz);
+                    lo = keep && i < lo ? i : lo;
+                    hi = keep ? i : hi;
+                }
+                if (hi < 0) continue;
+                k0 = kc[0] - E[0] + lo;
+                k1 = kc[0] - E[0] + hi;
+            }
+            for (d = 1; !HULL && d <= E[0]; ++d) {
                 k0 -= G[0][E[0] - d] <= left_y;
                 k1 += G[0][E[0] + d] <= left_y;
             }
             if (!EDGE || (k0 >= 0 && k1 < n0))
                 sph__nsearch_put(p, nr++, cs[k0], cs[k1 + 1], C[1][dy] | C[2][dz]);
-            else { /* x wraps: the run from cell 0 first, then the one up to cell n0 - 1 */
+            else if (HULL && (k1 < 0 || k0 >= n0)) { /* every kept cell beyond one face: one run at its image */
+                const int w = k1 < 0 ? -1 : 1;
+                sph__nsearch_put(p, nr++, cs[k0 - w * n0], cs[k1 - w * n0 + 1], sph__ns_image(w, 0) | C[1][dy] | C[2][dz]);
+            } else { /* x wraps: the run from cell 0 first, then the one up to cell n0 - 1 */
                 sph__nsearch_put(p, nr++, cs[0], cs[(k1 < n0 ? k1 : k1 - n0) + 1],
                                  sph__ns_image(k1 >= n0, 0) | C[1][dy] | C[2][dz]);
                 sph__nsearch_put(p, nr++, cs[k0 < 0 ? k0 + n0 : k0], cs[n0],
@@ -3495,19 +3558,52 @@ SPH_API void sph__nsearch_general(const sph_nsearch *g, sph__probe *p, sph_real 
     sph__nsearch_span(g, 2, p->t[2], Rm, &sz);
     for (rz = 0; rz < sz.count; ++rz)
         for (kz = sz.lo[rz]; kz <= sz.hi[rz]; ++kz) {
-            sph_real left_z = Rm * Rm - sph__nsearch_gap2(g, 2, p->t[2], &sz, rz, kz);
+            const sph_real gz = sph__nsearch_gap2(g, 2, p->t[2], &sz, rz, kz), left_z = Rm * Rm - gz;
             if (left_z < 0) continue;
             sph__nsearch_span(g, 1, p->t[1], sph__sqrt(left_z), &sy);
             for (ry = 0; ry < sy.count; ++ry)
                 for (ky = sy.lo[ry]; ky <= sy.hi[ry]; ++ky) {
-                    sph_real left_y = left_z - sph__nsearch_gap2(g, 1, p->t[1], &sy, ry, ky);
+                    const sph_real gy = sph__nsearch_gap2(g, 1, p->t[1], &sy, ry, ky), left_y = left_z - gy;
                     if (left_y < 0) continue;
                     nr += sph__nsearch_row(g, p, nr, ky, kz,
-                                           sph__nsearch_image(1, &sy, ry) | sph__nsearch_image(2, &sz, rz), left_y);
+                                           sph__nsearch_image(1, &sy, ry) | sph__nsearch_image(2, &sz, rz), left_y,
+                                           gz + gy);
                     nr = sph__nsearch_room(g, p, nr, 2);
                 }
         }
     p->n_runs = nr;
+}
+
+/* Radius in cells of table k of the reach tables (k = 0: the cells
+ * themselves): 0, 1, 2, 3, 4, 6, 9, 13, ..., each half as much again. */
+SPH_API int sph__ns_rho(int k)
+{
+    int r = 0;
+    while (k-- > 0) r += r / 2 > 1 ? r / 2 : 1;
+    return r;
+}
+
+/* The largest reach kappa h_j of any source j that may reach a target in
+ * cell kc under (N2), and at least kappa h_i (docs/neighbours.md, "Varying
+ * h"): a source with (rho_{k-1} - 2) w_min < kappa h_j <= (rho_k - 2) w_min
+ * lies within rho_k cells of the target along each axis, so its h is at
+ * most T_k of the target's cell (sph__nsearch_hbuild), and table k bounds
+ * its reach by min(kappa T_k, (rho_k - 2) w_min) where kappa T_k exceeds
+ * the lower limit (else it holds no such source); the tables are taken
+ * until they cover kappa h_max, beyond the last one h_max bounds. */
+SPH_API sph_real sph__nsearch_reach(const sph_nsearch *g, const int *kc, sph_real kappa, sph_real hi)
+{
+    const ptrdiff_t c = kc[0] + (ptrdiff_t)g->n[0] * (kc[1] + (ptrdiff_t)g->n[1] * kc[2]);
+    const sph_real Rmax = kappa * g->h_max;
+    sph_real ext = kappa * hi;
+    int k;
+    for (k = 2; k <= g->levels; ++k) {
+        const sph_real lim = (sph_real)(sph__ns_rho(k) - 2) * g->w_min, below = (sph_real)(sph__ns_rho(k - 1) - 2) * g->w_min;
+        const sph_real R = kappa * g->hpyr[(ptrdiff_t)k * g->n_cells + c], e = R < lim ? R : lim;
+        ext = R > below && e > ext ? e : ext; /* the sources of table k reach beyond the one before: else none */
+        if (Rmax <= lim) return ext;
+    }
+    return Rmax > ext ? Rmax : ext;
 }
 
 /* Searches one target (found, checked, and seg when filling): the cells
@@ -3518,16 +3614,24 @@ SPH_API void sph__nsearch_general(const sph_nsearch *g, sph__probe *p, sph_real 
 SPH_API void sph__nsearch_target(const sph_nsearch *g, sph__probe *p)
 {
     sph_real hmax = g->h != NULL ? g->h_max : p->hu;
-    sph_real Rs = p->kappa * (p->symmetric && hmax > p->hi ? hmax : p->hi);
-    sph_real Rm, far = 0;
+    sph_real Rs, Rm, far = 0;
     int a, kc[3] = {0, 0, 0}, E[3] = {0, 0, 0}, inside = 1, edge = 0;
     for (a = 0; a < 3; ++a) {
         const sph_real ax = p->xt[a] < 0 ? -p->xt[a] : p->xt[a]; /* |x| in sph_real: no promotion to double */
         p->t[a] = a < g->dim ? sph__nsearch_rel(g, a, p->xt[a]) : (sph_real)0.5;
+        if (a < g->dim) kc[a] = sph__nsearch_cell(g, a, p->t[a]);
         far = ax > far ? ax : far;
     }
+    p->hull = 0;
+    if (p->symmetric && g->hcell != NULL) { /* reach of the sources that may reach the target (the pyramid) */
+        Rs = sph__nsearch_reach(g, kc, p->kappa, p->hi);
+        p->hull = Rs > p->kappa * p->hi;
+    } else
+        Rs = p->kappa * (p->symmetric && hmax > p->hi ? hmax : p->hi);
     /* search radius with the rounding allowance of docs/neighbours.md: never misses a pair */
-    Rm = Rs + Rs / 1024 + g->slack + 64 * sph__nsearch_eps() * far;
+    p->add = g->slack + 64 * sph__nsearch_eps() * far;
+    Rm = Rs + Rs / 1024 + p->add;
+    p->Rm = Rm;
     if (p->symmetric && g->h != NULL)
         p->R2 = -1;
     else { /* R of sph__nsearch_in with h_j = the uniform h */
@@ -3540,29 +3644,101 @@ SPH_API void sph__nsearch_target(const sph_nsearch *g, sph__probe *p)
     p->n_runs = 0;
     for (a = 0; a < g->dim; ++a) { /* axes beyond dim: one cell, reach 0 */
         const sph_real reach = sph__floor(Rm * g->inv_w[a]) + 1;
-        kc[a] = sph__nsearch_cell(g, a, p->t[a]);
         E[a] = reach <= SPH__NS_REACH ? (int)reach : -1;
         inside &= E[a] >= 0 && (!g->box.periodic[a] || 2 * E[a] + 1 <= g->n[a]);
         edge |= kc[a] - E[a] < 0 || kc[a] + E[a] >= g->n[a];
     }
     inside &= Rm * Rm <= SPH__REAL_MAX; /* the infinite gap of the interior path stays out of reach */
-    if (inside && edge)
-        sph__nsearch_interior(g, p, Rm, kc, E, 1);
+    if (inside && p->hull)
+        edge ? sph__nsearch_interior(g, p, Rm, kc, E, 1, 1) : sph__nsearch_interior(g, p, Rm, kc, E, 0, 1);
+    else if (inside && edge)
+        sph__nsearch_interior(g, p, Rm, kc, E, 1, 0);
     else if (inside)
-        sph__nsearch_interior(g, p, Rm, kc, E, 0);
+        sph__nsearch_interior(g, p, Rm, kc, E, 0, 0);
     else
         sph__nsearch_general(g, p, Rm);
     sph__nsearch_flush(g, p);
     if (p->seg != NULL && p->found <= p->cap) sph__ns_sort(p->seg, p->found);
 }
 
-/* Grid geometry from the sources (eq. (N4)); no workspace needed yet. */
-SPH_API int sph__nsearch_geometry(sph_nsearch *g, int dim, sph_view xs, sph_idx ns,
-                                  sph_view hs, sph_real cell, const sph_box *box)
+/* Cells per axis and their widths for a cell edge (eq. (N4)), from the
+ * origin lo and span L of each axis (the period, or the sources' extent;
+ * amax: the largest |x_a| of the sources); SPH_EGRID beyond
+ * SPH_NSEARCH_MAX_CELLS. */
+SPH_API int sph__nsearch_axes(sph_nsearch *g, int dim, const sph_real *L, const sph_real *amax, sph_real cell)
 {
     double total = 1, extent = 0;
-    sph_real amax[3] = {0, 0, 0};
-    int a, st;
+    int a;
+    if (!(cell > 0 && 1 / cell <= SPH__REAL_MAX)) return SPH_EGRID; /* a denormal cell: cell widths of 1/0 */
+    g->w_min = SPH__REAL_MAX;
+    for (a = 0; a < 3; ++a) {
+        const int per = g->box.periodic[a];
+        double na = a < dim ? floor((double)L[a] / (double)cell) : 1;
+        if (!(na <= (double)SPH_NSEARCH_MAX_CELLS)) return SPH_EGRID;
+        na = na < 1 ? 1 : na;
+        total *= na;
+        g->n[a] = (int)na;
+        g->w[a] = a >= dim ? 1 : per ? L[a] / (sph_real)na : (na > 1 ? L[a] / (sph_real)na : (L[a] > cell ? L[a] : cell));
+        g->inv_w[a] = 1 / g->w[a];
+        if (a < dim && g->w[a] < g->w_min) g->w_min = g->w[a];
+        if (a < dim && fabs((double)g->lo[a]) + (double)L[a] + (double)g->w[a] > extent)
+            extent = fabs((double)g->lo[a]) + (double)L[a] + (double)g->w[a];
+        if (a < dim && (double)amax[a] > extent) extent = (double)amax[a]; /* sources outside a periodic box */
+    }
+    if (total > (double)SPH_NSEARCH_MAX_CELLS) return SPH_EGRID;
+    g->n_cells = (int)total;
+    g->slack = (sph_real)(64 * (double)sph__nsearch_eps() * extent);
+    return SPH_OK;
+}
+
+/* Modelled cost of a target of radius x cell widths (docs/neighbours.md,
+ * "Varying h"): rows of cells, weighted by the cost of a row against a
+ * neighbour check (4 checks a row, ~60, 20, 5 neighbours in 3-, 2-, 1-D),
+ * plus candidate checks per neighbour, (1 + 0.7 / x)^dim (2.41 at cells
+ * of R/2 in 3-D; 2.45 measured). */
+SPH_API double sph__nsearch_model(int dim, double x)
+{
+    const double rows = dim == 3 ? 3.14159265358979 * (x + 0.5) * (x + 0.5) : dim == 2 ? 2 * x + 1 : 1;
+    const double c = 1 + 0.7 / x;
+    return rows * (dim == 3 ? 4.0 / 60 : dim == 2 ? 4.0 / 20 : 4.0 / 5) + (dim == 3 ? c * c * c : dim == 2 ? c * c : c);
+}
+
+/* Quarter octaves j (h_ref = h_max 2^(-j/4)) below the largest source h at
+ * which cells of (cell edge for h_max) * h_ref / h_max cost the least by
+ * sph__nsearch_model, summed over a histogram of the sources' h in quarter
+ * octaves (at most 32768 of them sampled, evenly); only j holding some
+ * source are candidates, so equal h keep the given cell (j = 0). */
+SPH_API int sph__nsearch_pick(sph_view hs, sph_idx ns, int dim, sph_real h_max)
+{
+    enum { BINS = 64 };
+    double count[BINS], best = -1;
+    const sph_idx step = ns / 32768 + 1;
+    sph_idx i;
+    int b, j, pick = 0;
+    for (b = 0; b < BINS; ++b) count[b] = 0;
+    for (i = 0; i < ns; i += step) {
+        const double r = (double)(hs.p[0][(ptrdiff_t)i * hs.stride] / h_max), q = -4 * log2(r);
+        count[q < BINS - 1 ? (int)q : BINS - 1] += 1;
+    }
+    for (j = 0; j < BINS; ++j) {
+        double cost = 0;
+        if (count[j] == 0) continue;
+        for (b = 0; b < BINS; ++b) /* bin b's h, as its upper edge, in cells of R_ref / 2: x = 2 h_b / h_ref */
+            if (count[b] > 0) cost += count[b] * sph__nsearch_model(dim, 2 * pow(2.0, 0.25 * (j - b)));
+        if (best < 0 || cost < best) best = cost, pick = j;
+    }
+    return pick;
+}
+
+/* Grid geometry from the sources (eq. (N4)); no workspace needed yet. With
+ * per-source h (PLAIN 0) the cells are refined below cell (the edge for the
+ * largest h) to the h the sources have (sph__nsearch_pick), as long as the
+ * cells stay at most max(those of cell, 4 n_sources + 64). */
+SPH_API int sph__nsearch_geometry(sph_nsearch *g, int dim, sph_view xs, sph_idx ns, sph_view hs, sph_real cell,
+                                  const sph_box *box, int plain)
+{
+    sph_real amax[3] = {0, 0, 0}, L[3] = {0, 0, 0};
+    int a, st, j;
     sph_idx i;
     g->dim = 0;
     if (dim < 1 || dim > 3) return SPH_EDIM;
@@ -3573,13 +3749,17 @@ SPH_API int sph__nsearch_geometry(sph_nsearch *g, int dim, sph_view xs, sph_idx 
     if ((st = sph__ns_check_h(hs, ns, dim, &g->h_max)) != SPH_OK) return st;
     g->n_sources = ns;
     g->n_padded = ns + SPH__NS_BLOCK;
+    g->plain = plain;
+    g->cell_hint = cell;
+    g->h_min = g->h_max;
+    for (i = 0; hs.p[0] != NULL && i < ns; ++i)
+        g->h_min = hs.p[0][(ptrdiff_t)i * hs.stride] < g->h_min ? hs.p[0][(ptrdiff_t)i * hs.stride] : g->h_min;
     for (a = 0; a < 3; ++a) {
-        sph_real lo = 0, L = 0;
-        double na = 1;
+        sph_real lo = 0;
         int per = a < dim && box != NULL && box->periodic[a];
         if (per) {
             lo = box->lo[a];
-            L = box->length[a];
+            L[a] = box->length[a];
             if (!sph__finite(lo) || sph__box_ok(box, dim) != SPH_OK) return SPH_EBOXLEN;
         } else if (a < dim && ns > 0) {
             sph_real hi = sph__ns_at(xs, a, 0);
@@ -3589,39 +3769,51 @@ SPH_API int sph__nsearch_geometry(sph_nsearch *g, int dim, sph_view xs, sph_idx 
                 lo = x < lo ? x : lo;
                 hi = x > hi ? x : hi;
             }
-            L = hi - lo;
+            L[a] = hi - lo;
         }
-        if (a < dim) na = floor((double)L / (double)cell);
-        if (!(na <= (double)SPH_NSEARCH_MAX_CELLS)) return SPH_EGRID;
-        na = na < 1 ? 1 : na;
-        total *= na;
-        g->n[a] = (int)na;
         g->lo[a] = lo;
-        g->w[a] = a >= dim ? 1 : per ? L / (sph_real)na : (na > 1 ? L / (sph_real)na : (L > cell ? L : cell));
-        g->inv_w[a] = 1 / g->w[a];
         g->box.lo[a] = lo;
-        g->box.length[a] = per ? L : 0;
+        g->box.length[a] = per ? L[a] : 0;
         g->box.periodic[a] = per;
-        g->quarter[a] = per ? L / 4 : SPH__REAL_MAX;
-        if (a < dim && fabs((double)lo) + (double)L + (double)g->w[a] > extent)
-            extent = fabs((double)lo) + (double)L + (double)g->w[a];
-        if (a < dim && (double)amax[a] > extent) extent = (double)amax[a]; /* sources outside a periodic box */
+        g->quarter[a] = per ? L[a] / 4 : SPH__REAL_MAX;
     }
-    if (total > (double)SPH_NSEARCH_MAX_CELLS) return SPH_EGRID;
+    if ((st = sph__nsearch_axes(g, dim, L, amax, cell)) != SPH_OK) return st;
+    if (hs.p[0] != NULL && ns > 0 && !plain) /* finer cells for the h the sources have */
+        for (j = sph__nsearch_pick(hs, ns, dim, g->h_max); j > 0; --j) {
+            sph_nsearch t = *g;
+            const double cap = (double)g->n_cells > 4 * (double)ns + 64 ? (double)g->n_cells : 4 * (double)ns + 64;
+            if (sph__nsearch_axes(&t, dim, L, amax, (sph_real)((double)cell * pow(2.0, -0.25 * j))) == SPH_OK &&
+                t.n_cells <= cap) {
+                *g = t;
+                break;
+            }
+        }
     g->quarter2 = SPH__REAL_MAX;
     for (a = 0; a < dim; ++a)
         if (g->box.periodic[a] && g->quarter[a] * g->quarter[a] < g->quarter2) g->quarter2 = g->quarter[a] * g->quarter[a];
-    g->n_cells = (int)total;
-    g->slack = (sph_real)(64 * (double)sph__nsearch_eps() * extent);
     g->dim = dim;
     return SPH_OK;
+}
+
+/* Tables of the reach (k = 1..levels, at most 12, up to the first whose
+ * radius spans every axis or whose reach (rho_k - 2) w_min covers twice
+ * the h_max that the given cell, as kappa h_max / 2, implies) and their
+ * reals, a scratch table included. */
+SPH_API double sph__nsearch_pyramid(const sph_nsearch *g, int *levels)
+{
+    const int nmax = g->n[0] > g->n[1] ? (g->n[0] > g->n[2] ? g->n[0] : g->n[2]) : (g->n[1] > g->n[2] ? g->n[1] : g->n[2]);
+    int k = 1;
+    while (k < 12 && sph__ns_rho(k) < nmax && (sph_real)(sph__ns_rho(k) - 2) * g->w_min < 4 * g->cell_hint) ++k;
+    *levels = k;
+    return (double)(k + 1) * g->n_cells;
 }
 
 /* Bytes of one workspace array padded to a 64-byte line. */
 SPH_API double sph__nsearch_line(double bytes) { return ceil(bytes / 64) * 64; }
 
 /* Workspace layout: returns the bytes needed (63 of them for alignment) and,
- * when base != NULL, points the grid's arrays into it, 64-byte aligned. */
+ * when base != NULL, points the grid's arrays into it, 64-byte aligned.
+ * With per-source h also the per-cell largest h and its pyramid (PLAIN 0). */
 SPH_API double sph__nsearch_layout(sph_nsearch *g, int with_h, char *base)
 {
     const double cells = sph__nsearch_line((double)sizeof(sph_idx) * ((double)g->n_cells + 1));
@@ -3629,14 +3821,74 @@ SPH_API double sph__nsearch_layout(sph_nsearch *g, int with_h, char *base)
     const double order = sph__nsearch_line((double)sizeof(sph_idx) * padded);
     const double reals = sph__nsearch_line((double)sizeof(sph_real) * padded);
     const double xyz = sph__nsearch_line((double)sizeof(sph_real) * padded * g->dim);
+    const int pyr = with_h && !g->plain && g->h_min < g->h_max; /* equal h: the uniform search */
+    int levels = 0;
+    const double hcell = pyr ? sph__nsearch_line((double)sizeof(sph_real) * (double)g->n_cells) : 0;
+    const double hpyr = pyr ? sph__nsearch_line((double)sizeof(sph_real) * sph__nsearch_pyramid(g, &levels)) : 0;
+    const double hs = (with_h != 0) * reals;
     if (base != NULL) {
         base += (64 - (size_t)((uintptr_t)base % 64)) % 64;
         g->cell_start = (sph_idx *)(void *)base;
         g->order = (sph_idx *)(void *)(base + (size_t)cells);
         g->x = (sph_real *)(void *)(base + (size_t)(cells + order));
         g->h = with_h ? (sph_real *)(void *)(base + (size_t)(cells + order + xyz)) : NULL;
+        g->hcell = pyr ? (sph_real *)(void *)(base + (size_t)(cells + order + xyz + hs)) : NULL;
+        g->hpyr = pyr ? (sph_real *)(void *)(base + (size_t)(cells + order + xyz + hs + hcell)) : NULL;
+        g->levels = levels;
     }
-    return 63 + cells + order + xyz + (with_h != 0) * reals;
+    return 63 + cells + order + xyz + hs + hcell + hpyr;
+}
+
+/* out = in dilated by s cells along axis a: out[c] = max(in[c - s], in[c],
+ * in[c + s]) along a, wrapped round a periodic axis, clamped at an open
+ * one, so that a table of radius r becomes one of radius r + s (s <= r + 1). */
+SPH_API void sph__nsearch_dilate(const sph_nsearch *g, int a, int s, const sph_real *in, sph_real *out)
+{
+    const ptrdiff_t stride = a == 0 ? 1 : a == 1 ? g->n[0] : (ptrdiff_t)g->n[0] * g->n[1];
+    const int n = g->n[a];
+    int c;
+    for (c = 0; c < g->n_cells; ++c) {
+        const int k = (int)((c / stride) % n);
+        int lo = k - s, hi = k + s;
+        if (g->box.periodic[a]) {
+            lo = ((lo % n) + n) % n;
+            hi = hi % n;
+        } else {
+            lo = lo < 0 ? 0 : lo;
+            hi = hi < n ? hi : n - 1;
+        }
+        {
+            const sph_real u = in[c + (lo - k) * stride], v = in[c + (hi - k) * stride], m = u > v ? u : v;
+            out[c] = in[c] > m ? in[c] : m;
+        }
+    }
+}
+
+/* The largest source h of every cell (hcell), and the reach tables
+ * (docs/neighbours.md, "Varying h"): table k holds per cell the largest
+ * hcell within rho_k cells along every axis (a cube; wrapped round
+ * periodic axes, clamped at open ones), each from the one before by a
+ * dilation per axis. O(cells) per table. */
+SPH_API void sph__nsearch_hbuild(sph_nsearch *g)
+{
+    sph_real *scratch = g->hpyr;
+    int c, k, a;
+    for (c = 0; c < g->n_cells; ++c) {
+        sph_real m = 0;
+        sph_idx q;
+        for (q = g->cell_start[c]; q < g->cell_start[c + 1]; ++q) m = g->h[q] > m ? g->h[q] : m;
+        g->hcell[c] = m;
+    }
+    for (k = 1; k <= g->levels; ++k) {
+        const sph_real *in = k == 1 ? g->hcell : g->hpyr + (ptrdiff_t)(k - 1) * g->n_cells;
+        sph_real *out = g->hpyr + (ptrdiff_t)k * g->n_cells;
+        const int s = sph__ns_rho(k) - sph__ns_rho(k - 1);
+        sph__nsearch_dilate(g, 0, s, in, out);
+        for (a = 1; a < g->dim; ++a) { /* out -> scratch -> out */
+            sph__nsearch_dilate(g, a, s, out, scratch);
+            for (c = 0; c < g->n_cells; ++c) out[c] = scratch[c];
+        }
+    }
 }
 
 /* Workspace bytes sph_nsearch_build needs for these sources (eq. (N4)
@@ -3649,24 +3901,24 @@ SPH_API int sph_nsearch_workspace_size(int dim, sph_view xs, sph_idx n_sources, 
     int st;
     if (bytes == NULL) return SPH_ENULL;
     *bytes = 0;
-    if ((st = sph__nsearch_geometry(&g, dim, xs, n_sources, hs, cell, box)) != SPH_OK) return st;
+    if ((st = sph__nsearch_geometry(&g, dim, xs, n_sources, hs, cell, box, SPH__NS_PLAIN)) != SPH_OK) return st;
     need = sph__nsearch_layout(&g, hs.p[0] != NULL, NULL);
     if (!(need <= (double)SIZE_MAX)) return SPH_EGRID;
     *bytes = (size_t)need;
     return SPH_OK;
 }
 
-/* Bins the sources into cells (eq. (N4)) by a stable counting sort inside
- * work: cell starts, sorted order, sorted positions (and h). O(N + cells). */
-SPH_API int sph_nsearch_build(sph_nsearch *g, int dim, sph_view xs, sph_idx n_sources,
-                              sph_view hs, sph_real cell, const sph_box *box, void *work,
-                              size_t work_bytes)
+/* sph_nsearch_build with the plain reference search (plain 1: cells of
+ * cell, one radius kappa max(h_i, h_max) in symmetric mode) or the one for
+ * varying h (0); SPH_NSEARCH_PLAIN picks the first for sph_nsearch_build. */
+SPH_API int sph__nsearch_build_as(sph_nsearch *g, int dim, sph_view xs, sph_idx n_sources, sph_view hs,
+                                  sph_real cell, const sph_box *box, void *work, size_t work_bytes, int plain)
 {
     sph_real x[3] = {0, 0, 0};
     sph_idx i;
     int a, c, st;
     if (g == NULL) return SPH_ENULL;
-    if ((st = sph__nsearch_geometry(g, dim, xs, n_sources, hs, cell, box)) != SPH_OK) return st;
+    if ((st = sph__nsearch_geometry(g, dim, xs, n_sources, hs, cell, box, plain)) != SPH_OK) return st;
     if (work == NULL) {
         g->dim = 0;
         return SPH_ENULL;
@@ -3702,7 +3954,17 @@ SPH_API int sph_nsearch_build(sph_nsearch *g, int dim, sph_view xs, sph_idx n_so
     }
     for (c = g->n_cells; c > 0; --c) g->cell_start[c] = g->cell_start[c - 1];
     g->cell_start[0] = 0;
+    if (g->hcell != NULL) sph__nsearch_hbuild(g);
     return SPH_OK;
+}
+
+/* Bins the sources into cells (eq. (N4)) by a stable counting sort inside
+ * work: cell starts, sorted order, sorted positions (and h, with the
+ * per-cell largest h and its pyramid). O(N + cells). */
+SPH_API int sph_nsearch_build(sph_nsearch *g, int dim, sph_view xs, sph_idx n_sources, sph_view hs, sph_real cell,
+                              const sph_box *box, void *work, size_t work_bytes)
+{
+    return sph__nsearch_build_as(g, dim, xs, n_sources, hs, cell, box, work, work_bytes, SPH__NS_PLAIN);
 }
 
 /* Checks the arguments shared by count, fill, lists and stats. The largest

@@ -100,6 +100,71 @@ static inline void tp_clustered_cloud(int dim, int count, int nclusters, double 
     }
 }
 
+/* ---- clouds with strongly varying h (the search of section 7 must cost per
+ * pair, not per largest h; tests/test_neighbours.c, bench/bench_search_h.c) ---- */
+
+/* One particle from the standard normal distribution (Box-Muller). */
+static inline double tp_normal(tp_rng *g)
+{
+    double u = tp_uniform(g), v = tp_uniform(g);
+    return sqrt(-2 * log(1 - u)) * cos(6.283185307179586 * v);
+}
+
+/* A Gaussian clump of n particles of mass 1/n in dim dimensions, width s,
+ * truncated where the density has fallen by the factor contrast
+ * (r^2 <= 2 s^2 ln contrast), centred at c in every used axis; h from the
+ * analytic density, h = eta (m / rho)^(1/dim), so the h contrast is
+ * contrast^(1/dim). x: 3 slots per particle, h: n values. */
+static inline void tp_clump(int dim, int n, double s, double contrast, double c, double eta, tp_rng *g,
+                            sph_real *x, sph_real *h)
+{
+    const double r2max = 2 * s * s * log(contrast), m = 1.0 / n;
+    const double rho0 = n * m / pow(6.283185307179586 * s * s, 0.5 * dim); /* untruncated peak: the truncation drops < 0.5 % */
+    int i, a;
+    for (i = 0; i < n; ++i) {
+        double y[3] = {0, 0, 0}, r2;
+        do {
+            r2 = 0;
+            for (a = 0; a < dim; ++a) {
+                y[a] = s * tp_normal(g);
+                r2 += y[a] * y[a];
+            }
+        } while (r2 > r2max);
+        for (a = 0; a < 3; ++a) x[3 * i + a] = a < dim ? (sph_real)(c + y[a]) : 0;
+        h[i] = (sph_real)(eta * pow(m / (rho0 * exp(-r2 / (2 * s * s))), 1.0 / dim));
+    }
+}
+
+/* The two states of a shock tube on [-1, 1) along x (periodic in x and, for
+ * dim > 1, across the tube of width W): a lattice of spacing d on the left
+ * and 2 d on the right (density ratio 2^dim), each cell-centred in its
+ * half, h = eta times the local spacing. Returns the particle count; x (3
+ * slots each) and h must hold tp_tube_count(dim, d, W) particles. */
+static inline int tp_tube_count(int dim, double d, double W)
+{
+    const int nl = (int)(1 / d + 0.5), nr = nl / 2, ml = dim > 1 ? (int)(W / d + 0.5) : 1, mr = dim > 1 ? ml / 2 : 1;
+    return nl * ml * (dim > 2 ? ml : 1) + nr * mr * (dim > 2 ? mr : 1);
+}
+
+static inline int tp_tube(int dim, double d, double W, double eta, sph_real *x, sph_real *h)
+{
+    const int nl = (int)(1 / d + 0.5), ml = dim > 1 ? (int)(W / d + 0.5) : 1;
+    int side, i, j, k, p = 0;
+    for (side = 0; side < 2; ++side) {
+        const double e = side ? 2 * d : d, x0 = side ? 0 : -1;
+        const int mx = side ? nl / 2 : nl, my = dim > 1 ? (side ? ml / 2 : ml) : 1, mz = dim > 2 ? my : 1;
+        for (i = 0; i < mx; ++i)
+            for (j = 0; j < my; ++j)
+                for (k = 0; k < mz; ++k, ++p) {
+                    x[3 * p] = (sph_real)(x0 + (i + 0.5) * e);
+                    x[3 * p + 1] = dim > 1 ? (sph_real)((j + 0.5) * e) : 0;
+                    x[3 * p + 2] = dim > 2 ? (sph_real)((k + 0.5) * e) : 0;
+                    h[p] = (sph_real)(eta * e);
+                }
+    }
+    return p;
+}
+
 /* ---- reference neighbour lists ---- */
 
 /* Who counts as a neighbour (the library's criterion): source j is a

@@ -1039,6 +1039,85 @@ static void test_lists_blocks(void)
     free(x);
 }
 
+/* Strongly varying h (docs/neighbours.md, "Varying h"): a Gaussian clump of
+ * density contrast 1000 in 3-D (100 in 2-D, 10 in 1-D: h contrast 10) and the two states of
+ * a shock tube (h ratio 2), periodic and not, gather and symmetric, 1-3-D;
+ * the build refines the cells below the given one (kappa h_max / 2) and
+ * the symmetric search bounds each target's reach by the reach tables, so
+ * the lists are checked against the brute force, and against the plain
+ * reference search (sph__nsearch_build_as, plain 1) array for array. */
+static void test_strong_h(void)
+{
+    int dim, scene, periodic, mode;
+    for (dim = 1; dim <= 3; ++dim)
+        for (scene = 0; scene < 2; ++scene)
+            for (periodic = 0; periodic < 2; ++periodic)
+                for (mode = 0; mode < 2; ++mode) {
+                    const int nc = dim == 1 ? 400 : dim == 2 ? 1500 : 2500;
+                    const double d = dim == 1 ? 1.0 / 128 : dim == 2 ? 1.0 / 32 : 1.0 / 12, W = dim == 1 ? 1 : 12 * d;
+                    const int n = scene == 0 ? nc : tp_tube_count(dim, d, W);
+                    sph_real *x = nb_alloc(n), *h = (sph_real *)malloc(sizeof(sph_real) * (size_t)n), hmin, hmax;
+                    sph_box box = scene == 0 ? nb_box(1, 1, 1, 1.0) : nb_box(1, 1, 1, W);
+                    tp_rng rng = {(uint64_t)(3000 + 100 * dim + 10 * scene + 2 * periodic + mode)};
+                    nb_problem p;
+                    tp_list plain, fast;
+                    sph_nsearch g;
+                    void *work;
+                    size_t bytes = 0;
+                    int i, st;
+                    if (scene == 0) /* contrast 1000 in 3-D, 10^dim elsewhere: h contrast 10 */
+                        tp_clump(dim, n, 0.12, dim == 3 ? 1000 : dim == 2 ? 100 : 10, 0.5, 1.2, &rng, x, h);
+                    else {
+                        tp_tube(dim, d, W, 1.2, x, h);
+                        box.lo[0] = -1;
+                        box.length[0] = 2;
+                    }
+                    hmin = hmax = h[0];
+                    for (i = 1; i < n; ++i) {
+                        hmin = h[i] < hmin ? h[i] : hmin;
+                        hmax = h[i] > hmax ? h[i] : hmax;
+                    }
+                    if (periodic && scene == 0) /* h within the period: R <= L / 2 */
+                        for (i = 0; i < n; ++i) h[i] = h[i] < (sph_real)0.24 ? h[i] : (sph_real)0.24;
+                    p = nb_make(dim, x, n, 0, 2, 2 * hmax / 2);
+                    p.hs = h;
+                    p.ht = h;
+                    p.mode = mode;
+                    p.box = periodic ? &box : NULL;
+                    th_begin("strongly varying h %dD, %s (h contrast %.1f)%s, %s: list equals brute force and the plain "
+                             "search", dim, scene == 0 ? "Gaussian clump" : "two-state tube", (double)(hmax / hmin),
+                             periodic ? " periodic" : "", mode ? "symmetric" : "gather");
+                    TH_CHECK(hmax >= (scene == 0 ? 9 : 2) * hmin * (sph_real)0.999, "h contrast %g", (double)(hmax / hmin));
+                    nb_compare(&p);
+                    st = nb_search(&p, &g, &work, &fast);
+                    TH_CHECK(st == SPH_OK, "status %d", st);
+                    TH_CHECK(SPH__NS_PLAIN || scene == 1 || g.hcell != NULL, "no per-cell h: the plain search was tested");
+                    free(work);
+                    st = sph_nsearch_workspace_size(dim, sph_view_interleaved(x, 3), n, sph_view_soa(h, NULL, NULL),
+                                                    p.cell, p.box, &bytes);
+                    work = malloc(bytes + 4096);
+                    st |= sph__nsearch_build_as(&g, dim, sph_view_interleaved(x, 3), n, sph_view_soa(h, NULL, NULL),
+                                                p.cell, p.box, work, bytes + 4096, 1);
+                    TH_CHECK(st == SPH_OK && g.hcell == NULL, "plain build %d", st);
+                    plain.offset = (sph_off *)malloc(sizeof(sph_off) * (size_t)(n + 1));
+                    plain.index = NULL;
+                    st = sph_nsearch_count(&g, sph_view_interleaved(x, 3), n, sph_view_soa(h, NULL, NULL), 0, 2, mode,
+                                           plain.offset);
+                    plain.index = (sph_idx *)malloc(sizeof(sph_idx) * (size_t)(st == SPH_OK ? plain.offset[n] + 1 : 1));
+                    if (st == SPH_OK)
+                        st = sph_nsearch_fill(&g, sph_view_interleaved(x, 3), n, sph_view_soa(h, NULL, NULL), 0, 2, mode,
+                                              plain.offset, plain.index, plain.offset[n]);
+                    TH_CHECK(st == SPH_OK, "plain search %d", st);
+                    if (st == SPH_OK) nb_same("fast against plain", &plain, n, fast.offset, fast.index);
+                    th_end();
+                    tp_free_list(&plain);
+                    tp_free_list(&fast);
+                    free(work);
+                    free(x);
+                    free(h);
+                }
+}
+
 int main(void)
 {
     test_clouds();
@@ -1058,5 +1137,6 @@ int main(void)
     test_image_rounding();
     test_threads();
     test_lists_blocks();
+    test_strong_h();
     return th_summary();
 }
