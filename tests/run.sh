@@ -267,8 +267,9 @@ test_job() {
 }
 
 # unit_job id config cc real "flags" "env" unit-source programs...: the test
-# programs of one unit (see "Units" below) built once and run one by one; when
-# the shared build fails, each program is built alone (the note says why)
+# programs of one unit (see "Units" below) built once and run one by one. A
+# failed build of the unit is one failed case with the compiler's error, and
+# each of its programs is reported as not run (one failed case each).
 unit_job() {
     local id=$1 cfg=$2 cc=$3 real=$4 flags=$5 envs=$6 src=$7 bin t
     shift 7
@@ -281,13 +282,10 @@ unit_job() {
             run_report "${cfg}_$t" "$cfg" "$cfg $t" cases "$bin" "0 0" "$envs" "$t"
         done
     else
-        {
-            echo "  note: the shared build of $* failed (a file-scope name in two of them?); each is built alone:"
-            grep -m 3 -E 'error|warning' "$bin.build" | sed 's/^/    | /'
-        } > "$RES/$id.txt"
-        echo "$cfg|$cfg $*|0|0|$(cat "$bin.build.time")|0 0" > "$RES/$id.res"
+        build_failed "$id" "$cfg" "$cfg $(basename "$src" .c) (one build of $*)" "$bin"
         for t in "$@"; do
-            test_job "${cfg}_$t" "$cfg" "$cc" "$real" "$flags" "$envs" "tests/$t.c"
+            echo "  $cfg $t: NOT RUN (the unit's build failed)" > "$RES/${cfg}_$t.txt"
+            echo "$cfg|$cfg $t|0|1|0 0|0 0" > "$RES/${cfg}_$t.res"
         done
     fi
 }
@@ -392,8 +390,13 @@ enqueue() { # enqueue estimate id group kind args...: one job with one result
 # unit: the header's operators, most of a build, are compiled once instead
 # of once per program. Each program's main becomes <program>_main, each of
 # its macros is #undef'd after it, and the unit runs one program per process,
-# by name. File-scope names must therefore differ between the test programs
-# (a clash only costs time: the programs are then built one by one, with a note).
+# by name. File-scope names must therefore differ between the test programs,
+# and a program that needs a feature macro (_POSIX_C_SOURCE) defines it
+# itself before its first #include: that makes its signature differ, so it is
+# built in a unit of its own whose system headers all see the macro. (Moving
+# every program's feature macros to the top of a shared unit would instead
+# change what the other programs see of the system headers.) A unit that
+# does not build fails the run (see unit_job).
 
 signature() { # signature source: the #define lines before the first #include "..."
     awk '/^[ \t]*#[ \t]*include[ \t]*"/ {exit} /^[ \t]*#[ \t]*define/ {sub(/\/\*.*$/, ""); gsub(/[ \t]+/, " "); sub(/ $/, ""); print}' "$1"
