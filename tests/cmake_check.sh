@@ -3,7 +3,8 @@
 # - add_subdirectory(<this repo>) from a C project and from a C++-only one
 #   (project(... LANGUAGES CXX): the library must not make it enable C);
 # - cmake --install: find_package(sph_kernel 0.1) finds it from C and C++,
-#   find_package(sph_kernel 1.0) (another major version) is refused, libm is
+#   find_package(sph_kernel 1.0) is refused, and so is 0.1 by a package of
+#   version 1.0 (SameMajorVersion), libm is
 #   named "m" (not this machine's path), pkg-config sph_kernel works, and
 #   the tree still works after it is moved to another prefix;
 # - make install PREFIX=...: the same find_package and pkg-config, a program
@@ -79,6 +80,13 @@ grep -q 'INTERFACE_LINK_LIBRARIES "m"' "$config" || { echo "libm not linked as \
 if grep -n "/lib[^ ]*libm\." "$config"; then echo "absolute libm path in $config"; exit 1; fi
 mv "$dir/prefix" "$dir/moved" # relocatable: the same tree under another prefix
 built cm_moved "$dir/find_srcxx" -DWANT=0.1 -DCMAKE_PREFIX_PATH="$top/$dir/moved"
+# the major rule from the other side: a package of version 1.0 does not serve 0.1
+vfile=$dir/moved/lib/cmake/sph_kernel/sph_kernelConfigVersion.cmake
+sed 's/^set(PACKAGE_VERSION ".*")$/set(PACKAGE_VERSION "1.0")/' "$vfile" > "$dir/v1" && cp "$vfile" "$dir/v0" && cp "$dir/v1" "$vfile"
+if configure_build cm_v1 "$dir/find_src" -DWANT=0.1 -DCMAKE_PREFIX_PATH="$top/$dir/moved"; then
+    echo "find_package(sph_kernel 0.1) accepted version 1.0"; exit 1
+fi
+cp "$dir/v0" "$vfile"
 
 # make install: the same files, the same package
 make -s --no-print-directory install PREFIX="$top/$dir/mk" > "$dir/mk.log" 2>&1 || { cat "$dir/mk.log"; exit 1; }
