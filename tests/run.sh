@@ -347,8 +347,9 @@ header_check() {
 
 # shellcheck disable=SC2086 # FLOAT_WARN and the options are words
 cxx_check() { # cxx_check real [options]: tests/compile_check.cpp (the operators' loops) with g++ -std=c++11
-    local bin=$OUT/cpp_check_$1$(printf '%s' "$2" | tr -c 'A-Za-z0-9' _)
-    g++ -std=c++11 $2 -Wall -Wextra -pedantic -Werror $CXX_WARN -DSPH_REAL="$1" -I. tests/compile_check.cpp \
+    local opts=${2:-} bin
+    bin=$OUT/cpp_check_$1$(printf '%s' "$opts" | tr -c 'A-Za-z0-9' _)
+    g++ -std=c++11 $opts -Wall -Wextra -pedantic -Werror $CXX_WARN -DSPH_REAL="$1" -I. tests/compile_check.cpp \
         -o "$bin" && "$bin"
 }
 
