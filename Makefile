@@ -7,7 +7,7 @@
 #   make demo       builds and runs the main example
 #   make plots      redraws the PNG plots in docs/results/ (needs gnuplot)
 #   make report     error against run time of every operator: docs/results/report.md, docs/results/report/
-#   make install PREFIX=/usr/local   header + pkg-config file
+#   make install PREFIX=/usr/local   header, pkg-config file, CMake package
 #   make bench      operator and neighbour-search timings (bench/benchmark.c)
 #   make bench-step the Sod shock tube's step per particle and phase (bench/bench_step.sh)
 #   make run-mpi    the Taylor-Green vortex over MPI ranks (mpicc, mpirun; docs/mpi.md)
@@ -170,14 +170,22 @@ tables:
 	    echo "make tables: needs python3 with sympy (Debian/Ubuntu: apt-get install python3-sympy)"; exit 1; }
 	python3 tools/gen_kernel_tables.py --write sph_kernel.h
 
+# The header, the pkg-config file and the CMake package (cmake/: the same
+# files cmake --install installs), so find_package(sph_kernel 0.1) works
+CMAKEDIR = $(PREFIX)/lib/cmake/sph_kernel
 install:
-	install -d $(DESTDIR)$(PREFIX)/include $(DESTDIR)$(PREFIX)/lib/pkgconfig
+	install -d $(DESTDIR)$(PREFIX)/include $(DESTDIR)$(PREFIX)/lib/pkgconfig $(DESTDIR)$(CMAKEDIR)
 	install -m 644 sph_kernel.h $(DESTDIR)$(PREFIX)/include/sph_kernel.h
 	sed -e 's|@PREFIX@|$(PREFIX)|' -e 's|@VERSION@|$(VERSION)|' sph_kernel.pc.in \
 	    > $(DESTDIR)$(PREFIX)/lib/pkgconfig/sph_kernel.pc
+	install -m 644 cmake/sph_kernelConfig.cmake $(DESTDIR)$(CMAKEDIR)/sph_kernelConfig.cmake
+	sed -e 's|@VERSION@|$(VERSION)|' cmake/sph_kernelConfigVersion.cmake.in \
+	    > $(DESTDIR)$(CMAKEDIR)/sph_kernelConfigVersion.cmake
 
 uninstall:
-	rm -f $(DESTDIR)$(PREFIX)/include/sph_kernel.h $(DESTDIR)$(PREFIX)/lib/pkgconfig/sph_kernel.pc
+	rm -f $(DESTDIR)$(PREFIX)/include/sph_kernel.h $(DESTDIR)$(PREFIX)/lib/pkgconfig/sph_kernel.pc \
+	    $(DESTDIR)$(CMAKEDIR)/sph_kernelConfig.cmake $(DESTDIR)$(CMAKEDIR)/sph_kernelConfigVersion.cmake
+	rmdir $(DESTDIR)$(CMAKEDIR) 2> /dev/null || true
 
 clean:
 	rm -rf $(BUILD)

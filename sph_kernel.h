@@ -307,6 +307,12 @@ typedef SPH_REAL sph_real;
 #define SPH__OP_AVX512 0
 #endif
 
+/* Every lane of 8. The AVX-512 code calls the maskz_ form, with SPH__ALL8,
+ * of each intrinsic whose plain form passes a formally undefined vector as
+ * the lanes to keep (sqrt, max, roundscale, the conversions and extracts):
+ * g++ -O2 reports that vector as maybe-uninitialised wherever it is inlined. */
+#define SPH__ALL8 ((__mmask8)0xFF)
+
 
 /* Tables are read by host and device code alike: under nvcc the device pass
  * keeps its own copy in device memory. */
@@ -1088,30 +1094,32 @@ SPH_API sph_view sph_view_interleaved(const sph_real *x, int ncomp)
     return sph_view_aos(x, ncomp, (size_t)ncomp * sizeof(sph_real));
 }
 
-/* The writable twin of a view built on the caller's writable arrays. */
-SPH_API sph_out sph__out_of(sph_view v)
+/* Output counterparts of the three views: the same layouts on writable arrays
+ * (the view is built first, then its pointers are taken back from the
+ * caller's writable ones, so that no const is cast away). */
+SPH_API sph_out sph_out_aos(sph_real *first, int ncomp, size_t stride_bytes)
 {
+    const sph_view v = sph_view_aos(first, ncomp, stride_bytes);
     sph_out o;
     int a;
-    for (a = 0; a < 3; ++a) o.p[a] = (sph_real *)v.p[a]; /* the caller passed writable arrays */
+    for (a = 0; a < 3; ++a) o.p[a] = v.p[a] != NULL ? first + a : NULL;
     o.stride = v.stride;
     return o;
 }
 
-/* Output counterparts of the three views. */
 SPH_API sph_out sph_out_soa(sph_real *x, sph_real *y, sph_real *z)
 {
-    return sph__out_of(sph_view_soa(x, y, z));
+    sph_out o;
+    o.p[0] = x;
+    o.p[1] = y;
+    o.p[2] = z;
+    o.stride = 1;
+    return o;
 }
 
 SPH_API sph_out sph_out_interleaved(sph_real *x, int ncomp)
 {
-    return sph__out_of(sph_view_interleaved(x, ncomp));
-}
-
-SPH_API sph_out sph_out_aos(sph_real *first, int ncomp, size_t stride_bytes)
-{
-    return sph__out_of(sph_view_aos(first, ncomp, stride_bytes));
+    return sph_out_aos(x, ncomp, (size_t)ncomp * sizeof(sph_real));
 }
 
 /* Component a of particle i of a view or an output view (sections 6 and 9). */
@@ -2084,9 +2092,19 @@ SPH__INLINE __m512d sph__at8(__m512d src, __mmask8 km, const sph_real *p, const 
 SPH__INLINE __m512d sph__dx8(__m512d xi, const sph_real *p, __m512d L, __m512d iL, __mmask8 km, const ptrdiff_t *ox)
 {
     const __m512d d = _mm512_sub_pd(xi, sph__at8(xi, km, p, ox));
-    const __m512d img = _mm512_roundscale_pd(_mm512_fmadd_pd(d, iL, _mm512_set1_pd(0.5)),
-                                             _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC);
+    const __m512d img = _mm512_maskz_roundscale_pd(SPH__ALL8, _mm512_fmadd_pd(d, iL, _mm512_set1_pd(0.5)),
+                                                   _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC);
     return _mm512_fnmadd_pd(L, img, d);
+}
+
+/* The sum of the 8 lanes in the order of _mm512_reduce_add_pd (halves, then
+ * quarters, then the last two), through the maskz_ extract (SPH__ALL8). */
+SPH__INLINE double sph__sum8(__m512d v)
+{
+    const __m256d s4 = _mm256_add_pd(_mm512_maskz_extractf64x4_pd(SPH__ALL8, v, 1),
+                                     _mm512_maskz_extractf64x4_pd(SPH__ALL8, v, 0));
+    const __m128d s2 = _mm_add_pd(_mm256_extractf128_pd(s4, 1), _mm256_castpd256_pd128(s4));
+    return _mm_cvtsd_f64(s2) + _mm_cvtsd_f64(_mm_unpackhi_pd(s2, s2));
 }
 
 /* (O2) rho = sum_j m_j W_ij (dens) and/or (O5) g = sum_j V_j (f_j - f_i) F_ij x_ij
@@ -2133,7 +2151,7 @@ SPH__INLINE void sph__dg8_body(const sph__args *A, const sph__nshape *sh, const 
         r2 = _mm512_mul_pd(d0, d0);
         if (D > 1) d1 = sph__dx8(xi[1], px[1], L[1], iL[1], km, ox), r2 = _mm512_fmadd_pd(d1, d1, r2);
         if (D > 2) d2 = sph__dx8(xi[2], px[2], L[2], iL[2], km, ox), r2 = _mm512_fmadd_pd(d2, d2, r2);
-        q = _mm512_mul_pd(_mm512_sqrt_pd(r2), hinv);
+        q = _mm512_mul_pd(_mm512_maskz_sqrt_pd(SPH__ALL8, r2), hinv);
         in = _mm512_cmp_pd_mask(q, kap, _CMP_LT_OQ) & km;
         if (dens) {
             const __m512d W = _mm512_maskz_mul_pd(in, cW, sph__nshape_pick8(sh, 0, q));
@@ -2150,11 +2168,11 @@ SPH__INLINE void sph__dg8_body(const sph__args *A, const sph__nshape *sh, const 
         }
     }
     if (grad) {
-        g[0] = (sph_real)_mm512_reduce_add_pd(s0);
-        g[1] = D > 1 ? (sph_real)_mm512_reduce_add_pd(s1) : 0;
-        g[2] = D > 2 ? (sph_real)_mm512_reduce_add_pd(s2) : 0;
+        g[0] = (sph_real)sph__sum8(s0);
+        g[1] = D > 1 ? (sph_real)sph__sum8(s1) : 0;
+        g[2] = D > 2 ? (sph_real)sph__sum8(s2) : 0;
     }
-    if (dens) *rho = (sph_real)_mm512_reduce_add_pd(sr);
+    if (dens) *rho = (sph_real)sph__sum8(sr);
 }
 
 /* One instance per shape, holding each use (density, gradient, both) in
@@ -2965,7 +2983,7 @@ typedef struct {
 SPH__INLINE __m512d sph__load8(const sph_real *p)
 {
     return sizeof(sph_real) == sizeof(double) ? _mm512_loadu_pd((const void *)p)
-                                              : _mm512_cvtps_pd(_mm256_loadu_ps((const float *)(const void *)p));
+                                              : _mm512_maskz_cvtps_pd(SPH__ALL8, _mm256_loadu_ps((const float *)(const void *)p));
 }
 #endif
 
@@ -3223,7 +3241,7 @@ SPH__INLINE unsigned sph__nsearch_mask(const sph_nsearch *g, sph__probe *p, sph_
 /* 8 doubles rounded to float (for SPH_REAL float). */
 SPH__INLINE __m512d sph__nsearch_round8(__m512d v)
 {
-    return _mm512_cvtps_pd(_mm512_cvtpd_ps(v));
+    return _mm512_maskz_cvtps_pd(SPH__ALL8, _mm512_maskz_cvtpd_ps(SPH__ALL8, v));
 }
 
 /* sph__nsearch_mask in AVX-512 registers: r^2 of the 16 sources of a block,
@@ -3262,8 +3280,8 @@ SPH__INLINE unsigned sph__nsearch_mask16(const sph_nsearch *g, sph__probe *p, sp
         wide |= _mm512_mask_cmp_pd_mask(lv, r2, _mm512_set1_pd((double)g->quarter2), _CMP_GT_OQ);
         if (HV) {
             const __m512d R = _mm512_mul_pd(_mm512_set1_pd((double)p->kappa),
-                                            _mm512_max_pd(sph__load8(g->h + b + 8 * half),
-                                                          _mm512_set1_pd((double)p->hi)));
+                                            _mm512_maskz_max_pd(SPH__ALL8, sph__load8(g->h + b + 8 * half),
+                                                                _mm512_set1_pd((double)p->hi)));
             R2 = _mm512_mul_pd(R, R);
         }
         in8 = _mm512_mask_cmp_pd_mask(lv, r2, _mm512_mul_pd(R2, _mm512_set1_pd(1 - eps)), _CMP_LT_OQ);

@@ -1,5 +1,5 @@
 // tests/compile_check_host.h - host code shared by the C++ and nvcc compile
-// checks: build a neighbour list and run an operator as a C++ caller would.
+// checks: build a neighbour list and run the operators as a C++ caller would.
 // Returns 0 on success.
 #ifndef SPH_COMPILE_CHECK_HOST_H
 #define SPH_COMPILE_CHECK_HOST_H
@@ -23,6 +23,18 @@ static int cc_host_density(void)
     sph_neighbours list = sph_nsearch_list(&grid, 2, off, idx);
     sph_ctx c = sph_ctx_init(SPH_KERNEL_CUBIC, 3, 1, &list, xv);
     c.m = sph_view_soa(m, NULL, NULL);
-    return sph_density(&c, sph_out_soa(rho, NULL, NULL)) == SPH_OK && rho[0] > 0 ? 0 : 1;
+    if (sph_density(&c, sph_out_soa(rho, NULL, NULL)) != SPH_OK || !(rho[0] > 0)) return 1;
+    /* the one-pass density and gradient, a gradient and a Laplacian: the
+     * operator loops a caller instantiates (f = x, so grad f_x > 0 at both) */
+    sph_real V[2] = {1 / rho[0], 1 / rho[1]}, f[2] = {0, sph_real(0.5)}, g[6] = {0}, lap[2] = {0};
+    c.V = sph_view_soa(V, NULL, NULL);
+    const sph_view fv = sph_view_soa(f, NULL, NULL);
+    if (sph_density_gradient(&c, fv, sph_view_none(), sph_out_soa(rho, NULL, NULL),
+                             sph_out_interleaved(g, 3)) != SPH_OK || !(g[0] > 0))
+        return 1;
+    if (sph_gradient(&c, SPH_SCHEME_DIFFERENCE, fv, sph_view_none(), sph_out_aos(g, 3, 3 * sizeof(sph_real)),
+                     NULL) != SPH_OK || !(g[3] > 0))
+        return 1;
+    return sph_laplacian(&c, fv, sph_view_none(), sph_out_soa(lap, NULL, NULL)) == SPH_OK ? 0 : 1;
 }
 #endif

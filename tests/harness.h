@@ -22,6 +22,9 @@
 #include <stdarg.h>
 #include <stdio.h>
 #include <string.h>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
 
 #include "sph_kernel.h"
 
@@ -105,6 +108,16 @@ static inline void th_fail(const char *file, int line, const char *fmt, ...)
             th_fail(__FILE__, __LINE__, "%s = %.17g, expected %.17g (abs tol %.3g)", #a, th_a_, \
                     th_b_, th_t_);                                             \
     } while (0)
+
+/* The OpenMP thread count of the next parallel region (nothing without OpenMP). */
+static inline void th_set_threads(int n)
+{
+#ifdef _OPENMP
+    omp_set_num_threads(n);
+#else
+    (void)n;
+#endif
+}
 
 /* Prints the closing line; exit status for main. */
 static inline int th_summary(void)

@@ -84,9 +84,9 @@ gcc-reference    | gcc   | double | -O1 -DSPH_OP_REFERENCE       |              
 # of running, and the sanitizers' instrumentation of the always-inlined
 # operator loops is most of it (gcc -O1, tests/test_op_dispatch.c, CPU seconds:
 # 3.0 plain, 6.1 ASan, 13.0 UBSan, 25.9 both). Hence: the programs of one
-# header configuration compiled as one unit (see "units" below: the nine
-# SPH_OP_SPECIALISE 0 programs, gcc -O1 ASan/UBSan, 39 s instead of about 175
-# s one by one); ASan checks through calls
+# header configuration compiled as one unit (see "units" below: make check's
+# clang-double, ASan/UBSan -O0, 21 CPU s for its 29 programs instead of 205 s
+# one by one); ASan checks through calls
 # (the same checks, 15 % less for gcc, 30 % less for clang); clang's sanitised
 # builds at -O0, where the sanitizers check the same accesses and the
 # intrinsics paths are the same code (at -O1 they cost 4-5 times as much:
@@ -105,6 +105,11 @@ HEADER_VARIANTS=("" -march=native -DSPH_NO_INTRINSICS -DSPH_OP_REFERENCE "-DSPH_
                  -DSPH_ONLY_KERNELS -DSPH_ONLY_PAIRS -DSPH_NO_OPERATORS -DSPH_NO_NSEARCH -DSPH_NO_SOLVER
                  -DSPH_NO_SMOOTHING_LENGTH)
 FLOAT_WARN="-Wdouble-promotion -Wfloat-conversion"
+# The C++ check, unoptimised and as users build for their own CPU: g++
+# reports at -O2 and -O3 (-Wmaybe-uninitialized) what it finds in the
+# intrinsics the AVX-512 loops inline; -O3 in make test only.
+CXX_WARN="$FLOAT_WARN -Wcast-qual"
+CXX_OPTS=("" "-O2 -march=native")
 
 trim() { # trim "text": without leading and trailing blanks
     local s=$1
@@ -267,8 +272,9 @@ test_job() {
 }
 
 # unit_job id config cc real "flags" "env" unit-source programs...: the test
-# programs of one unit (see "Units" below) built once and run one by one; when
-# the shared build fails, each program is built alone (the note says why)
+# programs of one unit (see "Units" below) built once and run one by one. A
+# failed build of the unit is one failed case with the compiler's error, and
+# each of its programs is reported as not run (one failed case each).
 unit_job() {
     local id=$1 cfg=$2 cc=$3 real=$4 flags=$5 envs=$6 src=$7 bin t
     shift 7
@@ -281,13 +287,10 @@ unit_job() {
             run_report "${cfg}_$t" "$cfg" "$cfg $t" cases "$bin" "0 0" "$envs" "$t"
         done
     else
-        {
-            echo "  note: the shared build of $* failed (a file-scope name in two of them?); each is built alone:"
-            grep -m 3 -E 'error|warning' "$bin.build" | sed 's/^/    | /'
-        } > "$RES/$id.txt"
-        echo "$cfg|$cfg $*|0|0|$(cat "$bin.build.time")|0 0" > "$RES/$id.res"
+        build_failed "$id" "$cfg" "$cfg $(basename "$src" .c) (one build of $*)" "$bin"
         for t in "$@"; do
-            test_job "${cfg}_$t" "$cfg" "$cc" "$real" "$flags" "$envs" "tests/$t.c"
+            echo "  $cfg $t: NOT RUN (the unit's build failed)" > "$RES/${cfg}_$t.txt"
+            echo "$cfg|$cfg $t|0|1|0 0|0 0" > "$RES/${cfg}_$t.res"
         done
     fi
 }
@@ -342,10 +345,12 @@ header_check() {
     done
 }
 
-# shellcheck disable=SC2086 # FLOAT_WARN is words
-cxx_check() { # cxx_check real: tests/compile_check.cpp with g++ -std=c++11
-    g++ -std=c++11 -Wall -Wextra -pedantic -Werror $FLOAT_WARN -DSPH_REAL="$1" -I. tests/compile_check.cpp \
-        -o "$OUT/cpp_check_$1" && "$OUT/cpp_check_$1"
+# shellcheck disable=SC2086 # FLOAT_WARN and the options are words
+cxx_check() { # cxx_check real [options]: tests/compile_check.cpp (the operators' loops) with g++ -std=c++11
+    local opts=${2:-} bin
+    bin=$OUT/cpp_check_$1$(printf '%s' "$opts" | tr -c 'A-Za-z0-9' _)
+    g++ -std=c++11 $opts -Wall -Wextra -pedantic -Werror $CXX_WARN -DSPH_REAL="$1" -I. tests/compile_check.cpp \
+        -o "$bin" && "$bin"
 }
 
 # ---- the queue -----------------------------------------------------------------
@@ -392,8 +397,13 @@ enqueue() { # enqueue estimate id group kind args...: one job with one result
 # unit: the header's operators, most of a build, are compiled once instead
 # of once per program. Each program's main becomes <program>_main, each of
 # its macros is #undef'd after it, and the unit runs one program per process,
-# by name. File-scope names must therefore differ between the test programs
-# (a clash only costs time: the programs are then built one by one, with a note).
+# by name. File-scope names must therefore differ between the test programs,
+# and a program that needs a feature macro (_POSIX_C_SOURCE) defines it
+# itself before its first #include: that makes its signature differ, so it is
+# built in a unit of its own whose system headers all see the macro. (Moving
+# every program's feature macros to the top of a shared unit would instead
+# change what the other programs see of the system headers.) A unit that
+# does not build fails the run (see unit_job).
 
 signature() { # signature source: the #define lines before the first #include "..."
     awk '/^[ \t]*#[ \t]*include[ \t]*"/ {exit} /^[ \t]*#[ \t]*define/ {sub(/\/\*.*$/, ""); gsub(/[ \t]+/, " "); sub(/ $/, ""); print}' "$1"
@@ -459,7 +469,8 @@ enqueue_programs() {
         fi
         slug=unit_${key%_}
         [ -n "$key" ] || slug=unit_default
-        [ -f "$OUT/units/$slug.c" ] || write_unit "$OUT/units/$slug.c" "$@"
+        # one file per configuration: configurations list different programs
+        mkdir -p "$OUT/units/$cfg" && write_unit "$OUT/units/$cfg/$slug.c" "$@"
         # estimate: the last run's build and runs, else the largest program's guess
         est=$(estimate "$cfg/$slug" 0) guess=0
         for t in "$@"; do
@@ -470,7 +481,7 @@ enqueue_programs() {
         [ "$est" -gt 0 ] || est=$((guess * 3 / 2))
         printf '%s\n' "$cfg$SEP$cfg/$slug" >> "$IDS"
         for t in "$@"; do printf '%s\n' "$cfg$SEP$cfg/$t" >> "$IDS"; done
-        enqueue "$est" "$cfg/$slug" "$cfg" unit "$cfg" "$cc" "$real" "$flags" "$envs" "$OUT/units/$slug.c" "$@"
+        enqueue "$est" "$cfg/$slug" "$cfg" unit "$cfg" "$cc" "$real" "$flags" "$envs" "$OUT/units/$cfg/$slug.c" "$@"
     done
 }
 
@@ -548,9 +559,15 @@ if [ "${EXTRAS:-1}" != 0 ]; then
         fi
     done
     if command -v g++ > /dev/null 2>&1; then
+        [ "$TIER" = test ] && CXX_OPTS+=("-O3 -march=native")
         for real in double float; do
-            enqueue "$(estimate "checks/cxx-$real" 100)" "checks/cxx-$real" checks check \
-                "C++11 $real (g++ -std=c++11 -Wall -Wextra -pedantic -Werror $FLOAT_WARN)" cxx_check $real
+            for opts in "${CXX_OPTS[@]}"; do
+                case $opts in *-march=native*) probe "g++ native" builds_and_runs g++ -march=native -x c++ || continue ;; esac
+                n=cxx-$real$(printf '%s' "${opts:+ $opts}" | tr -d - | tr -c 'A-Za-z0-9' -)
+                enqueue "$(estimate "checks/$n" 100)" "checks/$n" checks check \
+                    "C++11 $real (g++ -std=c++11${opts:+ $opts} -Wall -Wextra -pedantic -Werror $CXX_WARN)" \
+                    cxx_check $real "$opts"
+            done
         done
     else
         echo "SKIPPED: C++ compile check (g++ is not installed)"

@@ -10,6 +10,9 @@
  * single-precision values, so each must equal the float of the input), its
  * TIME field, the .pvd listing, the ASCII variant, and the removal of an
  * earlier run's frames. */
+/* example_io.h needs POSIX (clock_gettime, mkdtemp): the feature macro must
+ * precede every system header of the unit, so this file states it first */
+#define _POSIX_C_SOURCE 200809L
 #include "examples/example_io.h"
 
 #include <unistd.h>

@@ -4,18 +4,6 @@
  * runs are serial and the test checks plain run-to-run determinism.
  */
 #include "op_scene.h"
-#ifdef _OPENMP
-#include <omp.h>
-#endif
-
-static void set_threads(int n)
-{
-#ifdef _OPENMP
-    omp_set_num_threads(n);
-#else
-    (void)n;
-#endif
-}
 
 /* density, corrected gradient, Laplacian, corrected tensor, Shepard, with counts */
 static void run(sph_ctx *c, int n, const sph_real *f, sph_real *v, sph_real *res, sph_idx *counts)
@@ -43,9 +31,9 @@ int main(void)
     for (i = 0; i < s.n; ++i) f[i] = (sph_real)ts_sine(3, s.x + 3 * i, NULL);
     s.c.m = s.c.V;
     s.c.rcond_min = (sph_real)0.3; /* strict: some targets fall back, so the counts are exercised */
-    set_threads(1);
+    th_set_threads(1);
     run(&s.c, s.n, f, s.x, r1, c1);
-    set_threads(2);
+    th_set_threads(2);
     run(&s.c, s.n, f, s.x, r2, c2);
     TH_CHECK(memcmp(r1, r2, sizeof(sph_real) * 15 * (size_t)s.n) == 0, "results differ between thread counts");
     TH_CHECK(c1[0] == c2[0] && c1[1] == c2[1] && c1[2] == c2[2], "fallback counts differ: %d/%d", (int)c1[0], (int)c2[0]);

@@ -12,24 +12,12 @@
  */
 #include "harness.h"
 #include "support/particles.h"
-#ifdef _OPENMP
-#include <omp.h>
-#endif
 
 #define N 600
 
 /* Views of one array (one component per particle). */
 static sph_view in1(const sph_real *p) { return sph_view_soa(p, NULL, NULL); }
 static sph_out out1(sph_real *p) { return sph_out_soa(p, NULL, NULL); }
-
-static void set_threads(int n)
-{
-#ifdef _OPENMP
-    omp_set_num_threads(n);
-#else
-    (void)n;
-#endif
-}
 
 typedef struct {
     sph_real x[3 * N], v[3 * N], m[N], h[N], rho[N], om[N], u[N], p[N], A[N];
@@ -155,7 +143,7 @@ static void conservation_case(int dim)
              (long)s.L.list.offset[N]);
     TH_CHECK((size_t)(2 * (dim + 1)) * (size_t)pr.half.offset[N] <= sizeof buf / sizeof buf[0], "buffer");
     TH_CHECK(sph_gradh_pairs_buffer_len(dim, pr.half.offset[N]) == 2 * (dim + 1) * pr.half.offset[N], "buffer length");
-    set_threads(1);
+    th_set_threads(1);
     st = sph_gradh_forces_pairs(&s.c, &pr, sph_view_interleaved(s.v, 3), in1(s.h), in1(s.A), buf, BUF_LEN,
                                 sph_out_interleaved(dv2, dim), out1(du2));
     TH_CHECK(st == SPH_OK, "pair-once: %s", sph_strerror(st));
@@ -168,7 +156,7 @@ static void conservation_case(int dim)
         err_pairs = e > err_pairs ? e : err_pairs;
     }
     TH_CHECK(err_pairs <= 100 * TH_EPS * (scale > dscale ? scale : dscale), "pair-once against gather: %.3g", err_pairs);
-    set_threads(2);
+    th_set_threads(2);
     st = sph_gradh_forces_pairs(&s.c, &pr, sph_view_interleaved(s.v, 3), in1(s.h), in1(s.A), buf, BUF_LEN,
                                 sph_out_interleaved(dv3, dim), out1(du3));
     same = memcmp(dv2, dv3, sizeof(sph_real) * (size_t)(dim * N)) == 0 && memcmp(du2, du3, sizeof du2) == 0;
@@ -177,7 +165,7 @@ static void conservation_case(int dim)
                           out1(du3));
     same = memcmp(dv, dv3, sizeof(sph_real) * (size_t)(dim * N)) == 0 && memcmp(du, du3, sizeof du) == 0;
     TH_CHECK(st == SPH_OK && same, "gather with 1 and 2 threads differ");
-    set_threads(1);
+    th_set_threads(1);
     printf("    %dD: momentum %.1e, energy %.1e of the sums of magnitudes; reference %.1e, pair-once %.1e of %.2e\n", dim,
            fabs(P[0]) / Pabs, fabs(E) / Eabs, err_ref, err_pairs, scale);
     free(mem);

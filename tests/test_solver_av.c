@@ -187,7 +187,7 @@ static void test_galilean(void)
     th_end();
 }
 
-static void test_errors(void)
+static void test_av_errors(void)
 {
     ss_cloud s;
     sph_av bad = AV_M;
@@ -259,6 +259,6 @@ int main(void)
     test_random_pairs();
     test_operator_conservation();
     test_galilean();
-    test_errors();
+    test_av_errors();
     return th_summary();
 }

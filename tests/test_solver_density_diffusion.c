@@ -108,7 +108,7 @@ static void test_mass(void)
         }
 }
 
-static void test_pair_and_errors(void)
+static void test_dd_pair_and_errors(void)
 {
     const sph_real dx[2] = {(sph_real)0.5, -1}, gi[2] = {2, 4}, gj[2] = {6, -2};
     ss_cloud s;
@@ -135,6 +135,6 @@ int main(void)
 {
     test_hydrostatic();
     test_mass();
-    test_pair_and_errors();
+    test_dd_pair_and_errors();
     return th_summary();
 }

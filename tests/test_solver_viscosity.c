@@ -114,7 +114,7 @@ static void test_conservation(void)
         }
 }
 
-static void test_pair_and_errors(void)
+static void test_visc_pair_and_errors(void)
 {
     const sph_real dx[3] = {(sph_real)0.3, (sph_real)0.4, 0}, dv[3] = {1, -2, 0};
     sph_real acc[3] = {0, 0, 0};
@@ -148,6 +148,6 @@ int main(void)
 {
     test_sine_field();
     test_conservation();
-    test_pair_and_errors();
+    test_visc_pair_and_errors();
     return th_summary();
 }
