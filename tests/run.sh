@@ -55,6 +55,7 @@ clang-double     | clang | double | -O0 +san +native             |              
 clang-float      | clang | float  | -O0 +san                     |                   | test_* test_neighbours:-O1 | -
 clang-omp        | clang | double | -O2 +omp                     | OMP_NUM_THREADS=2 | test_extremes test_op_dispatch test_op_fused test_op_omp test_op_reference test_pair_once | -
 gcc-reference    | gcc   | double | -O1 -DSPH_OP_REFERENCE       |                   | test_op_* !test_op_reference | -
+gcc-nsearch-plain| gcc   | double | -O2 -DSPH_NSEARCH_PLAIN      |                   | test_neighbours test_box   | -
 '
 # make check: every test, sanitised, for the host CPU, but the fused pass
 # (built by gcc -O2 instead: 39 s of CPU against 106 s); the header checks.
@@ -80,6 +81,8 @@ gcc-reference    | gcc   | double | -O1 -DSPH_OP_REFERENCE       |              
 #                     test_op_dispatch, test_op_fused, test_op_reference), and
 #                     the OpenMP tests (operators, pair-once loops)
 #   gcc-reference     the operator tests on the reference loops alone (SPH_OP_REFERENCE)
+#   gcc-nsearch-plain the neighbour tests on the plain search alone (SPH_NSEARCH_PLAIN:
+#                     one cell size, one radius kappa max(h_i, h_max))
 # Where the time goes: the operator tests are minutes of compiling and seconds
 # of running, and the sanitizers' instrumentation of the always-inlined
 # operator loops is most of it (gcc -O1, tests/test_op_dispatch.c, CPU seconds:
