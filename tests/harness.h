@@ -119,6 +119,13 @@ static inline void th_set_threads(int n)
 #endif
 }
 
+#if !defined(SPH_ONLY_KERNELS)
+/* Views of one array: one component per particle (th_in1, th_out1) or three interleaved (th_out3). */
+static inline sph_view th_in1(const sph_real *p) { return sph_view_soa(p, NULL, NULL); }
+static inline sph_out th_out1(sph_real *p) { return sph_out_soa(p, NULL, NULL); }
+static inline sph_out th_out3(sph_real *p) { return sph_out_interleaved(p, 3); }
+#endif
+
 /* Prints the closing line; exit status for main. */
 static inline int th_summary(void)
 {

@@ -143,9 +143,6 @@ static void operators_case(void)
     th_end();
 }
 
-static sph_out out1(sph_real *p) { return sph_out_soa(p, NULL, NULL); }
-static sph_out out3(sph_real *p) { return sph_out_interleaved(p, 3); }
-static sph_view in1(const sph_real *p) { return sph_view_soa(p, NULL, NULL); }
 
 /* sph_h_solve, then A_i = p_i / (Omega_i rho_i^2) with p = rho (any positive p will do). */
 static int solve(const sph_hctx *c, lattice *s)
@@ -153,7 +150,7 @@ static int solve(const sph_hctx *c, lattice *s)
     sph_hreport rep;
     int i, st;
     for (i = 0; i < N; ++i) s->h[i] = (sph_real)(1.2 * dx);
-    st = sph_h_solve(c, out1(s->h), out1(s->rho), out1(s->om), NULL, NULL, &rep);
+    st = sph_h_solve(c, th_out1(s->h), th_out1(s->rho), th_out1(s->om), NULL, NULL, &rep);
     if (st == SPH_OK && rep.n_not_converged + rep.n_beyond_list > 0) return SPH_EH;
     for (i = 0; i < N; ++i) s->A[i] = sph_gradh_factor(s->rho[i], s->rho[i], s->om[i]);
     return st;
@@ -179,7 +176,7 @@ static void hctx_case(void)
     c.box = &s.box;
     TH_CHECK((st = solve(&c, &s)) == SPH_OK, "h solve with the box: %d", st);
     for (i = 0; i < N; ++i) h_set[i] = s.h[i];
-    TH_CHECK((st = sph_gradh_forces(&c, v, in1(s.h), in1(s.A), out3(dv_set), out1(s.dudt))) == SPH_OK,
+    TH_CHECK((st = sph_gradh_forces(&c, v, th_in1(s.h), th_in1(s.A), th_out3(dv_set), th_out1(s.dudt))) == SPH_OK,
              "forces with the box: %d", st);
     c.box = NULL; /* forgotten */
     TH_CHECK((st = solve(&c, &s)) == SPH_OK, "h solve without hctx.box: %d", st);
@@ -187,15 +184,15 @@ static void hctx_case(void)
         continue; /* every particle's h within the solver's tolerance of the corner's, and that as with the box */
     TH_CHECK(i == N, "particle %d: h %.17g, with the box %.17g, corner %.17g", i, (double)s.h[i < N ? i : 0],
              (double)h_set[i < N ? i : 0], (double)h_set[0]);
-    TH_CHECK((st = sph_gradh_forces(&c, v, in1(s.h), in1(s.A), out3(s.dvdt), out1(s.dudt))) == SPH_OK,
+    TH_CHECK((st = sph_gradh_forces(&c, v, th_in1(s.h), th_in1(s.A), th_out3(s.dvdt), th_out1(s.dudt))) == SPH_OK,
              "forces without hctx.box: %d", st);
     for (i = 0; i < 3 * N && s.dvdt[i] == dv_set[i]; ++i) continue;
     TH_CHECK(i == 3 * N, "gather forces differ at %d", i);
     other = s.box, other.length[0] = 2;
     c.box = &other;
-    TH_CHECK((st = sph_h_solve(&c, out1(s.h), out1(s.rho), out1(s.om), NULL, NULL, NULL)) == SPH_EBOX,
+    TH_CHECK((st = sph_h_solve(&c, th_out1(s.h), th_out1(s.rho), th_out1(s.om), NULL, NULL, NULL)) == SPH_EBOX,
              "h solve, period 2: %d", st);
-    TH_CHECK((st = sph_gradh_forces(&c, v, in1(s.h), in1(s.A), out3(s.dvdt), out1(s.dudt))) == SPH_EBOX,
+    TH_CHECK((st = sph_gradh_forces(&c, v, th_in1(s.h), th_in1(s.A), th_out3(s.dvdt), th_out1(s.dudt))) == SPH_EBOX,
              "forces, period 2: %d", st);
     /* pair-once: the half list inherits the box */
     hidx = (sph_idx *)malloc(sizeof(sph_idx) * (size_t)s.off[N]);
@@ -209,17 +206,17 @@ static void hctx_case(void)
                      P.half.box.length[2] == 1,
                  "half list: %d, box_known %d", st, P.half.box_known);
         c.box = NULL;
-        TH_CHECK((st = sph_gradh_forces_pairs(&c, &P, v, in1(s.h), in1(s.A), buf, blen, out3(s.dvdt), out1(s.dudt))) ==
+        TH_CHECK((st = sph_gradh_forces_pairs(&c, &P, v, th_in1(s.h), th_in1(s.A), buf, blen, th_out3(s.dvdt), th_out1(s.dudt))) ==
                      SPH_OK,
                  "pair-once without hctx.box: %d", st);
         c.box = &s.box;
-        TH_CHECK((st = sph_gradh_forces_pairs(&c, &P, v, in1(s.h), in1(s.A), buf, blen, out3(dv), out1(s.dudt))) ==
+        TH_CHECK((st = sph_gradh_forces_pairs(&c, &P, v, th_in1(s.h), th_in1(s.A), buf, blen, th_out3(dv), th_out1(s.dudt))) ==
                      SPH_OK,
                  "pair-once with the box: %d", st);
         for (i = 0; i < 3 * N && s.dvdt[i] == dv[i]; ++i) continue;
         TH_CHECK(i == 3 * N, "pair-once forces differ at %d", i);
         c.box = &other;
-        TH_CHECK((st = sph_gradh_forces_pairs(&c, &P, v, in1(s.h), in1(s.A), buf, blen, out3(dv), out1(s.dudt))) ==
+        TH_CHECK((st = sph_gradh_forces_pairs(&c, &P, v, th_in1(s.h), th_in1(s.A), buf, blen, th_out3(dv), th_out1(s.dudt))) ==
                      SPH_EBOX,
                  "pair-once, period 2: %d", st);
     }

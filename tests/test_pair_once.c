@@ -15,9 +15,6 @@
 
 #define N 600
 
-/* Views of one array (one component per particle). */
-static sph_view in1(const sph_real *p) { return sph_view_soa(p, NULL, NULL); }
-static sph_out out1(sph_real *p) { return sph_out_soa(p, NULL, NULL); }
 
 typedef struct {
     sph_real x[3 * N], v[3 * N], m[N], h[N], rho[N], om[N], u[N], p[N], A[N];
@@ -48,7 +45,7 @@ static int make_scene(scene *s, int dim)
                          sph_view_soa(s->m, NULL, NULL), 0);
     s->c.h_list = sph_view_soa(hl, NULL, NULL);
     s->c.box = &s->box;
-    st = sph_h_solve(&s->c, out1(s->h), out1(s->rho), out1(s->om), NULL, NULL, &rep);
+    st = sph_h_solve(&s->c, th_out1(s->h), th_out1(s->rho), th_out1(s->om), NULL, NULL, &rep);
     if (st != SPH_OK || rep.n_beyond_list > 0 || rep.n_not_converged > 0) return st != SPH_OK ? st : SPH_EINVAL;
     tp_free_list(&s->L);
     for (i = 0; i < N; ++i) hl[i] = (sph_real)1.25 * s->h[i]; /* the force list: symmetric, at 1.25 h */
@@ -111,8 +108,8 @@ static void conservation_case(int dim)
         th_end();
         return;
     }
-    st = sph_gradh_forces(&s.c, sph_view_interleaved(s.v, 3), in1(s.h), in1(s.A), sph_out_interleaved(dv, dim),
-                          out1(du));
+    st = sph_gradh_forces(&s.c, sph_view_interleaved(s.v, 3), th_in1(s.h), th_in1(s.A), sph_out_interleaved(dv, dim),
+                          th_out1(du));
     TH_CHECK(st == SPH_OK, "gather: %s", sph_strerror(st));
     for (i = 0; i < N; ++i) {
         double ref[3], dref;
@@ -144,8 +141,8 @@ static void conservation_case(int dim)
     TH_CHECK((size_t)(2 * (dim + 1)) * (size_t)pr.half.offset[N] <= sizeof buf / sizeof buf[0], "buffer");
     TH_CHECK(sph_gradh_pairs_buffer_len(dim, pr.half.offset[N]) == 2 * (dim + 1) * pr.half.offset[N], "buffer length");
     th_set_threads(1);
-    st = sph_gradh_forces_pairs(&s.c, &pr, sph_view_interleaved(s.v, 3), in1(s.h), in1(s.A), buf, BUF_LEN,
-                                sph_out_interleaved(dv2, dim), out1(du2));
+    st = sph_gradh_forces_pairs(&s.c, &pr, sph_view_interleaved(s.v, 3), th_in1(s.h), th_in1(s.A), buf, BUF_LEN,
+                                sph_out_interleaved(dv2, dim), th_out1(du2));
     TH_CHECK(st == SPH_OK, "pair-once: %s", sph_strerror(st));
     for (i = 0; i < dim * N; ++i) {
         e = fabs((double)dv2[i] - (double)dv[i]);
@@ -157,12 +154,12 @@ static void conservation_case(int dim)
     }
     TH_CHECK(err_pairs <= 100 * TH_EPS * (scale > dscale ? scale : dscale), "pair-once against gather: %.3g", err_pairs);
     th_set_threads(2);
-    st = sph_gradh_forces_pairs(&s.c, &pr, sph_view_interleaved(s.v, 3), in1(s.h), in1(s.A), buf, BUF_LEN,
-                                sph_out_interleaved(dv3, dim), out1(du3));
+    st = sph_gradh_forces_pairs(&s.c, &pr, sph_view_interleaved(s.v, 3), th_in1(s.h), th_in1(s.A), buf, BUF_LEN,
+                                sph_out_interleaved(dv3, dim), th_out1(du3));
     same = memcmp(dv2, dv3, sizeof(sph_real) * (size_t)(dim * N)) == 0 && memcmp(du2, du3, sizeof du2) == 0;
     TH_CHECK(st == SPH_OK && same, "pair-once with 1 and 2 threads differ");
-    st = sph_gradh_forces(&s.c, sph_view_interleaved(s.v, 3), in1(s.h), in1(s.A), sph_out_interleaved(dv3, dim),
-                          out1(du3));
+    st = sph_gradh_forces(&s.c, sph_view_interleaved(s.v, 3), th_in1(s.h), th_in1(s.A), sph_out_interleaved(dv3, dim),
+                          th_out1(du3));
     same = memcmp(dv, dv3, sizeof(sph_real) * (size_t)(dim * N)) == 0 && memcmp(du, du3, sizeof du) == 0;
     TH_CHECK(st == SPH_OK && same, "gather with 1 and 2 threads differ");
     th_set_threads(1);
@@ -176,17 +173,17 @@ static void conservation_case(int dim)
 /* What a solver keeps per particle, side by side. */
 typedef struct {
     sph_real h, A, dv[3], du;
-} layout_particle;
+} po_particle;
 
 /* Both forms through other layouts: v as three arrays, h, A, dv/dt, du/dt in
  * an array of structs; the same bits as interleaved arrays. A buffer one
  * real short and a missing component of dv/dt are refused, nothing written. */
-static void layout_case(void)
+static void po_layout_case(void)
 {
     static scene s;
     static sph_real vx[N], vy[N], vz[N], dv[3 * N], du[N], buf[BUF_LEN];
-    static layout_particle P[N];
-    const size_t S = sizeof(layout_particle);
+    static po_particle P[N];
+    const size_t S = sizeof(po_particle);
     const sph_view h_aos = sph_view_aos(&P[0].h, 1, S), A_aos = sph_view_aos(&P[0].A, 1, S);
     const sph_out dv_aos = sph_out_aos(P[0].dv, 3, S), du_aos = sph_out_aos(&P[0].du, 1, S);
     sph_off *mem = NULL, need;
@@ -204,13 +201,13 @@ static void layout_case(void)
         vx[i] = s.v[3 * i], vy[i] = s.v[3 * i + 1], vz[i] = s.v[3 * i + 2];
         P[i].h = s.h[i], P[i].A = s.A[i];
     }
-    st = sph_gradh_forces(&s.c, sph_view_interleaved(s.v, 3), in1(s.h), in1(s.A), sph_out_interleaved(dv, 3), out1(du));
+    st = sph_gradh_forces(&s.c, sph_view_interleaved(s.v, 3), th_in1(s.h), th_in1(s.A), sph_out_interleaved(dv, 3), th_out1(du));
     st2 = sph_gradh_forces(&s.c, sph_view_soa(vx, vy, vz), h_aos, A_aos, dv_aos, du_aos);
     for (i = 0; i < N; ++i)
         for (a = 0; a < 3; ++a) same &= P[i].dv[a] == dv[3 * i + a] && P[i].du == du[i];
     TH_CHECK(st == SPH_OK && st2 == SPH_OK && same, "gather: %d %d, layouts differ", st, st2);
-    st = sph_gradh_forces_pairs(&s.c, &pr, sph_view_interleaved(s.v, 3), in1(s.h), in1(s.A), buf, BUF_LEN,
-                                sph_out_interleaved(dv, 3), out1(du));
+    st = sph_gradh_forces_pairs(&s.c, &pr, sph_view_interleaved(s.v, 3), th_in1(s.h), th_in1(s.A), buf, BUF_LEN,
+                                sph_out_interleaved(dv, 3), th_out1(du));
     st2 = sph_gradh_forces_pairs(&s.c, &pr, sph_view_soa(vx, vy, vz), h_aos, A_aos, buf, BUF_LEN, dv_aos, du_aos);
     for (i = 0, same = 1; i < N; ++i)
         for (a = 0; a < 3; ++a) same &= P[i].dv[a] == dv[3 * i + a] && P[i].du == du[i];
@@ -218,8 +215,8 @@ static void layout_case(void)
     need = sph_gradh_pairs_buffer_len(3, pr.half.offset[N]);
     for (i = 0; i < N; ++i) du[i] = -7;
     st = sph_gradh_forces_pairs(&s.c, &pr, sph_view_soa(vx, vy, vz), h_aos, A_aos, buf, need - 1,
-                                sph_out_interleaved(dv, 3), out1(du));
-    st2 = sph_gradh_forces(&s.c, sph_view_soa(vx, vy, vz), h_aos, A_aos, sph_out_soa(dv, dv + N, NULL), out1(du));
+                                sph_out_interleaved(dv, 3), th_out1(du));
+    st2 = sph_gradh_forces(&s.c, sph_view_soa(vx, vy, vz), h_aos, A_aos, sph_out_soa(dv, dv + N, NULL), th_out1(du));
     for (i = 0; i < N; ++i) untouched &= du[i] == -7;
     TH_CHECK(st == SPH_ESIZE && st2 == SPH_ENULL && untouched, "buffer one short: %d, dv/dt without z: %d", st, st2);
     TH_CHECK(sph_gradh_pairs_buffer_len(0, 10) == 0 && sph_pairs_buffer_len(17, 10) == 0 &&
@@ -309,7 +306,7 @@ int main(void)
 {
     conservation_case(3);
     conservation_case(2);
-    layout_case();
+    po_layout_case();
     build_errors_case();
     factor_case();
     return th_summary();

@@ -10,8 +10,6 @@
 #include "harness.h"
 #include "support/particles.h"
 
-/* The output view of one array (one component per particle). */
-static sph_out out1(sph_real *p) { return sph_out_soa(p, NULL, NULL); }
 
 /* Reference (H2) and (H4) for particle i at h: sums over all n particles. */
 static void ref_sums(sph_kernel k, int dim, const sph_real *x, const sph_real *m, int n, const sph_box *box, int i,
@@ -75,7 +73,7 @@ static void lattice_case(sph_kernel k, int dim, int n1)
                       (sph_real)(1.5 * eta * dx));
     c.box = &box;
     c.tol = (sph_real)TOL;
-    st = sph_h_solve(&c, out1(h), out1(rho), out1(om), it, state, &rep);
+    st = sph_h_solve(&c, th_out1(h), th_out1(rho), th_out1(om), it, state, &rep);
     TH_CHECK(st == SPH_OK, "status %s", sph_strerror(st));
     TH_CHECK(rep.n_not_converged == 0 && rep.n_beyond_list == 0, "%d not converged, %d beyond", (int)rep.n_not_converged,
              (int)rep.n_beyond_list);
@@ -127,7 +125,7 @@ static void clump_case(void)
         c = sph_hctx_init(k, dim, &L.list, sph_view_interleaved(x, 3), sph_view_soa(m, NULL, NULL), 0);
         c.h_list = sph_view_soa(hl, NULL, NULL);
         c.tol = (sph_real)TOL;
-        st = sph_h_solve(&c, out1(h), out1(rho), out1(om), it, NULL, &rep);
+        st = sph_h_solve(&c, th_out1(h), th_out1(rho), th_out1(om), it, NULL, &rep);
         TH_CHECK(st == SPH_OK, "status %s", sph_strerror(st));
         tp_free_list(&L);
         sums += (int)rep.iterations;
@@ -169,7 +167,7 @@ static void beyond_case(void)
     TH_CHECK(tp_brute_list(3, x, n, x, n, 1, NULL, NULL, 2, TP_GATHER, &box, &L) == 0, "out of memory");
     c = sph_hctx_init(SPH_KERNEL_CUBIC, 3, &L.list, sph_view_interleaved(x, 3), sph_view_soa(m, NULL, NULL), 1);
     c.box = &box;
-    TH_CHECK(sph_h_solve(&c, out1(h), out1(rho), out1(om), NULL, state, &rep) == SPH_OK, "status");
+    TH_CHECK(sph_h_solve(&c, th_out1(h), th_out1(rho), th_out1(om), NULL, state, &rep) == SPH_OK, "status");
     TH_CHECK(rep.n_beyond_list == n, "%d beyond of %d", (int)rep.n_beyond_list, n);
     for (i = 0; i < n; ++i) all &= state[i] == SPH_H_BEYOND_LIST && h[i] > 1 && h[i] < 2;
     TH_CHECK(all, "state %d, h %g (expected beyond, 1 < h < 2)", state[0], (double)h[0]);
@@ -177,7 +175,7 @@ static void beyond_case(void)
     TH_CHECK(tp_brute_list(3, x, n, x, n, (sph_real)1.3 * h[0], NULL, NULL, 2, TP_GATHER, &box, &L) == 0, "oom");
     c.list = &L.list;
     c.h_list_max = (sph_real)1.3 * h[0];
-    TH_CHECK(sph_h_solve(&c, out1(h), out1(rho), out1(om), NULL, state, &rep) == SPH_OK && rep.n_beyond_list == 0 &&
+    TH_CHECK(sph_h_solve(&c, th_out1(h), th_out1(rho), th_out1(om), NULL, state, &rep) == SPH_OK && rep.n_beyond_list == 0 &&
              rep.n_not_converged == 0 && rep.max_iterations <= 4,
              "after the re-search: %d beyond, %d not converged, max %d sums", (int)rep.n_beyond_list,
              (int)rep.n_not_converged, rep.max_iterations);
@@ -201,42 +199,42 @@ static void bad_input_case(void)
                       (sph_real)1.4);
     c.box = &box;
     c.eta = (sph_real)0.5; /* eta^3 = 0.125 < alpha_3 w(0) = 1/pi: the self term alone exceeds the target */
-    TH_CHECK((st = sph_h_solve(&c, out1(h), out1(rho), out1(om), it, NULL, NULL)) == SPH_ERANGE, "small eta: %d", st);
+    TH_CHECK((st = sph_h_solve(&c, th_out1(h), th_out1(rho), th_out1(om), it, NULL, NULL)) == SPH_ERANGE, "small eta: %d", st);
     c.eta = (sph_real)1.2;
     c.tol = 0;
-    TH_CHECK((st = sph_h_solve(&c, out1(h), out1(rho), out1(om), it, NULL, NULL)) == SPH_ERANGE, "tol 0: %d", st);
+    TH_CHECK((st = sph_h_solve(&c, th_out1(h), th_out1(rho), th_out1(om), it, NULL, NULL)) == SPH_ERANGE, "tol 0: %d", st);
     c.tol = (sph_real)1e-6;
-    TH_CHECK((st = sph_h_solve(&c, out1(h), out1(NULL), out1(om), it, NULL, NULL)) == SPH_ENULL, "rho NULL: %d",
+    TH_CHECK((st = sph_h_solve(&c, th_out1(h), th_out1(NULL), th_out1(om), it, NULL, NULL)) == SPH_ENULL, "rho NULL: %d",
              st);
     h[5] = 0;
-    TH_CHECK((st = sph_h_solve(&c, out1(h), out1(rho), out1(om), it, NULL, NULL)) == SPH_EH, "h = 0: %d", st);
+    TH_CHECK((st = sph_h_solve(&c, th_out1(h), th_out1(rho), th_out1(om), it, NULL, NULL)) == SPH_EH, "h = 0: %d", st);
     h[5] = 1;
     m[3] = -1;
-    TH_CHECK((st = sph_h_solve(&c, out1(h), out1(rho), out1(om), it, NULL, NULL)) == SPH_ENONFINITE, "m < 0: %d", st);
+    TH_CHECK((st = sph_h_solve(&c, th_out1(h), th_out1(rho), th_out1(om), it, NULL, NULL)) == SPH_ENONFINITE, "m < 0: %d", st);
     m[3] = 1;
     x[7] = (sph_real)NAN;
-    TH_CHECK((st = sph_h_solve(&c, out1(h), out1(rho), out1(om), it, NULL, NULL)) == SPH_ENONFINITE, "x NaN: %d", st);
+    TH_CHECK((st = sph_h_solve(&c, th_out1(h), th_out1(rho), th_out1(om), it, NULL, NULL)) == SPH_ENONFINITE, "x NaN: %d", st);
     x[7] = (sph_real)0.5;
     c.h_list_max = -1;
-    TH_CHECK((st = sph_h_solve(&c, out1(h), out1(rho), out1(om), it, NULL, NULL)) == SPH_EH, "h_list -1: %d", st);
+    TH_CHECK((st = sph_h_solve(&c, th_out1(h), th_out1(rho), th_out1(om), it, NULL, NULL)) == SPH_EH, "h_list -1: %d", st);
     c.h_list_max = (sph_real)1.4;
     c.kernel = (sph_kernel)99;
-    TH_CHECK((st = sph_h_solve(&c, out1(h), out1(rho), out1(om), it, NULL, NULL)) == SPH_EKERNEL, "kernel 99: %d", st);
+    TH_CHECK((st = sph_h_solve(&c, th_out1(h), th_out1(rho), th_out1(om), it, NULL, NULL)) == SPH_EKERNEL, "kernel 99: %d", st);
     c.kernel = SPH_KERNEL_CUBIC;
     L.index[4] = 27;
-    TH_CHECK((st = sph_h_solve(&c, out1(h), out1(rho), out1(om), it, NULL, NULL)) == SPH_EINDEX, "index 27: %d", st);
+    TH_CHECK((st = sph_h_solve(&c, th_out1(h), th_out1(rho), th_out1(om), it, NULL, NULL)) == SPH_EINDEX, "index 27: %d", st);
     L.index[4] = 0;
     {
         const sph_off keep = L.offset[3];
         L.offset[3] = L.offset[4] + 1;
-        TH_CHECK((st = sph_h_solve(&c, out1(h), out1(rho), out1(om), it, NULL, NULL)) == SPH_EOFFSET, "decreasing offsets: %d", st);
+        TH_CHECK((st = sph_h_solve(&c, th_out1(h), th_out1(rho), th_out1(om), it, NULL, NULL)) == SPH_EOFFSET, "decreasing offsets: %d", st);
         L.offset[3] = keep;
     }
     L.list.n_sources = 28;
-    TH_CHECK((st = sph_h_solve(&c, out1(h), out1(rho), out1(om), it, NULL, NULL)) == SPH_ECOUNT, "28 sources, 27 targets: %d", st);
+    TH_CHECK((st = sph_h_solve(&c, th_out1(h), th_out1(rho), th_out1(om), it, NULL, NULL)) == SPH_ECOUNT, "28 sources, 27 targets: %d", st);
     L.list.n_sources = 27;
     box.length[1] = 0;
-    TH_CHECK((st = sph_h_solve(&c, out1(h), out1(rho), out1(om), it, NULL, NULL)) == SPH_EBOXLEN, "period 0: %d", st);
+    TH_CHECK((st = sph_h_solve(&c, th_out1(h), th_out1(rho), th_out1(om), it, NULL, NULL)) == SPH_EBOXLEN, "period 0: %d", st);
     box.length[1] = 3;
     for (i = 0; i < 27; ++i) TH_CHECK(rho[i] == -7, "rho[%d] written", i);
     { /* a row without the particle itself and without neighbours: finite results, beyond the list */
@@ -246,12 +244,12 @@ static void bad_input_case(void)
         sph_hctx c1 = sph_hctx_init(SPH_KERNEL_CUBIC, 3, &e, sph_view_interleaved(x1, 3), sph_view_soa(&m1, NULL, NULL),
                                     (sph_real)1.5);
         int s1 = -1;
-        TH_CHECK(sph_h_solve(&c1, out1(&h1), out1(&r1), out1(&om1), NULL, &s1, NULL) == SPH_OK &&
+        TH_CHECK(sph_h_solve(&c1, th_out1(&h1), th_out1(&r1), th_out1(&om1), NULL, &s1, NULL) == SPH_OK &&
                      s1 == SPH_H_BEYOND_LIST && h1 == 3 && r1 == 0 && om1 == 1,
                  "empty row: state %d h %g rho %g Omega %g", s1, (double)h1, (double)r1, (double)om1);
     }
     c.max_iter = 1;
-    TH_CHECK(sph_h_solve(&c, out1(h), out1(rho), out1(om), it, NULL, &rep) == SPH_OK && rep.n_not_converged == 27 &&
+    TH_CHECK(sph_h_solve(&c, th_out1(h), th_out1(rho), th_out1(om), it, NULL, &rep) == SPH_OK && rep.n_not_converged == 27 &&
              rep.max_iterations == 1, "max_iter 1: %d not converged", (int)rep.n_not_converged);
     tp_free_list(&L);
     th_end();
@@ -260,16 +258,16 @@ static void bad_input_case(void)
 /* h, rho and Omega of one particle side by side, as a solver stores them. */
 typedef struct {
     sph_real x[3], h, rho, om;
-} layout_particle;
+} sl_particle;
 
 /* The same solve into separate arrays and into an array of structs: the views change where, not what. */
-static void layout_case(void)
+static void sl_layout_case(void)
 {
     enum { n1 = 6, n = n1 * n1 * n1 };
-    static layout_particle P[n];
+    static sl_particle P[n];
     sph_real x[3 * n], m[n], h[n], rho[n], om[n];
     sph_box box = {{0, 0, 0}, {n1, n1, n1}, {1, 1, 1}};
-    const size_t S = sizeof(layout_particle);
+    const size_t S = sizeof(sl_particle);
     tp_list L;
     sph_hctx c;
     int i, a, st, st2, same = 1;
@@ -285,7 +283,7 @@ static void layout_case(void)
     c = sph_hctx_init(SPH_KERNEL_CUBIC, 3, &L.list, sph_view_interleaved(x, 3), sph_view_soa(m, NULL, NULL),
                       (sph_real)2.2);
     c.box = &box;
-    st = sph_h_solve(&c, out1(h), out1(rho), out1(om), NULL, NULL, NULL);
+    st = sph_h_solve(&c, th_out1(h), th_out1(rho), th_out1(om), NULL, NULL, NULL);
     c.x = sph_view_aos(P[0].x, 3, S);
     st2 = sph_h_solve(&c, sph_out_aos(&P[0].h, 1, S), sph_out_aos(&P[0].rho, 1, S), sph_out_aos(&P[0].om, 1, S), NULL,
                       NULL, NULL);
@@ -308,6 +306,6 @@ int main(void)
     clump_case();
     beyond_case();
     bad_input_case();
-    layout_case();
+    sl_layout_case();
     return th_summary();
 }
