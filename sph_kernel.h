@@ -2949,8 +2949,8 @@ typedef struct {
     sph_real cell_hint;   /* the cell edge given to build */
     sph_real h_min;       /* smallest per-source h (h_max without per-source h) */
     sph_real *hcell;      /* [n_cells] largest per-source h of each cell, or NULL (no per-source h, or plain) */
-    sph_real *hreach;     /* [2 n_cells] per cell the largest hcell of the cells whose reach covers it,
-                             then hx: the largest hcell of x cells k - 2..k + 2 (sph__nsearch_hbuild); or NULL */
+    sph_real *hreach;     /* [2 n_cells] per cell the largest hcell of the cells whose reach covers it
+                             (sph__nsearch_hbuild), then a scratch table; or NULL */
     sph_real kappa_b;     /* hreach holds for every kappa up to this one (the given cell as kappa h_max / 2) */
     sph_real h_far;       /* largest hcell of the cells reaching beyond SPH__NS_PUSH cells (0: none) */
     int plain;            /* 1: the plain reference search (SPH_NSEARCH_PLAIN) */
@@ -3524,21 +3524,14 @@ SPH__INLINE void sph__nsearch_interior(const sph_nsearch *g, sph__probe *p, sph_
             if (HULL) { /* of those, the cells that reach the target (sph__nsearch_keep), first to last */
                 const sph_real *hc = g->hcell + n0 * (K[1][dy] + g->n[1] * K[2][dz]), yz = G[1][dy] + G[2][dz];
                 const int o = E[0] - kc[0];
-                const sph_real *hx = g->hreach + g->n_cells + n0 * (K[1][dy] + g->n[1] * K[2][dz]);
-                while (k0 <= k1) /* 5 cells at a time while they lie below kc and none reaches */
-                    if (k0 + 4 <= kc[0] && !sph__nsearch_keep(p, hx[K[0][k0 + 2 + o]], G[0][k0 + 4 + o] + yz))
-                        k0 += 5;
-                    else if (!sph__nsearch_keep(p, hc[K[0][k0 + o]], G[0][k0 + o] + yz))
-                        ++k0;
-                    else
-                        break;
-                while (k1 > k0) /* and from above */
-                    if (k1 - 4 >= kc[0] && !sph__nsearch_keep(p, hx[K[0][k1 - 2 + o]], G[0][k1 - 4 + o] + yz))
-                        k1 -= 5;
-                    else if (!sph__nsearch_keep(p, hc[K[0][k1 + o]], G[0][k1 + o] + yz))
-                        --k1;
-                    else
-                        break;
+                int lo = k1 + 1, hi = k0 - 1, k;
+                for (k = k0; k <= k1; ++k) { /* no branch: the row's cells are few */
+                    const int keep = sph__nsearch_keep(p, hc[K[0][k + o]], G[0][k + o] + yz);
+                    lo = keep && k < lo ? k : lo;
+                    hi = keep ? k : hi;
+                }
+                k0 = lo;
+                k1 = hi;
                 if (k0 > k1) continue;
             }
             if (!EDGE || (k0 >= 0 && k1 < n0))
@@ -3909,15 +3902,6 @@ SPH_API void sph__nsearch_hbuild(sph_nsearch *g)
     }
     if (F != g->hreach)
         for (c = 0; c < g->n_cells; ++c) g->hreach[c] = F[c];
-    for (c = 0; c < g->n_cells; c += g->n[0]) /* the scratch becomes hx: the largest hcell of x cells k - 2..k + 2 */
-        for (d = 0; d < g->n[0]; ++d) {
-            sph_real m = 0;
-            for (a = d - 2; a <= d + 2; ++a) {
-                const int k = g->box.periodic[0] ? (a + 2 * g->n[0]) % g->n[0] : a < 0 ? 0 : a < g->n[0] ? a : g->n[0] - 1;
-                m = g->hcell[c + k] > m ? g->hcell[c + k] : m;
-            }
-            g->hreach[g->n_cells + c + d] = m;
-        }
 }
 
 /* Workspace bytes sph_nsearch_build needs for these sources (eq. (N4)
