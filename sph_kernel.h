@@ -2876,10 +2876,11 @@ SPH_API int sph_check_field(sph_view f, int ncomp, sph_idx n, sph_idx *first_bad
  * x row of cells at a time as one contiguous run of sorted sources (two where
  * a periodic axis wraps), then sorts its list. With cells of R/2 that is about
  * 2.5 candidate checks per neighbour in 3-D (docs/neighbours.md). A target
- * whose reach is at most 4 cells finds its rows from squared cell gaps
+ * whose reach is at most 16 cells finds its rows from squared cell gaps
  * computed once per axis (clamped at open faces, wrapped round periodic
  * axes). In symmetric mode with per-source h a target reaches only as far
- * as the sources that may reach it (per-cell largest h, reach tables), and
+ * as the sources that may reach it (per-cell largest h, pushed over the
+ * cells each reaches), and
  * of each row only the cells whose own reach covers it (SPH_NSEARCH_PLAIN:
  * one radius kappa max(h_i, h_max), cells of cell). Each run carries its periodic image offset, so the checks need no
  * minimum image. Runs are checked in branch-free blocks of 8
@@ -3470,7 +3471,8 @@ SPH_API void sph__ns_sort(sph_idx *v, sph_off n)
 
 
 /* Cells a target reaches on each side along one axis, at most, for the
- * interior path of sph__nsearch_target (cells of R/2: 3). */
+ * interior path of sph__nsearch_target (cells of R/2: 3; the varying-h
+ * cells of the clump of bench/bench_search_h.c: up to 10). */
 #define SPH__NS_REACH 16
 
 /* The i-th of the 2 E + 1 offsets of an axis in ascending cell order: from
@@ -3576,17 +3578,17 @@ SPH_API void sph__nsearch_general(const sph_nsearch *g, sph__probe *p, sph_real 
     p->n_runs = nr;
 }
 
-/* The largest reach kappa h_j of any source j that may reach a target in
- * cell kc under (N2), and at least kappa h_i (docs/neighbours.md, "Varying
- * h"): h_j is at most hreach of the target's cell (each cell's h pushed
- * over the cells its reach covers, sph__nsearch_hbuild) or h_far, for any
- * kappa up to the one the table was built for; beyond it, h_max. */
-SPH_API sph_real sph__nsearch_reach(const sph_nsearch *g, const int *kc, sph_real kappa, sph_real hi)
+/* A bound on h_j of every source j that may reach a target in cell kc
+ * under (N2) by its own radius (docs/neighbours.md, "Varying h"): hreach of
+ * the target's cell (each cell's h pushed over the cells its reach covers,
+ * sph__nsearch_hbuild) or h_far, for any kappa up to the one the table was
+ * built for and a target within the grid's rounding allowance (add, of
+ * sph__nsearch_target); else h_max. */
+SPH_API sph_real sph__nsearch_reach(const sph_nsearch *g, const int *kc, sph_real kappa, sph_real add)
 {
     const ptrdiff_t c = kc[0] + (ptrdiff_t)g->n[0] * (kc[1] + (ptrdiff_t)g->n[1] * kc[2]);
-    sph_real hr = g->hreach[c] > g->h_far ? g->hreach[c] : g->h_far;
-    hr = kappa <= g->kappa_b ? hr : g->h_max;
-    return kappa * (hr > hi ? hr : hi);
+    const sph_real hr = g->hreach[c] > g->h_far ? g->hreach[c] : g->h_far;
+    return kappa <= g->kappa_b && add <= 2 * g->slack ? hr : g->h_max;
 }
 
 /* Searches one target (found, checked, and seg when filling): the cells
@@ -3606,18 +3608,22 @@ SPH_API void sph__nsearch_target(const sph_nsearch *g, sph__probe *p)
         far = ax > far ? ax : far;
     }
     p->hull = 0;
+    p->add = g->slack + 64 * sph__nsearch_eps() * far;
     if (p->symmetric && g->hcell != NULL) { /* reach of the sources that may reach the target (hreach) */
-        Rs = sph__nsearch_reach(g, kc, p->kappa, p->hi);
-        p->hull = Rs > p->kappa * p->hi;
+        const sph_real hr = sph__nsearch_reach(g, kc, p->kappa, p->add);
+        p->hull = hr > p->hi;
+        Rs = p->kappa * (p->hull ? hr : p->hi);
     } else
         Rs = p->kappa * (p->symmetric && hmax > p->hi ? hmax : p->hi);
     /* search radius with the rounding allowance of docs/neighbours.md: never misses a pair */
-    p->add = g->slack + 64 * sph__nsearch_eps() * far;
     Rm = Rs + Rs / 1024 + p->add;
     p->Rm = Rm;
-    if (p->symmetric && g->h != NULL)
+    if (p->symmetric && g->h != NULL && (p->hull || g->hcell == NULL))
         p->R2 = -1;
-    else { /* R of sph__nsearch_in with h_j = the uniform h */
+    else if (p->symmetric && g->h != NULL) { /* no source of larger h reaches: (N2) decides as (N1), bit for bit */
+        const sph_real R = p->kappa * p->hi;
+        p->R2 = R * R;
+    } else { /* R of sph__nsearch_in with h_j = the uniform h */
         const sph_real R = p->kappa * (p->symmetric && p->hu > p->hi ? p->hu : p->hi);
         p->R2 = R * R;
     }

@@ -1043,7 +1043,7 @@ static void test_lists_blocks(void)
  * density contrast 1000 in 3-D (100 in 2-D, 10 in 1-D: h contrast 10) and the two states of
  * a shock tube (h ratio 2), periodic and not, gather and symmetric, 1-3-D;
  * the build refines the cells below the given one (kappa h_max / 2) and
- * the symmetric search bounds each target's reach by the reach tables, so
+ * the symmetric search bounds each target's reach by the pushed table, so
  * the lists are checked against the brute force, and against the plain
  * reference search (sph__nsearch_build_as, plain 1) array for array. */
 static void test_strong_h(void)
