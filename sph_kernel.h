@@ -2894,10 +2894,11 @@ SPH_API int sph_check_field(sph_view f, int ncomp, sph_idx n, sph_idx *first_bad
  * x row of cells at a time as one contiguous run of sorted sources (two where
  * a periodic axis wraps), then sorts its list. With cells of R/2 that is about
  * 2.5 candidate checks per neighbour in 3-D (docs/neighbours.md). A target
- * whose reach is at most 4 cells finds its rows from squared cell gaps
+ * whose reach is at most 16 cells finds its rows from squared cell gaps
  * computed once per axis (clamped at open faces, wrapped round periodic
  * axes). In symmetric mode with per-source h a target reaches only as far
- * as the sources that may reach it (per-cell largest h, reach tables), and
+ * as the sources that may reach it (per-cell largest h, pushed over the
+ * cells each reaches), and
  * of each row only the cells whose own reach covers it (SPH_NSEARCH_PLAIN:
  * one radius kappa max(h_i, h_max), cells of cell). Each run carries its periodic image offset, so the checks need no
  * minimum image. Runs are checked in branch-free blocks of 8
@@ -2967,9 +2968,10 @@ typedef struct {
     sph_real cell_hint;   /* the cell edge given to build */
     sph_real h_min;       /* smallest per-source h (h_max without per-source h) */
     sph_real *hcell;      /* [n_cells] largest per-source h of each cell, or NULL (no per-source h, or plain) */
-    sph_real *hpyr;       /* [(levels + 1) n_cells] a scratch table, then the reach tables 1..levels
-                             (sph__nsearch_hbuild), or NULL */
-    int levels;           /* reach tables */
+    sph_real *hreach;     /* [2 n_cells] per cell the largest hcell of the cells whose reach covers it
+                             (sph__nsearch_hbuild), then a scratch table; or NULL */
+    sph_real kappa_b;     /* hreach holds for every kappa up to this one (the given cell as kappa h_max / 2) */
+    sph_real h_far;       /* largest hcell of the cells reaching beyond SPH__NS_PUSH cells (0: none) */
     int plain;            /* 1: the plain reference search (SPH_NSEARCH_PLAIN) */
 } sph_nsearch;
 
@@ -3487,8 +3489,9 @@ SPH_API void sph__ns_sort(sph_idx *v, sph_off n)
 
 
 /* Cells a target reaches on each side along one axis, at most, for the
- * interior path of sph__nsearch_target (cells of R/2: 3). */
-#define SPH__NS_REACH 6
+ * interior path of sph__nsearch_target (cells of R/2: 3; the varying-h
+ * cells of the clump of bench/bench_search_h.c: up to 10). */
+#define SPH__NS_REACH 16
 
 /* The i-th of the 2 E + 1 offsets of an axis in ascending cell order: from
  * first (the offset of cell 0 where the axis wraps, else 0) round to first - 1. */
@@ -3534,21 +3537,22 @@ SPH__INLINE void sph__nsearch_interior(const sph_nsearch *g, sph__probe *p, sph_
             const int n0 = g->n[0];
             int k0 = kc[0], k1 = kc[0];
             if (left_y < 0) continue;
-            if (HULL) { /* the cells that reach the target (sph__nsearch_keep), first to last */
-                const sph_real *hc = g->hcell + n0 * (K[1][dy] + g->n[1] * K[2][dz]), yz = G[1][dy] + G[2][dz];
-                int lo = 2 * E[0] + 1, hi = -1;
-                for (i = 0; i <= 2 * E[0]; ++i) {
-                    const int keep = sph__nsearch_keep(p, hc[K[0][i]], G[0][i] + yz);
-                    lo = keep && i < lo ? i : lo;
-                    hi = keep ? i : hi;
-                }
-                if (hi < 0) continue;
-                k0 = kc[0] - E[0] + lo;
-                k1 = kc[0] - E[0] + hi;
-            }
-            for (d = 1; !HULL && d <= E[0]; ++d) {
+            for (d = 1; d <= E[0]; ++d) {
                 k0 -= G[0][E[0] - d] <= left_y;
                 k1 += G[0][E[0] + d] <= left_y;
+            }
+            if (HULL) { /* of those, the cells that reach the target (sph__nsearch_keep), first to last */
+                const sph_real *hc = g->hcell + n0 * (K[1][dy] + g->n[1] * K[2][dz]), yz = G[1][dy] + G[2][dz];
+                const int o = E[0] - kc[0];
+                int lo = k1 + 1, hi = k0 - 1, k;
+                for (k = k0; k <= k1; ++k) { /* no branch: the row's cells are few */
+                    const int keep = sph__nsearch_keep(p, hc[K[0][k + o]], G[0][k + o] + yz);
+                    lo = keep && k < lo ? k : lo;
+                    hi = keep ? k : hi;
+                }
+                k0 = lo;
+                k1 = hi;
+                if (k0 > k1) continue;
             }
             if (!EDGE || (k0 >= 0 && k1 < n0))
                 sph__nsearch_put(p, nr++, cs[k0], cs[k1 + 1], C[1][dy] | C[2][dz]);
@@ -3592,36 +3596,17 @@ SPH_API void sph__nsearch_general(const sph_nsearch *g, sph__probe *p, sph_real 
     p->n_runs = nr;
 }
 
-/* Radius in cells of table k of the reach tables (k = 0: the cells
- * themselves): 0, 1, 2, 3, 4, 6, 9, 13, ..., each half as much again. */
-SPH_API int sph__ns_rho(int k)
-{
-    int r = 0;
-    while (k-- > 0) r += r / 2 > 1 ? r / 2 : 1;
-    return r;
-}
-
-/* The largest reach kappa h_j of any source j that may reach a target in
- * cell kc under (N2), and at least kappa h_i (docs/neighbours.md, "Varying
- * h"): a source with (rho_{k-1} - 2) w_min < kappa h_j <= (rho_k - 2) w_min
- * lies within rho_k cells of the target along each axis, so its h is at
- * most T_k of the target's cell (sph__nsearch_hbuild), and table k bounds
- * its reach by min(kappa T_k, (rho_k - 2) w_min) where kappa T_k exceeds
- * the lower limit (else it holds no such source); the tables are taken
- * until they cover kappa h_max, beyond the last one h_max bounds. */
-SPH_API sph_real sph__nsearch_reach(const sph_nsearch *g, const int *kc, sph_real kappa, sph_real hi)
+/* A bound on h_j of every source j that may reach a target in cell kc
+ * under (N2) by its own radius (docs/neighbours.md, "Varying h"): hreach of
+ * the target's cell (each cell's h pushed over the cells its reach covers,
+ * sph__nsearch_hbuild) or h_far, for any kappa up to the one the table was
+ * built for and a target within the grid's rounding allowance (add, of
+ * sph__nsearch_target); else h_max. */
+SPH_API sph_real sph__nsearch_reach(const sph_nsearch *g, const int *kc, sph_real kappa, sph_real add)
 {
     const ptrdiff_t c = kc[0] + (ptrdiff_t)g->n[0] * (kc[1] + (ptrdiff_t)g->n[1] * kc[2]);
-    const sph_real Rmax = kappa * g->h_max;
-    sph_real ext = kappa * hi;
-    int k;
-    for (k = 2; k <= g->levels; ++k) {
-        const sph_real lim = (sph_real)(sph__ns_rho(k) - 2) * g->w_min, below = (sph_real)(sph__ns_rho(k - 1) - 2) * g->w_min;
-        const sph_real R = kappa * g->hpyr[(ptrdiff_t)k * g->n_cells + c], e = R < lim ? R : lim;
-        ext = R > below && e > ext ? e : ext; /* the sources of table k reach beyond the one before: else none */
-        if (Rmax <= lim) return ext;
-    }
-    return Rmax > ext ? Rmax : ext;
+    const sph_real hr = g->hreach[c] > g->h_far ? g->hreach[c] : g->h_far;
+    return kappa <= g->kappa_b && add <= 2 * g->slack ? hr : g->h_max;
 }
 
 /* Searches one target (found, checked, and seg when filling): the cells
@@ -3641,18 +3626,22 @@ SPH_API void sph__nsearch_target(const sph_nsearch *g, sph__probe *p)
         far = ax > far ? ax : far;
     }
     p->hull = 0;
-    if (p->symmetric && g->hcell != NULL) { /* reach of the sources that may reach the target (the pyramid) */
-        Rs = sph__nsearch_reach(g, kc, p->kappa, p->hi);
-        p->hull = Rs > p->kappa * p->hi;
+    p->add = g->slack + 64 * sph__nsearch_eps() * far;
+    if (p->symmetric && g->hcell != NULL) { /* reach of the sources that may reach the target (hreach) */
+        const sph_real hr = sph__nsearch_reach(g, kc, p->kappa, p->add);
+        p->hull = hr > p->hi;
+        Rs = p->kappa * (p->hull ? hr : p->hi);
     } else
         Rs = p->kappa * (p->symmetric && hmax > p->hi ? hmax : p->hi);
     /* search radius with the rounding allowance of docs/neighbours.md: never misses a pair */
-    p->add = g->slack + 64 * sph__nsearch_eps() * far;
     Rm = Rs + Rs / 1024 + p->add;
     p->Rm = Rm;
-    if (p->symmetric && g->h != NULL)
+    if (p->symmetric && g->h != NULL && (p->hull || g->hcell == NULL))
         p->R2 = -1;
-    else { /* R of sph__nsearch_in with h_j = the uniform h */
+    else if (p->symmetric && g->h != NULL) { /* no source of larger h reaches: (N2) decides as (N1), bit for bit */
+        const sph_real R = p->kappa * p->hi;
+        p->R2 = R * R;
+    } else { /* R of sph__nsearch_in with h_j = the uniform h */
         const sph_real R = p->kappa * (p->symmetric && p->hu > p->hi ? p->hu : p->hi);
         p->R2 = R * R;
     }
@@ -3813,25 +3802,12 @@ SPH_API int sph__nsearch_geometry(sph_nsearch *g, int dim, sph_view xs, sph_idx 
     return SPH_OK;
 }
 
-/* Tables of the reach (k = 1..levels, at most 12, up to the first whose
- * radius spans every axis or whose reach (rho_k - 2) w_min covers twice
- * the h_max that the given cell, as kappa h_max / 2, implies) and their
- * reals, a scratch table included. */
-SPH_API double sph__nsearch_pyramid(const sph_nsearch *g, int *levels)
-{
-    const int nmax = g->n[0] > g->n[1] ? (g->n[0] > g->n[2] ? g->n[0] : g->n[2]) : (g->n[1] > g->n[2] ? g->n[1] : g->n[2]);
-    int k = 1;
-    while (k < 12 && sph__ns_rho(k) < nmax && (sph_real)(sph__ns_rho(k) - 2) * g->w_min < 4 * g->cell_hint) ++k;
-    *levels = k;
-    return (double)(k + 1) * g->n_cells;
-}
-
 /* Bytes of one workspace array padded to a 64-byte line. */
 SPH_API double sph__nsearch_line(double bytes) { return ceil(bytes / 64) * 64; }
 
 /* Workspace layout: returns the bytes needed (63 of them for alignment) and,
  * when base != NULL, points the grid's arrays into it, 64-byte aligned.
- * With per-source h also the per-cell largest h and its pyramid (PLAIN 0). */
+ * With per-source h also the per-cell largest h and the reach table hreach (PLAIN 0). */
 SPH_API double sph__nsearch_layout(sph_nsearch *g, int with_h, char *base)
 {
     const double cells = sph__nsearch_line((double)sizeof(sph_idx) * ((double)g->n_cells + 1));
@@ -3840,9 +3816,8 @@ SPH_API double sph__nsearch_layout(sph_nsearch *g, int with_h, char *base)
     const double reals = sph__nsearch_line((double)sizeof(sph_real) * padded);
     const double xyz = sph__nsearch_line((double)sizeof(sph_real) * padded * g->dim);
     const int pyr = with_h && !g->plain && g->h_min < g->h_max; /* equal h: the uniform search */
-    int levels = 0;
     const double hcell = pyr ? sph__nsearch_line((double)sizeof(sph_real) * (double)g->n_cells) : 0;
-    const double hpyr = pyr ? sph__nsearch_line((double)sizeof(sph_real) * sph__nsearch_pyramid(g, &levels)) : 0;
+    const double hreach = pyr ? sph__nsearch_line((double)sizeof(sph_real) * 2 * (double)g->n_cells) : 0;
     const double hs = (with_h != 0) * reals;
     if (base != NULL) {
         base += (64 - (size_t)((uintptr_t)base % 64)) % 64;
@@ -3851,62 +3826,106 @@ SPH_API double sph__nsearch_layout(sph_nsearch *g, int with_h, char *base)
         g->x = (sph_real *)(void *)(base + (size_t)(cells + order));
         g->h = with_h ? (sph_real *)(void *)(base + (size_t)(cells + order + xyz)) : NULL;
         g->hcell = pyr ? (sph_real *)(void *)(base + (size_t)(cells + order + xyz + hs)) : NULL;
-        g->hpyr = pyr ? (sph_real *)(void *)(base + (size_t)(cells + order + xyz + hs + hcell)) : NULL;
-        g->levels = levels;
+        g->hreach = pyr ? (sph_real *)(void *)(base + (size_t)(cells + order + xyz + hs + hcell)) : NULL;
     }
-    return 63 + cells + order + xyz + hs + hcell + hpyr;
+    return 63 + cells + order + xyz + hs + hcell + hreach;
 }
 
-/* out = in dilated by s cells along axis a: out[c] = max(in[c - s], in[c],
- * in[c + s]) along a, wrapped round a periodic axis, clamped at an open
- * one, so that a table of radius r becomes one of radius r + s (s <= r + 1). */
-SPH_API void sph__nsearch_dilate(const sph_nsearch *g, int a, int s, const sph_real *in, sph_real *out)
+/* Steps of the reach push (sph__nsearch_hbuild): cells whose reach spans
+ * more cells than this bound every target by h_far instead. */
+#define SPH__NS_PUSH 64
+
+/* out = in dilated by one cell along axis a: out[c] = max(in[c - 1], in[c],
+ * in[c + 1]) along a, wrapped round a periodic axis, clamped at an open
+ * one; acc: out[c] = max(out[c], in[c - 1], in[c + 1]) (a cross of axes). */
+SPH_API void sph__nsearch_dilate(const sph_nsearch *g, int a, const sph_real *in, sph_real *out, int acc)
 {
-    const ptrdiff_t stride = a == 0 ? 1 : a == 1 ? g->n[0] : (ptrdiff_t)g->n[0] * g->n[1];
-    const int n = g->n[a];
-    int c;
-    for (c = 0; c < g->n_cells; ++c) {
-        const int k = (int)((c / stride) % n);
-        int lo = k - s, hi = k + s;
-        if (g->box.periodic[a]) {
-            lo = ((lo % n) + n) % n;
-            hi = hi % n;
-        } else {
-            lo = lo < 0 ? 0 : lo;
-            hi = hi < n ? hi : n - 1;
+    const ptrdiff_t st = a == 0 ? 1 : a == 1 ? g->n[0] : (ptrdiff_t)g->n[0] * g->n[1], span = st * g->n[a];
+    const int n = g->n[a], per = g->box.periodic[a];
+    ptrdiff_t base, i;
+    int k;
+    for (base = 0; base < g->n_cells; base += span)
+        for (k = 0; k < n; ++k) {
+            const int km = k > 0 ? k - 1 : per ? n - 1 : 0, kp = k < n - 1 ? k + 1 : per ? 0 : n - 1;
+            const sph_real *u = in + base + km * st, *w = in + base + kp * st, *v = acc ? out + base + k * st
+                                                                                          : in + base + k * st;
+            sph_real *z = out + base + k * st;
+            for (i = 0; i < st; ++i) {
+                const sph_real m = u[i] > v[i] ? u[i] : v[i];
+                z[i] = w[i] > m ? w[i] : m;
+            }
         }
-        {
-            const sph_real u = in[c + (lo - k) * stride], v = in[c + (hi - k) * stride], m = u > v ? u : v;
-            out[c] = in[c] > m ? in[c] : m;
-        }
-    }
 }
 
-/* The largest source h of every cell (hcell), and the reach tables
- * (docs/neighbours.md, "Varying h"): table k holds per cell the largest
- * hcell within rho_k cells along every axis (a cube; wrapped round
- * periodic axes, clamped at open ones), each from the one before by a
- * dilation per axis. O(cells) per table. */
+/* Cells (reals, of the smallest width) that the push of sph__nsearch_hbuild
+ * covers in every direction for a cell entered at step d: of the d steps
+ * left, c = ceil(r d) dilate by a cube, o = d - c by a cross, so the offsets
+ * y (in cells) it reaches are those with sum_a max(|y_a| - c, 0) <= o. Two
+ * points less than u apart have offsets |y_a| <= ceil(|dx_a| / w); one
+ * beyond needs integers k_a >= 1 on m axes, sum k_a = o + 1, with
+ * |dx_a| / w > c - 1 + k_a, so every offset is reached while u^2 <=
+ * sum_a (c - 1 + k_a)^2 for the most even split of o + 1 on m = 1..dim axes. */
+SPH_API sph_real sph__nsearch_push_reach(int dim, int d)
+{
+    const double r = dim == 1 ? 1 : 0.4143;
+    const int c = (int)ceil(r * d), o = d - c;
+    double u2 = (double)d * d;
+    int m;
+    for (m = 1; m <= dim && m <= o + 1; ++m) {
+        const int k = (o + 1) / m, extra = (o + 1) % m;
+        const double s = (double)(m - extra) * (c - 1 + k) * (c - 1 + k) + (double)extra * (c + k) * (c + k);
+        u2 = s < u2 ? s : u2;
+    }
+    return (sph_real)(sqrt(u2) * (1 - 1e-9)); /* rounded down */
+}
+
+/* The largest source h of every cell (hcell), and per cell the largest
+ * hcell of the cells whose reach covers it (hreach; docs/neighbours.md,
+ * "Varying h"): a cell of largest h hc reaches u = (kappa_b hc (1 + 2^-10)
+ * + slack) / w_min cells. Pushed by a cascade from the widest reach down:
+ * at step d the cells whose u lies in (U(d - 1), U(d)] (U of
+ * sph__nsearch_push_reach) enter the table, then it is dilated by one cell
+ * along each axis (a cube) or along the axes at once (a cross), so that a
+ * cell entered at step d has spread over a near-sphere of radius U(d)
+ * (wrapped round periodic axes, clamped at open ones). O(cells) per step,
+ * at most SPH__NS_PUSH steps; cells of a wider reach go into h_far. */
 SPH_API void sph__nsearch_hbuild(sph_nsearch *g)
 {
-    sph_real *scratch = g->hpyr;
-    int c, k, a;
+    sph_real *F = g->hreach, *S = g->hreach + g->n_cells, *t, q;
+    const double r = g->dim == 1 ? 1 : 0.4143;
+    int c, d, a, top = 1;
     for (c = 0; c < g->n_cells; ++c) {
         sph_real m = 0;
-        sph_idx q;
-        for (q = g->cell_start[c]; q < g->cell_start[c + 1]; ++q) m = g->h[q] > m ? g->h[q] : m;
+        sph_idx i;
+        for (i = g->cell_start[c]; i < g->cell_start[c + 1]; ++i) m = g->h[i] > m ? g->h[i] : m;
         g->hcell[c] = m;
+        F[c] = 0;
     }
-    for (k = 1; k <= g->levels; ++k) {
-        const sph_real *in = k == 1 ? g->hcell : g->hpyr + (ptrdiff_t)(k - 1) * g->n_cells;
-        sph_real *out = g->hpyr + (ptrdiff_t)k * g->n_cells;
-        const int s = sph__ns_rho(k) - sph__ns_rho(k - 1);
-        sph__nsearch_dilate(g, 0, s, in, out);
-        for (a = 1; a < g->dim; ++a) { /* out -> scratch -> out */
-            sph__nsearch_dilate(g, a, s, out, scratch);
-            for (c = 0; c < g->n_cells; ++c) out[c] = scratch[c];
+    g->kappa_b = 2 * g->cell_hint / g->h_max * (1 + (sph_real)1 / 1024);
+    q = g->kappa_b * (1 + (sph_real)1 / 1024) / g->w_min; /* u = hc q + slack / w_min */
+    while (top < SPH__NS_PUSH && sph__nsearch_push_reach(g->dim, top) < g->h_max * q + g->slack / g->w_min) ++top;
+    g->h_far = 0;
+    for (c = 0; c < g->n_cells; ++c)
+        if (g->hcell[c] * q + g->slack / g->w_min > sph__nsearch_push_reach(g->dim, top) && g->hcell[c] > g->h_far)
+            g->h_far = g->hcell[c];
+    for (d = top; d >= 1; --d) {
+        const sph_real lo = d > 1 ? sph__nsearch_push_reach(g->dim, d - 1) : -1, hi = sph__nsearch_push_reach(g->dim, d);
+        for (c = 0; c < g->n_cells; ++c) {
+            const sph_real u = g->hcell[c] * q + g->slack / g->w_min;
+            F[c] = u > lo && u <= hi && g->hcell[c] > F[c] ? g->hcell[c] : F[c];
+        }
+        if (ceil(r * d) > ceil(r * (d - 1))) /* a cube: one axis after the other */
+            for (a = 0; a < g->dim; ++a) {
+                sph__nsearch_dilate(g, a, F, S, 0);
+                t = F, F = S, S = t;
+            }
+        else { /* a cross: every axis from the same table */
+            for (a = 0; a < g->dim; ++a) sph__nsearch_dilate(g, a, F, S, a > 0);
+            t = F, F = S, S = t;
         }
     }
+    if (F != g->hreach)
+        for (c = 0; c < g->n_cells; ++c) g->hreach[c] = F[c];
 }
 
 /* Workspace bytes sph_nsearch_build needs for these sources (eq. (N4)
@@ -3978,7 +3997,7 @@ SPH_API int sph__nsearch_build_as(sph_nsearch *g, int dim, sph_view xs, sph_idx 
 
 /* Bins the sources into cells (eq. (N4)) by a stable counting sort inside
  * work: cell starts, sorted order, sorted positions (and h, with the
- * per-cell largest h and its pyramid). O(N + cells). */
+ * per-cell largest h and the reach table hreach). O(N + cells). */
 SPH_API int sph_nsearch_build(sph_nsearch *g, int dim, sph_view xs, sph_idx n_sources, sph_view hs, sph_real cell,
                               const sph_box *box, void *work, size_t work_bytes)
 {

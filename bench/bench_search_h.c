@@ -20,7 +20,9 @@
  * Printed per line: pairs, the median over the repeats of the one-pass
  * sph_nsearch_lists (index 20 % longer than the pairs), ns per pair,
  * candidate distance checks per pair (sph_nsearch_stats), and ns per pair
- * over the baseline's in this run: the figure the search must keep <= 1.5.
+ * over the baseline's in this run: the figure the search must keep <= 1.5;
+ * then the grid's cells, the median time of sph_nsearch_build and its
+ * workspace in MB.
  */
 #define _POSIX_C_SOURCE 199309L
 #ifdef SPH_HEADER
@@ -113,7 +115,7 @@ static double bs_run(const bs_scene *s, int mode, int repeats, sph_real kappa, d
     sph_real hmax = 0, cell;
     sph_off *off = (sph_off *)malloc(sizeof(sph_off) * (size_t)(s->n + 1)), pairs = 0, cand = 0, cap;
     sph_idx *idx;
-    double *t = (double *)malloc(sizeof(double) * (size_t)repeats), med, ns;
+    double *t = (double *)malloc(sizeof(double) * (size_t)repeats), med, ns, build;
     size_t bytes = 0;
     void *work;
     sph_nsearch g;
@@ -123,7 +125,12 @@ static double bs_run(const bs_scene *s, int mode, int repeats, sph_real kappa, d
     st = sph_nsearch_workspace_size(3, xv, s->n, hv, cell, s->pbox, &bytes);
     work = malloc(bytes);
     if (st != SPH_OK || work == NULL || off == NULL || t == NULL) return -1;
-    st = sph_nsearch_build(&g, 3, xv, s->n, hv, cell, s->pbox, work, bytes);
+    for (r = 0; r < repeats; ++r) {
+        double t0 = tm_now();
+        st |= sph_nsearch_build(&g, 3, xv, s->n, hv, cell, s->pbox, work, bytes);
+        t[r] = tm_now() - t0;
+    }
+    build = tm_median(t, repeats);
     st |= sph_nsearch_stats(&g, xv, s->n, hv, s->h[0], kappa, mode, &pairs, &cand, NULL);
     cap = (sph_off)(1.2 * (double)pairs) + 16;
     idx = (sph_idx *)malloc(sizeof(sph_idx) * (size_t)cap);
@@ -135,9 +142,10 @@ static double bs_run(const bs_scene *s, int mode, int repeats, sph_real kappa, d
     }
     med = tm_median(t, repeats);
     ns = 1e9 * med / (double)pairs;
-    printf("%-8s %-9s %8d %10ld %9.4f s %8.2f %8.2f %7.2f %9d%s\n", s->name,
+    printf("%-8s %-9s %8d %10ld %9.4f s %8.2f %8.2f %7.2f %9d %8.4f s %6.1f%s\n", s->name,
            mode == SPH_NSEARCH_GATHER ? "gather" : "symmetric", s->n, (long)pairs, med, ns,
-           (double)cand / (double)pairs, base > 0 ? ns / base : 1.0, g.n_cells, st == SPH_OK ? "" : "  ERROR");
+           (double)cand / (double)pairs, base > 0 ? ns / base : 1.0, g.n_cells, build, (double)bytes / 1e6,
+           st == SPH_OK ? "" : "  ERROR");
     free(off), free(idx), free(t), free(work);
     return st == SPH_OK ? ns : -1;
 }
@@ -200,8 +208,8 @@ int main(int argc, char **argv)
         }
         printf("%s", line);
     }
-    printf("%-8s %-9s %8s %10s %11s %8s %8s %7s %9s\n", "scene", "mode", "N", "pairs", "lists", "ns/pair",
-           "cand/pr", "ratio", "cells");
+    printf("%-8s %-9s %8s %10s %11s %8s %8s %7s %9s %10s %6s\n", "scene", "mode", "N", "pairs", "lists", "ns/pair",
+           "cand/pr", "ratio", "cells", "build", "MB");
     base = bs_run(&sc[0], SPH_NSEARCH_GATHER, repeats, kappa, 0);
     if (base <= 0) return 1;
     bs_run(&sc[0], SPH_NSEARCH_SYMMETRIC, repeats, kappa, base);

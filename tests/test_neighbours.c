@@ -1043,7 +1043,7 @@ static void test_lists_blocks(void)
  * density contrast 1000 in 3-D (100 in 2-D, 10 in 1-D: h contrast 10) and the two states of
  * a shock tube (h ratio 2), periodic and not, gather and symmetric, 1-3-D;
  * the build refines the cells below the given one (kappa h_max / 2) and
- * the symmetric search bounds each target's reach by the reach tables, so
+ * the symmetric search bounds each target's reach by the pushed table, so
  * the lists are checked against the brute force, and against the plain
  * reference search (sph__nsearch_build_as, plain 1) array for array. */
 static void test_strong_h(void)
@@ -1118,6 +1118,84 @@ static void test_strong_h(void)
                 }
 }
 
+/* The reach of one large h in symmetric mode (docs/neighbours.md, "Varying
+ * h"): a lattice of small h (spacing 1/24, h = 1.2 / 24) and, at its
+ * centre, one source of 4 times that h; targets of small h lie just inside
+ * and just outside its radius kappa h_big in many directions (axes,
+ * diagonals and random ones), so that only the big source's own reach
+ * lists it, at the edge of the cells its h is pushed over. 1-3-D, open and
+ * periodic. A push that covers less than the sphere misses pairs here. */
+static void test_push_reach(void)
+{
+    int dim, periodic, shift;
+    for (dim = 1; dim <= 3; ++dim)
+        for (periodic = 0; periodic < 2; ++periodic)
+            for (shift = 0; shift < 5; ++shift) {
+            const sph_real c0 = (sph_real)(0.5 + 0.0107 * shift); /* the big source, anywhere in its cell */
+            const int m = 24, nside[3] = {m, dim > 1 ? m : 1, dim > 2 ? m : 1}, ns = nside[0] * nside[1] * nside[2] + 1;
+            const int nt = 400;
+            const sph_real hs0 = (sph_real)(1.2 / m), hbig = 4 * hs0, kappa = 2;
+            sph_real *xs = nb_alloc(ns), *xt = nb_alloc(nt), *hs = (sph_real *)malloc(sizeof(sph_real) * (size_t)ns),
+                     *ht = (sph_real *)malloc(sizeof(sph_real) * (size_t)nt);
+            sph_box box = nb_box(1, 1, 1, 1.0);
+            tp_rng rng = {(uint64_t)(4100 + 10 * dim + periodic)};
+            nb_problem p;
+            int i, j, k, a, q = 0;
+            for (k = 0; k < nside[2]; ++k)
+                for (j = 0; j < nside[1]; ++j)
+                    for (i = 0; i < nside[0]; ++i, ++q) {
+                        xs[3 * q] = (sph_real)((i + 0.25) / m);
+                        xs[3 * q + 1] = dim > 1 ? (sph_real)((j + 0.25) / m) : 0;
+                        xs[3 * q + 2] = dim > 2 ? (sph_real)((k + 0.25) / m) : 0;
+                        hs[q] = hs0;
+                    }
+            for (a = 0; a < 3; ++a) xs[3 * q + a] = a < dim ? c0 : 0; /* the big source, last */
+            hs[q] = hbig;
+            for (i = 0; i < nt; ++i) { /* direction: an axis, a diagonal or random; radius just in or out */
+                double u[3] = {0, 0, 0}, norm = 0, r;
+                for (a = 0; a < dim; ++a) u[a] = i < 8 ? (a <= i % dim ? 1 : 0) * (i & 4 ? -1 : 1) : tp_normal(&rng);
+                for (a = 0; a < dim; ++a) norm += u[a] * u[a];
+                r = (double)(kappa * hbig) * (1 + (i % 3 - 1) * 1e-6 * (1 + i % 7)) * (i % 2 ? 1 : 1 - 1e-9);
+                for (a = 0; a < 3; ++a) xt[3 * i + a] = a < dim ? (sph_real)(c0 + r * u[a] / sqrt(norm)) : 0;
+                ht[i] = hs0;
+            }
+            p = nb_make(dim, xs, ns, 0, kappa, kappa * hbig / 2);
+            p.hs = hs;
+            p.xt = xt;
+            p.nt = nt;
+            p.ht = ht;
+            p.mode = SPH_NSEARCH_SYMMETRIC;
+            p.box = periodic ? &box : NULL;
+            th_begin("reach of one large h %dD%s at %g, symmetric: targets at its radius in every direction", dim,
+                     periodic ? " periodic" : "", (double)c0);
+            TH_CHECK(nb_compare(&p) > 0, "pairs listed");
+            if (!SPH__NS_PLAIN) { /* every cell with a point closer than kappa h_big to the big source knows it */
+                sph_nsearch g;
+                void *work;
+                tp_list l;
+                int st = nb_search(&p, &g, &work, &l), kb[3] = {0, 0, 0}, c, missed = 0;
+                TH_CHECK(st == SPH_OK && g.hreach != NULL, "search %d", st);
+                for (a = 0; a < dim && g.hreach != NULL; ++a)
+                    kb[a] = sph__nsearch_cell(&g, a, sph__nsearch_rel(&g, a, c0));
+                for (c = 0; g.hreach != NULL && c < g.n_cells; ++c) {
+                    const int y[3] = {c % g.n[0] - kb[0], c / g.n[0] % g.n[1] - kb[1], c / (g.n[0] * g.n[1]) - kb[2]};
+                    double gap2 = 0;
+                    for (a = 0; a < dim; ++a) {
+                        int ya = y[a] < 0 ? -y[a] : y[a];
+                        if (g.box.periodic[a] && g.n[a] - ya < ya) ya = g.n[a] - ya;
+                        gap2 += ya > 1 ? (ya - 1) * (double)g.w[a] * (ya - 1) * (double)g.w[a] : 0;
+                    }
+                    missed += gap2 < (double)(kappa * hbig) * (double)(kappa * hbig) && g.hreach[c] < hbig;
+                }
+                TH_CHECK(missed == 0, "%d cells within reach of the big source do not know its h", missed);
+                tp_free_list(&l);
+                free(work);
+            }
+            th_end();
+            free(xs), free(xt), free(hs), free(ht);
+        }
+}
+
 int main(void)
 {
     test_clouds();
@@ -1138,5 +1216,6 @@ int main(void)
     test_threads();
     test_lists_blocks();
     test_strong_h();
+    test_push_reach();
     return th_summary();
 }
