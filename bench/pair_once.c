@@ -112,36 +112,39 @@ static sph_real batch_rows(const fields *f, const sph_batch_src *S, const sph_pa
                            sph_real *to_j)
 {
     const sph_idx n = pr->half.n_targets;
+    const sph_real *m = f->m, *A = f->A, *rho = f->rho, *cs = f->cs, *u = f->u, *p = f->p, *al = f->alpha, *v = f->v;
+    const sph_real beta = beta, alpha_u = alpha_u;
     sph_real vmax = 0;
     sph_idx i;
     for (i = 0; i < n; ++i) {
-        const sph_real mi = f->m[i], Ai = f->A[i], rhoi = f->rho[i], ci = f->cs[i], ui = f->u[i], pi = f->p[i];
-        const sph_real ai = f->alpha[i], vi0 = f->v[3 * i], vi1 = f->v[3 * i + 1], vi2 = f->v[3 * i + 2];
+        const sph_real mi = m[i], Ai = A[i], rhoi = rho[i], ci = cs[i], ui = u[i], pi = p[i];
+        const sph_real ai = al[i], vi0 = v[3 * i], vi1 = v[3 * i + 1], vi2 = v[3 * i + 2];
         sph_batch b;
         sph_off next = 0;
         while (sph_batch_fill(S, i, &next, &b) > 0) {
-            sph_real gi[SPH_BATCH], gj[SPH_BATCH], ei[SPH_BATCH], ej[SPH_BATCH], di[SPH_BATCH], dj[SPH_BATCH];
+            sph_real gi[SPH_BATCH], gj[SPH_BATCH], ei[SPH_BATCH], ej[SPH_BATCH], di[SPH_BATCH], dj[SPH_BATCH], vs[SPH_BATCH];
             int l, c;
             for (l = 0; l < b.n; ++l) {
                 const sph_idx j = b.j[l];
-                const sph_real mj = f->m[j], dx0 = b.dx[0][l], dx1 = b.dx[1][l], dx2 = b.dx[2][l], r = b.r[l];
-                const sph_real e = (vi0 - f->v[3 * j]) * dx0 + (vi1 - f->v[3 * j + 1]) * dx1 + (vi2 - f->v[3 * j + 2]) * dx2;
-                const sph_real Fi = b.F_i[l], Fj = b.F_j[l], Fb = (Fi + Fj) / 2, rhob = (rhoi + f->rho[j]) / 2;
-                const sph_real w = e < 0 && r > 0 ? e / r : 0, cj = f->cs[j];
-                const sph_real vsig = ci + cj - f->beta * w;
-                const sph_real Pi = w < 0 ? -((ai + f->alpha[j]) / 2 / 2) * vsig * w / rhob : 0;
-                const sph_real cf = Ai * Fi + f->A[j] * Fj + Pi * Fb;
-                const sph_real cond = f->alpha_u * sqrt(fabs(pi - f->p[j]) / rhob) * (ui - f->u[j]) * Fb * r / rhob;
+                const sph_real mj = m[j], dx0 = b.dx[0][l], dx1 = b.dx[1][l], dx2 = b.dx[2][l], r = b.r[l];
+                const sph_real e = (vi0 - v[3 * j]) * dx0 + (vi1 - v[3 * j + 1]) * dx1 + (vi2 - v[3 * j + 2]) * dx2;
+                const sph_real Fi = b.F_i[l], Fj = b.F_j[l], Fb = (Fi + Fj) / 2, rhob = (rhoi + rho[j]) / 2;
+                const sph_real w = (e < 0 ? e : 0) / (r > 0 ? r : 1), cj = cs[j]; /* no division under a condition: */
+                const sph_real vsig = ci + cj - beta * w;
+                const sph_real Pi = -((ai + al[j]) / 2 / 2) * vsig * w / rhob; /* the vectoriser would need masks */
+                const sph_real cf = Ai * Fi + A[j] * Fj + Pi * Fb;
+                const sph_real cond = alpha_u * sqrt(fabs(pi - p[j]) / rhob) * (ui - u[j]) * Fb * r / rhob;
                 gi[l] = mj * cf, gj[l] = mi * cf; /* dv_i/dt = -g_i x_ij, dv_j/dt = g_j x_ij */
                 ei[l] = mj * (Ai * Fi * e + Pi * Fb * e / 2 + cond);
-                ej[l] = mi * (f->A[j] * Fj * e + Pi * Fb * e / 2 - cond);
+                ej[l] = mi * (A[j] * Fj * e + Pi * Fb * e / 2 - cond);
                 di[l] = mj * e * Fi, dj[l] = mi * e * Fj;
-                vmax = vsig > vmax ? vsig : vmax;
+                vs[l] = vsig; /* the largest after the loop: a max reduction here stops the vectoriser */
             }
             for (l = 0; l < b.n; ++l) {
                 sph_real *ti = to_i + 5 * b.k[l], *tj = to_j + 5 * pr->t_slot[b.k[l]];
                 for (c = 0; c < 3; ++c) ti[c] = -gi[l] * b.dx[c][l], tj[c] = gj[l] * b.dx[c][l];
                 ti[3] = ei[l], tj[3] = ej[l], ti[4] = di[l], tj[4] = dj[l];
+                vmax = vs[l] > vmax ? vs[l] : vmax;
             }
         }
     }
