@@ -113,7 +113,7 @@ static sph_real batch_rows(const fields *f, const sph_batch_src *S, const sph_pa
 {
     const sph_idx n = pr->half.n_targets;
     const sph_real *m = f->m, *A = f->A, *rho = f->rho, *cs = f->cs, *u = f->u, *p = f->p, *al = f->alpha, *v = f->v;
-    const sph_real beta = beta, alpha_u = alpha_u;
+    const sph_real beta = f->beta, alpha_u = f->alpha_u;
     sph_real vmax = 0;
     sph_idx i;
     for (i = 0; i < n; ++i) {
@@ -165,7 +165,7 @@ int main(int argc, char **argv)
     sph_hctx c;
     sph_hreport rep;
     tp_rng g = {7};
-    double *t[6], med[6], tb, diff = 0, fmax = 0;
+    double *t[7], med[7], tb, diff = 0, fmax = 0, sink = 0;
     sph_real vs[2] = {0, 0};
     sph_batch_src bs;
     fields fl;
@@ -184,10 +184,10 @@ int main(int argc, char **argv)
     u = malloc(sizeof(sph_real) * (size_t)n), cs = malloc(sizeof(sph_real) * (size_t)n);
     al = malloc(sizeof(sph_real) * (size_t)n);
     f5[0] = malloc(sizeof(sph_real) * 5 * (size_t)n), f5[1] = malloc(sizeof(sph_real) * 5 * (size_t)n);
-    for (i = 0; i < 6; ++i) t[i] = malloc(sizeof(double) * (size_t)reps);
+    for (i = 0; i < 7; ++i) t[i] = malloc(sizeof(double) * (size_t)reps);
     if (!u || !cs || !al || !f5[0] || !f5[1]) return 1;
     if (!x || !v || !m || !h || !hl || !rho || !om || !p || !A || !P || !V || !dv || !du) return 1;
-    for (i = 0; i < 6; ++i)
+    for (i = 0; i < 7; ++i)
         if (!t[i]) return 1;
     tp_lattice(3, side, dx, x);
     tp_perturb(3, n, 0.2 * dx, &g, x);
@@ -269,8 +269,14 @@ int main(int argc, char **argv)
         if (st != SPH_OK) return fprintf(stderr, "forces: %s\n", sph_strerror(st)), 1;
         t[0][r] = t1 - t0, t[1][r] = t2 - t1, t[2][r] = t3 - t2, t[3][r] = (t1 - t0) / (t2 - t1);
         t[4][r] = t4 - t3, t[5][r] = t5s - t4;
+        for (ii = 0; ii < n; ++ii) { /* sph_batch_fill alone: what every batch loop pays for its pairs */
+            sph_batch bb;
+            sph_off nx = 0;
+            while (sph_batch_fill(&bs, ii, &nx, &bb) > 0) sink += (double)bb.F_i[0] + (double)bb.W_j[bb.n - 1];
+        }
+        t[6][r] = tm_now() - t5s;
     }
-    for (i = 0; i < 6; ++i) med[i] = tm_median(t[i], reps);
+    for (i = 0; i < 7; ++i) med[i] = tm_median(t[i], reps);
     for (i = 0; i < 5 * n; ++i) fmax = fabs(f5[0][i]) > fmax ? fabs(f5[0][i]) : fmax;
     for (i = 0; i < 5 * n; ++i) diff = fabs(f5[1][i] - f5[0][i]) > diff ? fabs(f5[1][i] - f5[0][i]) : diff;
     printf("%d particles, %ld pairs (i < j), %.1f neighbours per particle, %s, median of %d\n", n, (long)pairs,
@@ -283,12 +289,14 @@ int main(int argc, char **argv)
     printf("    one pair at a time, scalar pair terms (sod_shock's sd_pair)  %7.2f ns/pair\n", 1e9 * med[4] / (double)pairs);
     printf("    lanes of sph_batch_fill, SPH_BATCH %2d                         %7.2f ns/pair (speed-up %.2f)\n", SPH_BATCH,
            1e9 * med[5] / (double)pairs, med[4] / med[5]);
+    printf("    of which sph_batch_fill alone (x_ij, r, W, F at h_i, h_j)   %7.2f ns/pair (checksum %.3g)\n",
+           1e9 * med[6] / (double)pairs, sink);
     printf("    largest |batch - scalar| / largest |value| %.2g, signal velocity %.17g vs %.17g\n", diff / fmax,
            (double)vs[1], (double)vs[0]);
     printf("  sph_pairs_build once per list                             %7.2f ns/pair\n", 1e9 * tb / (double)pairs);
     free(x), free(v), free(m), free(h), free(hl), free(rho), free(om), free(p), free(A), free(P), free(V), free(dv);
     free(du), free(off), free(idx), free(hoff), free(toff), free(hidx), free(tpair), free(buf);
     free(u), free(cs), free(al), free(f5[0]), free(f5[1]), free(t5);
-    for (i = 0; i < 6; ++i) free(t[i]);
+    for (i = 0; i < 7; ++i) free(t[i]);
     return 0;
 }
