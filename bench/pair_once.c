@@ -7,6 +7,7 @@
  *
  *   gcc -O2 -std=c99 -I. bench/pair_once.c -o build/pair_once -lm
  *   gcc -O2 -std=c99 -fopenmp -I. bench/pair_once.c -o build/pair_once_omp -lm
+ *   gcc -O3 -march=native -fno-math-errno -std=c99 -I. bench/pair_once.c -o build/pair_once_native -lm
  *   ./build/pair_once [side] [repeats]     (default 40: 40^3 particles, 9 repeats)
  *
  * Then the pair loop of examples/sod_shock.c (sd_pair: grad-h momentum
