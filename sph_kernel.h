@@ -689,10 +689,11 @@ SPH__INLINE sph_real sph__nshape_g(const sph__nshape *s, sph_real q)
 
 /* Lanes of a pair batch (section 9, sph_batch): the pair loops evaluate the
  * kernel over SPH_BATCH pairs at once, each step of the arithmetic a loop
- * over the lanes, so that it compiles to SIMD (8 doubles or 16 floats fill
- * one AVX-512 register). A power of two, 4..64. */
+ * over the lanes, so that it compiles to SIMD (16 floats or 8 doubles fill
+ * one AVX-512 register; bench/pair_once.c measured 16 faster than 8 and 32
+ * in double as well). A power of two, 4..64. */
 #ifndef SPH_BATCH
-#define SPH_BATCH 8
+#define SPH_BATCH 16
 #endif
 /* Before a lane loop: gcc would otherwise unroll the short loop of constant
  * count completely before its loop vectoriser runs, and leave much of it
