@@ -7,11 +7,23 @@
  *
  *   gcc -O2 -std=c99 -I. bench/pair_once.c -o build/pair_once -lm
  *   gcc -O2 -std=c99 -fopenmp -I. bench/pair_once.c -o build/pair_once_omp -lm
+ *   gcc -O3 -march=native -fno-math-errno -std=c99 -I. bench/pair_once.c -o build/pair_once_native -lm
  *   ./build/pair_once [side] [repeats]     (default 40: 40^3 particles, 9 repeats)
+ *
+ * Then the pair loop of examples/sod_shock.c (sd_pair: grad-h momentum
+ * and energy (H5), (H6), signal-velocity viscosity (S3), (S4), thermal
+ * conductivity, div v and the largest signal velocity), pair-once, in two
+ * forms: one pair at a time with the scalar pair terms (sph_kernel_f,
+ * sph_pair_gradh_*, sph_pair_av_signal, sph_pair_av_apply, as sd_pair
+ * writes it), and as a caller's loop over the lanes of sph_batch_fill
+ * (docs/smoothing_length.md, "Pair batches"); both then reduced by
+ * sph_pairs_reduce, and the largest difference of the two results printed.
+ * Build also with -O3 -march=native (the lane loops then use the widest
+ * vectors) and -fno-math-errno (sqrt in a lane loop vectorises only then).
  *
  * 3-D perturbed lattice in a periodic unit box, h solved by sph_h_solve
  * (eta 1.2, cubic spline: about 58 neighbours), one symmetric list at
- * 1.1 h. The three forms run one after another in each repeat; prints the
+ * 1.1 h. The forms run one after another in each repeat; prints the
  * median over the repeats in ns per pair (pairs = unordered pairs i < j of
  * the list), the median of the per-repeat gather / pair-once ratios, and the
  * one-time cost of sph_pairs_build.
@@ -20,6 +32,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <math.h>
 #include <time.h>
 
 #include "support/particles.h"
@@ -48,12 +61,103 @@ static int lists(const sph_real *x, int n, const sph_real *hl, const sph_box *bo
     return st;
 }
 
+/* Per-particle fields of the shock-tube pair loop (interleaved x, v). */
+typedef struct {
+    const sph_real *x, *v, *m, *h, *rho, *A, *u, *p, *cs, *alpha;
+    const sph_box *box;
+    sph_real beta, alpha_u;
+} fields;
+
+/* sd_pair of examples/sod_shock.c for pair k = (i, j), one pair at a time
+ * with the scalar pair terms; masses m_j into i's terms, m_i into j's: to
+ * t_i[0..4] (dv/dt, du/dt, m div v) and t_j[0..4]. */
+static void scalar_pair(const fields *f, sph_idx i, sph_idx j, sph_real *ti, sph_real *tj, sph_real *vs)
+{
+    sph_real dx[3], dv[3], xji[3], vji[3], r2 = 0, e = 0, Fi, Fj, Fb, rhob, Pi, vu, cond, s, r;
+    const sph_real mi = f->m[i], mj = f->m[j];
+    int a;
+    for (a = 0; a < 3; ++a) {
+        dx[a] = sph_box_delta(f->box, a, f->x[3 * i + a] - f->x[3 * j + a]);
+        dv[a] = f->v[3 * i + a] - f->v[3 * j + a];
+        xji[a] = -dx[a], vji[a] = -dv[a];
+        r2 += dx[a] * dx[a];
+        e += dv[a] * dx[a];
+    }
+    r = sqrt(r2);
+    Fi = sph_kernel_f(SPH_KERNEL_CUBIC, 3, r, f->h[i]);
+    Fj = sph_kernel_f(SPH_KERNEL_CUBIC, 3, r, f->h[j]);
+    for (a = 0; a < 5; ++a) ti[a] = tj[a] = 0;
+    sph_pair_gradh_pressure(3, mj, f->A[i], f->A[j], Fi, Fj, dx, ti);
+    sph_pair_gradh_pressure(3, mi, f->A[j], f->A[i], Fj, Fi, xji, tj);
+    for (a = 0; a < 3; ++a) ti[a] = -ti[a], tj[a] = -tj[a]; /* dv/dt = -acc */
+    ti[3] = sph_pair_gradh_energy(3, mj, f->A[i], Fi, dv, dx);
+    tj[3] = sph_pair_gradh_energy(3, mi, f->A[j], Fj, vji, xji);
+    Fb = (Fi + Fj) / 2;
+    rhob = (f->rho[i] + f->rho[j]) / 2;
+    Pi = sph_pair_av_signal(3, (f->alpha[i] + f->alpha[j]) / 2, f->beta, f->cs[i], f->cs[j], rhob, dx, dv);
+    ti[3] += sph_pair_av_apply(3, mj, Pi, Fb, dx, dv, ti);
+    tj[3] += sph_pair_av_apply(3, mi, Pi, Fb, xji, vji, tj);
+    vu = sqrt(fabs(f->p[i] - f->p[j]) / rhob);
+    cond = f->alpha_u * vu * (f->u[i] - f->u[j]) * Fb * r / rhob;
+    ti[3] += mj * cond;
+    tj[3] -= mi * cond;
+    ti[4] = mj * e * Fi;
+    tj[4] = mi * e * Fj;
+    s = sph_pair_signal_velocity(3, f->beta, f->cs[i], f->cs[j], dx, dv);
+    *vs = s > *vs ? s : *vs;
+}
+
+/* The same equations on batches: the arithmetic of each lane in one plain
+ * loop over the lanes (it vectorises), then the stores to the two buffers. */
+static sph_real batch_rows(const fields *f, const sph_batch_src *S, const sph_pairs *pr, sph_real *to_i,
+                           sph_real *to_j)
+{
+    const sph_idx n = pr->half.n_targets;
+    const sph_real *m = f->m, *A = f->A, *rho = f->rho, *cs = f->cs, *u = f->u, *p = f->p, *al = f->alpha, *v = f->v;
+    const sph_real beta = f->beta, alpha_u = f->alpha_u;
+    sph_real vmax = 0;
+    sph_idx i;
+    for (i = 0; i < n; ++i) {
+        const sph_real mi = m[i], Ai = A[i], rhoi = rho[i], ci = cs[i], ui = u[i], pi = p[i];
+        const sph_real ai = al[i], vi0 = v[3 * i], vi1 = v[3 * i + 1], vi2 = v[3 * i + 2];
+        sph_batch b;
+        sph_off next = 0;
+        while (sph_batch_fill(S, i, &next, &b) > 0) {
+            sph_real gi[SPH_BATCH], gj[SPH_BATCH], ei[SPH_BATCH], ej[SPH_BATCH], di[SPH_BATCH], dj[SPH_BATCH], vs[SPH_BATCH];
+            int l, c;
+            for (l = 0; l < b.n; ++l) {
+                const sph_idx j = b.j[l];
+                const sph_real mj = m[j], dx0 = b.dx[0][l], dx1 = b.dx[1][l], dx2 = b.dx[2][l], r = b.r[l];
+                const sph_real e = (vi0 - v[3 * j]) * dx0 + (vi1 - v[3 * j + 1]) * dx1 + (vi2 - v[3 * j + 2]) * dx2;
+                const sph_real Fi = b.F_i[l], Fj = b.F_j[l], Fb = (Fi + Fj) / 2, rhob = (rhoi + rho[j]) / 2;
+                const sph_real w = (e < 0 ? e : 0) / (r > 0 ? r : 1), cj = cs[j]; /* no division under a condition: */
+                const sph_real vsig = ci + cj - beta * w;
+                const sph_real Pi = -((ai + al[j]) / 2 / 2) * vsig * w / rhob; /* the vectoriser would need masks */
+                const sph_real cf = Ai * Fi + A[j] * Fj + Pi * Fb;
+                const sph_real cond = alpha_u * sqrt(fabs(pi - p[j]) / rhob) * (ui - u[j]) * Fb * r / rhob;
+                gi[l] = mj * cf, gj[l] = mi * cf; /* dv_i/dt = -g_i x_ij, dv_j/dt = g_j x_ij */
+                ei[l] = mj * (Ai * Fi * e + Pi * Fb * e / 2 + cond);
+                ej[l] = mi * (A[j] * Fj * e + Pi * Fb * e / 2 - cond);
+                di[l] = mj * e * Fi, dj[l] = mi * e * Fj;
+                vs[l] = vsig; /* the largest after the loop: a max reduction here stops the vectoriser */
+            }
+            for (l = 0; l < b.n; ++l) {
+                sph_real *ti = to_i + 5 * b.k[l], *tj = to_j + 5 * pr->t_slot[b.k[l]];
+                for (c = 0; c < 3; ++c) ti[c] = -gi[l] * b.dx[c][l], tj[c] = gj[l] * b.dx[c][l];
+                ti[3] = ei[l], tj[3] = ej[l], ti[4] = di[l], tj[4] = dj[l];
+                vmax = vs[l] > vmax ? vs[l] : vmax;
+            }
+        }
+    }
+    return vmax;
+}
+
 int main(int argc, char **argv)
 {
     const int side = argc > 1 ? atoi(argv[1]) : 40, reps = argc > 2 ? atoi(argv[2]) : 9;
     const int n = side * side * side;
     const double dx = 1.0 / side;
-    sph_real *x, *v, *m, *h, *hl, *rho, *om, *p, *A, *P, *dv, *du, *buf, *V;
+    sph_real *x, *v, *m, *h, *hl, *rho, *om, *p, *A, *P, *dv, *du, *buf, *V, *u, *cs, *al, *t5, *f5[2];
     sph_off *off = NULL, *hoff, *toff, *tpair, pairs;
     sph_idx *idx = NULL, *hidx;
     sph_box box = {{0, 0, 0}, {1, 1, 1}, {1, 1, 1}};
@@ -62,7 +166,10 @@ int main(int argc, char **argv)
     sph_hctx c;
     sph_hreport rep;
     tp_rng g = {7};
-    double *t[4], med[4], tb;
+    double *t[7], med[7], tb, diff = 0, fmax = 0, sink = 0;
+    sph_real vs[2] = {0, 0};
+    sph_batch_src bs;
+    fields fl;
     int i, r, st;
     if (side < 8 || side > 400 || reps < 1 || reps > 1000) {
         fprintf(stderr, "usage: %s [side 8..400] [repeats 1..1000]\n", argv[0]);
@@ -75,9 +182,14 @@ int main(int argc, char **argv)
     A = malloc(sizeof(sph_real) * (size_t)n), P = malloc(sizeof(sph_real) * (size_t)n);
     V = malloc(sizeof(sph_real) * (size_t)n);
     dv = malloc(sizeof(sph_real) * 3 * (size_t)n), du = malloc(sizeof(sph_real) * (size_t)n);
-    for (i = 0; i < 4; ++i) t[i] = malloc(sizeof(double) * (size_t)reps);
+    u = malloc(sizeof(sph_real) * (size_t)n), cs = malloc(sizeof(sph_real) * (size_t)n);
+    al = malloc(sizeof(sph_real) * (size_t)n);
+    f5[0] = malloc(sizeof(sph_real) * 5 * (size_t)n), f5[1] = malloc(sizeof(sph_real) * 5 * (size_t)n);
+    for (i = 0; i < 7; ++i) t[i] = malloc(sizeof(double) * (size_t)reps);
+    if (!u || !cs || !al || !f5[0] || !f5[1]) return 1;
     if (!x || !v || !m || !h || !hl || !rho || !om || !p || !A || !P || !V || !dv || !du) return 1;
-    if (!t[0] || !t[1] || !t[2] || !t[3]) return 1;
+    for (i = 0; i < 7; ++i)
+        if (!t[i]) return 1;
     tp_lattice(3, side, dx, x);
     tp_perturb(3, n, 0.2 * dx, &g, x);
     for (i = 0; i < n; ++i) {
@@ -103,7 +215,10 @@ int main(int argc, char **argv)
     c.list = &full;
     c.check_list = 0;
     for (i = 0; i < n; ++i) {
-        p[i] = rho[i]; /* any pressure field */
+        u[i] = (sph_real)tp_range(&g, 1, 2);
+        al[i] = (sph_real)tp_range(&g, 0.1, 1);
+        p[i] = (sph_real)(2.0 / 3.0) * rho[i] * u[i]; /* gamma 5/3 */
+        cs[i] = sqrt((sph_real)(5.0 / 3.0) * p[i] / rho[i]);
         A[i] = sph_gradh_factor(p[i], rho[i], om[i]);
         P[i] = sph_pressure_factor(p[i], rho[i]);
         V[i] = m[i] / rho[i];
@@ -111,16 +226,22 @@ int main(int argc, char **argv)
     hoff = malloc(sizeof(sph_off) * (size_t)(n + 1)), toff = malloc(sizeof(sph_off) * (size_t)(n + 1));
     hidx = malloc(sizeof(sph_idx) * (size_t)off[n]), tpair = malloc(sizeof(sph_off) * (size_t)off[n]);
     buf = malloc(sizeof(sph_real) * (size_t)sph_gradh_pairs_buffer_len(3, off[n]));
-    if (!hoff || !toff || !hidx || !tpair || !buf) return 1;
+    t5 = malloc(sizeof(sph_real) * (size_t)sph_pairs_buffer_len(5, off[n]));
+    if (!hoff || !toff || !hidx || !tpair || !buf || !t5) return 1;
     tb = tm_now();
     st = sph_pairs_build(&full, hoff, hidx, off[n], toff, tpair, &pairs, &pr);
     tb = tm_now() - tb;
     if (st != SPH_OK) return fprintf(stderr, "pairs: %s\n", sph_strerror(st)), 1;
+    st = sph_batch_source(&bs, SPH_KERNEL_CUBIC, 3, &pr.half, &box, sph_view_interleaved(x, 3), sph_view_soa(h, NULL, NULL));
+    if (st != SPH_OK) return fprintf(stderr, "batch source: %s\n", sph_strerror(st)), 1;
+    fl.x = x, fl.v = v, fl.m = m, fl.h = h, fl.rho = rho, fl.A = A, fl.u = u, fl.p = p, fl.cs = cs, fl.alpha = al;
+    fl.box = &box, fl.beta = 3, fl.alpha_u = 1;
     for (r = 0; r < reps; ++r) {
         const sph_view vv = sph_view_interleaved(v, 3), hv = sph_view_soa(h, NULL, NULL);
         const sph_view Av = sph_view_soa(A, NULL, NULL);
         const sph_out dvo = sph_out_interleaved(dv, 3), duo = sph_out_soa(du, NULL, NULL);
-        double t0 = tm_now(), t1, t2, t3;
+        double t0 = tm_now(), t1, t2, t3, t4, t5s;
+        sph_idx ii;
         sph_ctx oc = sph_ctx_init(SPH_KERNEL_CUBIC, 3, 0, &full, sph_view_interleaved(x, 3));
         st = sph_gradh_forces(&c, vv, hv, Av, dvo, duo);
         t1 = tm_now();
@@ -135,19 +256,48 @@ int main(int argc, char **argv)
         st |= sph_gradient(&oc, SPH_SCHEME_PRESSURE, sph_view_soa(p, NULL, NULL), sph_view_none(),
                            sph_out_interleaved(dv, 3), NULL);
         t3 = tm_now();
+        vs[0] = 0;
+        for (ii = 0; ii < n; ++ii) {
+            sph_off k;
+            for (k = pr.half.offset[ii]; k < pr.half.offset[ii + 1]; ++k)
+                scalar_pair(&fl, ii, pr.half.index[k], t5 + 5 * k, t5 + 5 * (pairs + pr.t_slot[k]), &vs[0]);
+        }
+        st |= sph_pairs_reduce(&pr, 5, t5, t5 + 5 * pairs, f5[0]);
+        t4 = tm_now();
+        vs[1] = batch_rows(&fl, &bs, &pr, t5, t5 + 5 * pairs);
+        st |= sph_pairs_reduce(&pr, 5, t5, t5 + 5 * pairs, f5[1]);
+        t5s = tm_now();
         if (st != SPH_OK) return fprintf(stderr, "forces: %s\n", sph_strerror(st)), 1;
         t[0][r] = t1 - t0, t[1][r] = t2 - t1, t[2][r] = t3 - t2, t[3][r] = (t1 - t0) / (t2 - t1);
+        t[4][r] = t4 - t3, t[5][r] = t5s - t4;
+        for (ii = 0; ii < n; ++ii) { /* sph_batch_fill alone: what every batch loop pays for its pairs */
+            sph_batch bb;
+            sph_off nx = 0;
+            while (sph_batch_fill(&bs, ii, &nx, &bb) > 0) sink += (double)bb.F_i[0] + (double)bb.W_j[bb.n - 1];
+        }
+        t[6][r] = tm_now() - t5s;
     }
-    for (i = 0; i < 4; ++i) med[i] = tm_median(t[i], reps);
+    for (i = 0; i < 7; ++i) med[i] = tm_median(t[i], reps);
+    for (i = 0; i < 5 * n; ++i) fmax = fabs(f5[0][i]) > fmax ? fabs(f5[0][i]) : fmax;
+    for (i = 0; i < 5 * n; ++i) diff = fabs(f5[1][i] - f5[0][i]) > diff ? fabs(f5[1][i] - f5[0][i]) : diff;
     printf("%d particles, %ld pairs (i < j), %.1f neighbours per particle, %s, median of %d\n", n, (long)pairs,
            (double)off[n] / n, sizeof(sph_real) == sizeof(float) ? "float" : "double", reps);
     printf("  grad-h force + du/dt, gather    (sph_gradh_forces)        %7.2f ns/pair\n", 1e9 * med[0] / (double)pairs);
     printf("  grad-h force + du/dt, pair-once (sph_gradh_forces_pairs)  %7.2f ns/pair (speed-up %.2f)\n",
            1e9 * med[1] / (double)pairs, med[3]);
     printf("  pressure gradient (O8), gather  (sph_gradient PRESSURE)   %7.2f ns/pair\n", 1e9 * med[2] / (double)pairs);
+    printf("  shock-tube pair loop (H5, H6, S3, S4, conduction, div v), pair-once + sph_pairs_reduce:\n");
+    printf("    one pair at a time, scalar pair terms (sod_shock's sd_pair)  %7.2f ns/pair\n", 1e9 * med[4] / (double)pairs);
+    printf("    lanes of sph_batch_fill, SPH_BATCH %2d                         %7.2f ns/pair (speed-up %.2f)\n", SPH_BATCH,
+           1e9 * med[5] / (double)pairs, med[4] / med[5]);
+    printf("    of which sph_batch_fill alone (x_ij, r, W, F at h_i, h_j)   %7.2f ns/pair (checksum %.3g)\n",
+           1e9 * med[6] / (double)pairs, sink);
+    printf("    largest |batch - scalar| / largest |value| %.2g, signal velocity %.17g vs %.17g\n", diff / fmax,
+           (double)vs[1], (double)vs[0]);
     printf("  sph_pairs_build once per list                             %7.2f ns/pair\n", 1e9 * tb / (double)pairs);
     free(x), free(v), free(m), free(h), free(hl), free(rho), free(om), free(p), free(A), free(P), free(V), free(dv);
     free(du), free(off), free(idx), free(hoff), free(toff), free(hidx), free(tpair), free(buf);
-    for (i = 0; i < 4; ++i) free(t[i]);
+    free(u), free(cs), free(al), free(f5[0]), free(f5[1]), free(t5);
+    for (i = 0; i < 7; ++i) free(t[i]);
     return 0;
 }

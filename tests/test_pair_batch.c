@@ -1,0 +1,300 @@
+/* tests/test_pair_batch.c - pair batches (docs/smoothing_length.md, "Pair
+ * batches": sph_batch_source, sph_batch_fill).
+ *
+ * Contents. On a random periodic cloud with per-particle h and a CSR list of
+ * ragged rows (lengths 0 .. 3 SPH_BATCH + 3: empty rows, rows a multiple of
+ * the batch width and rows with a tail; the self pair and partners up to
+ * and beyond the support included), for every kernel and dimension, each
+ * lane must hold: the list's j and position k in order, every pair of the
+ * row exactly once; x_ij bit for bit sph__h_dx's minimum image (and
+ * |x_ij,a| <= L/2, x_i - x_j - x_ij a multiple of L); r bit for bit
+ * sph_pair_kernel's r; W and F at h_i and at h_j bit for bit the pair
+ * loops' arithmetic (sph__nshape_w, sph__nshape_g scaled by sph__hpow, the
+ * forms sph_gradh_forces_pairs uses), and within 16 eps |ref| + 8 eps S of
+ * sph_pair_kernel's W and F (ref; S = |ref at q = 0|, the allowance for the
+ * interior roots of the new quartic and values below the normal range; the
+ * pair loops' product form is held to 8 eps of the closed forms by
+ * test_kernel_pieces.c, the scalar functions to about 1 eps). Padding lanes
+ * hold j = i, k = -1 and zeros.
+ *
+ * Forces. The grad-h momentum and energy equations (H5), (H6) written as a
+ * caller's loop over batches of the half list (the loop the page shows)
+ * equal sph_gradh_forces_pairs to 4 eps of the largest value.
+ *
+ * Bad input: sph_batch_source refuses a NULL list or source, an unknown
+ * kernel or dimension, an index outside the particles, an h not usable and
+ * a NaN position; sph_batch_fill gives an empty batch for a target outside
+ * the list, a negative cursor and a source that failed.
+ */
+#include "harness.h"
+#include "support/particles.h"
+
+#define NP 97
+#define MAXROW (3 * SPH_BATCH + 3)
+
+typedef struct {
+    sph_real x[3 * NP], h[NP];
+    sph_off off[NP + 1];
+    sph_idx idx[NP * MAXROW];
+    sph_box box;
+    sph_neighbours L;
+} cloud;
+
+/* Random positions in a box of sides 1, 0.8, 0.6 (periodic in every axis
+ * but the second), h in [0.05, 0.12], row i of length i % (MAXROW + 1)
+ * (row 0 empty) with random partners, the first one i itself. */
+static void make_cloud(cloud *c, int dim, tp_rng *g)
+{
+    int i, a, t;
+    memset(&c->box, 0, sizeof c->box);
+    for (a = 0; a < 3; ++a) c->box.length[a] = (sph_real)(1 - 0.2 * a), c->box.periodic[a] = a != 1;
+    for (i = 0; i < NP; ++i) {
+        for (a = 0; a < 3; ++a) c->x[3 * i + a] = a < dim ? (sph_real)tp_range(g, 0, 1 - 0.2 * a) : 0;
+        c->h[i] = (sph_real)tp_range(g, 0.05, 0.12);
+    }
+    c->off[0] = 0;
+    for (i = 0; i < NP; ++i) {
+        const int len = i % (MAXROW + 1);
+        for (t = 0; t < len; ++t) c->idx[c->off[i] + t] = t == 0 ? i : (sph_idx)(tp_next(g) % NP);
+        c->off[i + 1] = c->off[i] + len;
+    }
+    c->L = (sph_neighbours)SPH_NEIGHBOURS_INIT(NP, NP, c->off, c->idx);
+}
+
+/* ulp-scale bound between the batch and sph_pair_kernel (see the top). */
+static int near(sph_real got, sph_real ref, sph_real at0)
+{
+    return fabs((double)got - (double)ref) <= 16 * TH_EPS * fabs((double)ref) + 8 * TH_EPS * fabs((double)at0);
+}
+
+static void check_contents(sph_kernel k, int dim)
+{
+    cloud c;
+    tp_rng g = {(uint64_t)(11 + 7 * k + dim)};
+    sph_batch_src S;
+    const sph__kdim *kd = &sph__kdims[k][dim - 1];
+    const sph__nshape *s = &sph__nshapes[kd->shape];
+    sph__period P;
+    int i, st, seen_tail = 0, seen_full = 0, seen_empty = 0;
+    th_begin("batch contents %s %dD %s", sph_kernel_name(k), dim, TH_PRECISION);
+    make_cloud(&c, dim, &g);
+    P = sph__period_of(&c.box, &c.L, dim);
+    st = sph_batch_source(&S, k, dim, &c.L, &c.box, sph_view_interleaved(c.x, 3), sph_view_soa(c.h, NULL, NULL));
+    TH_CHECK(st == SPH_OK, "sph_batch_source: %s", sph_strerror(st));
+    for (i = 0; i < NP && st == SPH_OK; ++i) {
+        sph_batch b;
+        sph_off next = 0, o = c.off[i], nb = 0;
+        const sph_real hi = c.h[i];
+        sph_real xi[3];
+        int a, l;
+        sph__h_xi(sph_view_interleaved(c.x, 3), dim, i, xi);
+        while (sph_batch_fill(&S, i, &next, &b) > 0) {
+            ++nb;
+            TH_CHECK(b.n == (c.off[i + 1] - o < SPH_BATCH ? c.off[i + 1] - o : SPH_BATCH), "row %d: n = %d", i, b.n);
+            seen_tail |= b.n < SPH_BATCH;
+            seen_full |= b.n == SPH_BATCH;
+            for (l = 0; l < SPH_BATCH; ++l) {
+                sph_real dx[3], sum0 = 0;
+                if (l >= b.n) {
+                    for (a = 0; a < 3; ++a) sum0 += b.dx[a][l] != 0;
+                    TH_CHECK(b.j[l] == i && b.k[l] == -1 && sum0 == 0 && b.r[l] == 0 && b.W_i[l] == 0 &&
+                                 b.F_i[l] == 0 && b.W_j[l] == 0 && b.F_j[l] == 0,
+                             "row %d lane %d: padding j %d k %ld", i, l, (int)b.j[l], (long)b.k[l]);
+                    continue;
+                }
+                {
+                    const sph_idx j = c.idx[o];
+                    const sph_real hj = c.h[j], r2 = sph__h_dx(&P, dim, xi, sph_view_interleaved(c.x, 3), j, dx);
+                    const sph_pair pi = sph_pair_kernel(k, dim, dx, hi), pj = sph_pair_kernel(k, dim, dx, hj);
+                    const sph_pair p0i = sph_pair_kernel(k, dim, (const sph_real[3]){0, 0, 0}, hi);
+                    const sph_pair p0j = sph_pair_kernel(k, dim, (const sph_real[3]){0, 0, 0}, hj);
+                    const sph_real Wi = sph__hpow(kd->alpha * sph__nshape_w(s, sph__sqrt(r2) * (1 / hi)), 1 / hi, dim);
+                    const sph_real Fi = sph__hpow(kd->alpha * sph__nshape_g(s, sph__sqrt(r2) * (1 / hi)), 1 / hi, dim + 2);
+                    const sph_real Wj = sph__hpow(kd->alpha * sph__nshape_w(s, sph__sqrt(r2) * (1 / hj)), 1 / hj, dim);
+                    const sph_real Fj = sph__hpow(kd->alpha * sph__nshape_g(s, sph__sqrt(r2) * (1 / hj)), 1 / hj, dim + 2);
+                    TH_CHECK(b.j[l] == j && b.k[l] == o, "row %d lane %d: j %d k %ld, list %d at %ld", i, l, (int)b.j[l],
+                             (long)b.k[l], (int)j, (long)o);
+                    for (a = 0; a < 3; ++a) {
+                        const double L = (double)c.box.length[a], d = (double)b.dx[a][l];
+                        const double wrap = ((double)c.x[3 * i + a] - (double)c.x[3 * j + a] - d) / L;
+                        TH_CHECK(b.dx[a][l] == dx[a], "row %d lane %d: dx[%d] %.17g, sph__h_dx %.17g", i, l, a, d,
+                                 (double)dx[a]);
+                        if (a < dim && c.box.periodic[a])
+                            TH_CHECK(fabs(d) <= L / 2 * (1 + 4 * TH_EPS) && fabs(wrap - floor(wrap + 0.5)) <= 4 * TH_EPS,
+                                     "row %d lane %d: dx[%d] = %.17g not the minimum image", i, l, a, d);
+                    }
+                    TH_CHECK(b.r[l] == pi.r, "row %d lane %d: r %.17g, sph_pair_kernel %.17g", i, l, (double)b.r[l],
+                             (double)pi.r);
+                    TH_CHECK(b.W_i[l] == Wi && b.F_i[l] == Fi && b.W_j[l] == Wj && b.F_j[l] == Fj,
+                             "row %d lane %d: W_i %.17g F_i %.17g W_j %.17g F_j %.17g, pair loops %.17g %.17g %.17g %.17g",
+                             i, l, (double)b.W_i[l], (double)b.F_i[l], (double)b.W_j[l], (double)b.F_j[l], (double)Wi,
+                             (double)Fi, (double)Wj, (double)Fj);
+                    TH_CHECK(near(b.W_i[l], pi.W, p0i.W) && near(b.F_i[l], pi.F, p0i.F) && near(b.W_j[l], pj.W, p0j.W) &&
+                                 near(b.F_j[l], pj.F, p0j.F),
+                             "row %d lane %d (q_i %.17g): W_i %.17g F_i %.17g W_j %.17g F_j %.17g, sph_pair_kernel %.17g "
+                             "%.17g %.17g %.17g",
+                             i, l, (double)pi.q, (double)b.W_i[l], (double)b.F_i[l], (double)b.W_j[l],
+                             (double)b.F_j[l], (double)pi.W, (double)pi.F, (double)pj.W, (double)pj.F);
+                    ++o;
+                }
+            }
+        }
+        TH_CHECK(o == c.off[i + 1] && next == c.off[i + 1] - c.off[i], "row %d: %ld of %ld pairs", i, (long)(o - c.off[i]),
+                 (long)(c.off[i + 1] - c.off[i]));
+        TH_CHECK(b.n == 0 && sph_batch_fill(&S, i, &next, &b) == 0, "row %d: a fill after the end gives %d", i, b.n);
+        seen_empty |= c.off[i + 1] == c.off[i] && nb == 0;
+    }
+    TH_CHECK(seen_tail && seen_full && seen_empty, "rows: tail %d full %d empty %d", seen_tail, seen_full, seen_empty);
+    th_end();
+}
+
+/* (H5), (H6) over batches of the half list, as a caller writes them: pair k
+ * = (i, j) puts -m_j (A_i F_i + A_j F_j) x_ij and m_j A_i F_i v_ij . x_ij
+ * into to_i[4 k ..], m_i (A_i F_i + A_j F_j) x_ij and m_i A_j F_j v_ij .
+ * x_ij into to_j[4 t_slot[k] ..]; sph_pairs_reduce then sums them. 3-D. */
+static int gradh_batches(const sph_pairs *pr, const sph_batch_src *S, const sph_real *v, const sph_real *m,
+                         const sph_real *A, sph_real *to_i, sph_real *to_j, sph_real *out)
+{
+    sph_idx i;
+    for (i = 0; i < pr->half.n_targets; ++i) {
+        /* snippet: pair_batch */
+        sph_batch b;
+        sph_off next = 0;
+        while (sph_batch_fill(S, i, &next, &b) > 0) {
+            sph_real ci[SPH_BATCH], cj[SPH_BATCH], ei[SPH_BATCH], ej[SPH_BATCH];
+            int l, a;
+            for (l = 0; l < b.n; ++l) { /* the arithmetic: one plain loop over the lanes, it vectorises */
+                const sph_idx j = b.j[l];
+                const sph_real e = (v[3 * i] - v[3 * j]) * b.dx[0][l] + (v[3 * i + 1] - v[3 * j + 1]) * b.dx[1][l] +
+                                   (v[3 * i + 2] - v[3 * j + 2]) * b.dx[2][l]; /* v_ij . x_ij */
+                const sph_real cf = A[i] * b.F_i[l] + A[j] * b.F_j[l];
+                ci[l] = -m[j] * cf, cj[l] = m[i] * cf;
+                ei[l] = m[j] * A[i] * b.F_i[l] * e, ej[l] = m[i] * A[j] * b.F_j[l] * e;
+            }
+            for (l = 0; l < b.n; ++l) { /* the stores: i's share at k, j's at its slot */
+                sph_real *ti = to_i + 4 * b.k[l], *tj = to_j + 4 * pr->t_slot[b.k[l]];
+                for (a = 0; a < 3; ++a) ti[a] = ci[l] * b.dx[a][l], tj[a] = cj[l] * b.dx[a][l];
+                ti[3] = ei[l], tj[3] = ej[l];
+            }
+        }
+        /* end snippet */
+    }
+    return sph_pairs_reduce(pr, 4, to_i, to_j, out);
+}
+
+#define NF 400
+
+static void check_forces(void)
+{
+    static sph_real x[3 * NF], v[3 * NF], m[NF], h[NF], hl[NF], rho[NF], om[NF], A[NF], dv[3 * NF], du[NF];
+    static sph_real out[4 * NF];
+    sph_box box = {{0, 0, 0}, {1, 1, 1}, {1, 1, 1}};
+    tp_rng g = {2027};
+    tp_list L;
+    sph_hctx c;
+    sph_hreport rep;
+    sph_pairs pr;
+    sph_batch_src S;
+    sph_off *mem = NULL, pairs = 0, cap;
+    sph_real *buf = NULL, *to = NULL;
+    double worst = 0, big = 0;
+    int i, a, st;
+    th_begin("grad-h forces on batches vs sph_gradh_forces_pairs %s", TH_PRECISION);
+    tp_uniform_cloud(3, NF, 1, &g, x);
+    for (i = 0; i < NF; ++i) {
+        m[i] = (sph_real)(tp_range(&g, 0.5, 1.5) / NF);
+        for (a = 0; a < 3; ++a) v[3 * i + a] = (sph_real)tp_range(&g, -1, 1);
+        h[i] = (sph_real)(1.2 * pow(1.0 / NF, 1.0 / 3)), hl[i] = (sph_real)0.3;
+    }
+    st = tp_brute_list(3, x, NF, x, NF, 0, hl, NULL, 2, TP_GATHER, &box, &L) != 0 ? SPH_ESIZE : SPH_OK;
+    c = sph_hctx_init(SPH_KERNEL_CUBIC, 3, &L.list, sph_view_interleaved(x, 3), sph_view_soa(m, NULL, NULL), 0);
+    c.h_list = sph_view_soa(hl, NULL, NULL);
+    c.box = &box;
+    if (st == SPH_OK)
+        st = sph_h_solve(&c, sph_out_soa(h, NULL, NULL), sph_out_soa(rho, NULL, NULL), sph_out_soa(om, NULL, NULL),
+                         NULL, NULL, &rep);
+    if (st == SPH_OK) tp_free_list(&L);
+    for (i = 0; i < NF; ++i) {
+        hl[i] = (sph_real)1.1 * h[i];
+        A[i] = sph_gradh_factor((sph_real)(2.0 / 3.0) * rho[i] * (sph_real)tp_range(&g, 1, 2), rho[i], om[i]);
+    }
+    if (st == SPH_OK) st = tp_brute_list(3, x, NF, x, NF, 0, hl, hl, 2, TP_SYMMETRIC, &box, &L) != 0 ? SPH_ESIZE : SPH_OK;
+    c.list = &L.list;
+    cap = st == SPH_OK ? L.list.offset[NF] : 0;
+    mem = (sph_off *)malloc(sizeof(sph_off) * (size_t)(2 * (NF + 1) + cap) + sizeof(sph_idx) * (size_t)cap + 1);
+    buf = (sph_real *)malloc(sizeof(sph_real) * (size_t)(sph_gradh_pairs_buffer_len(3, cap) + 1));
+    to = (sph_real *)malloc(sizeof(sph_real) * (size_t)(sph_pairs_buffer_len(4, cap) + 1));
+    if (st == SPH_OK && (mem == NULL || buf == NULL || to == NULL)) st = SPH_ESIZE;
+    if (st == SPH_OK)
+        st = sph_pairs_build(&L.list, mem, (sph_idx *)(void *)(mem + 2 * (NF + 1) + cap), cap, mem + NF + 1,
+                             mem + 2 * (NF + 1), &pairs, &pr);
+    if (st == SPH_OK)
+        st = sph_gradh_forces_pairs(&c, &pr, sph_view_interleaved(v, 3), sph_view_soa(h, NULL, NULL),
+                                    sph_view_soa(A, NULL, NULL), buf, sph_gradh_pairs_buffer_len(3, pairs),
+                                    sph_out_interleaved(dv, 3), sph_out_soa(du, NULL, NULL));
+    if (st == SPH_OK)
+        st = sph_batch_source(&S, SPH_KERNEL_CUBIC, 3, &pr.half, &box, sph_view_interleaved(x, 3),
+                              sph_view_soa(h, NULL, NULL));
+    if (st == SPH_OK) st = gradh_batches(&pr, &S, v, m, A, to, to + 4 * pairs, out);
+    TH_CHECK(st == SPH_OK && pairs > 20 * NF, "setup: %s, %ld pairs", sph_strerror(st), (long)pairs);
+    for (i = 0; st == SPH_OK && i < NF; ++i)
+        for (a = 0; a < 4; ++a) {
+            const double ref = a < 3 ? (double)dv[3 * i + a] : (double)du[i];
+            big = fabs(ref) > big ? fabs(ref) : big;
+        }
+    for (i = 0; st == SPH_OK && i < NF; ++i)
+        for (a = 0; a < 4; ++a) {
+            const double ref = a < 3 ? (double)dv[3 * i + a] : (double)du[i], e = fabs((double)out[4 * i + a] - ref);
+            TH_CHECK(e <= 4 * TH_EPS * big, "particle %d component %d: batches %.17g, sph_gradh_forces_pairs %.17g", i,
+                     a, (double)out[4 * i + a], ref);
+            worst = e > worst ? e : worst;
+        }
+    printf("    largest |batches - sph_gradh_forces_pairs| = %.2f eps of the largest value\n", worst / (TH_EPS * big));
+    tp_free_list(&L);
+    free(mem), free(buf), free(to);
+    th_end();
+}
+
+static void check_bad_input(void)
+{
+    sph_real x[6] = {0, 0, 0, (sph_real)0.1, 0, 0}, h[2] = {(sph_real)0.2, (sph_real)0.2};
+    sph_off off[3] = {0, 2, 3};
+    sph_idx idx[3] = {0, 1, 0};
+    sph_neighbours L = SPH_NEIGHBOURS_INIT(2, 2, off, idx);
+    const sph_view xv = sph_view_interleaved(x, 3), hv = sph_view_soa(h, NULL, NULL);
+    sph_batch_src S;
+    sph_batch b;
+    sph_off next = 0;
+    th_begin("pair batches: bad input %s", TH_PRECISION);
+    TH_CHECK(sph_batch_source(NULL, SPH_KERNEL_CUBIC, 3, &L, NULL, xv, hv) == SPH_ENULL, "NULL source");
+    TH_CHECK(sph_batch_source(&S, SPH_KERNEL_CUBIC, 3, NULL, NULL, xv, hv) == SPH_ENULL, "NULL list");
+    TH_CHECK(sph_batch_source(&S, (sph_kernel)99, 3, &L, NULL, xv, hv) == SPH_EKERNEL, "unknown kernel");
+    TH_CHECK(sph_batch_source(&S, SPH_KERNEL_CUBIC, 4, &L, NULL, xv, hv) == SPH_EDIM, "dim 4");
+    TH_CHECK(sph_batch_source(&S, SPH_KERNEL_CUBIC, 3, &L, NULL, xv, sph_view_none()) == SPH_ENULL, "no h");
+    idx[2] = 2;
+    TH_CHECK(sph_batch_source(&S, SPH_KERNEL_CUBIC, 3, &L, NULL, xv, hv) == SPH_EINDEX, "index 2 of 2 particles");
+    idx[2] = 0, h[1] = 0;
+    TH_CHECK(sph_batch_source(&S, SPH_KERNEL_CUBIC, 3, &L, NULL, xv, hv) == SPH_EH, "h = 0");
+    h[1] = (sph_real)0.2, x[4] = (sph_real)NAN;
+    TH_CHECK(sph_batch_source(&S, SPH_KERNEL_CUBIC, 3, &L, NULL, xv, hv) == SPH_ENONFINITE, "NaN position");
+    TH_CHECK(sph_batch_fill(&S, 0, &next, &b) == 0 && b.n == 0, "a failed source gives a batch");
+    x[4] = 0;
+    TH_CHECK(sph_batch_source(&S, SPH_KERNEL_CUBIC, 3, &L, NULL, xv, hv) == SPH_OK, "good input refused");
+    TH_CHECK(sph_batch_fill(&S, 2, &next, &b) == 0 && sph_batch_fill(&S, -1, &next, &b) == 0, "target outside");
+    next = -1;
+    TH_CHECK(sph_batch_fill(&S, 0, &next, &b) == 0, "negative cursor");
+    next = 0;
+    TH_CHECK(sph_batch_fill(&S, 0, &next, &b) == 2 && next == 2 && b.j[1] == 1 && b.r[1] == (sph_real)0.1,
+             "row 0: %d pairs", b.n);
+    th_end();
+}
+
+int main(void)
+{
+    int k, dim;
+    for (k = 0; k < SPH_KERNEL_COUNT; ++k)
+        for (dim = 1; dim <= 3; ++dim) check_contents((sph_kernel)k, dim);
+    check_forces();
+    check_bad_input();
+    return th_summary();
+}
