@@ -38,12 +38,12 @@ typedef struct {
     sph_idx idx[NP * MAXROW];
     sph_box box;
     sph_neighbours L;
-} cloud;
+} pb_cloud;
 
 /* Random positions in a box of sides 1, 0.8, 0.6 (periodic in every axis
  * but the second), h in [0.05, 0.12], row i of length i % (MAXROW + 1)
  * (row 0 empty) with random partners, the first one i itself. */
-static void make_cloud(cloud *c, int dim, tp_rng *g)
+static void pb_make_cloud(pb_cloud *c, int dim, tp_rng *g)
 {
     int i, a, t;
     memset(&c->box, 0, sizeof c->box);
@@ -62,14 +62,14 @@ static void make_cloud(cloud *c, int dim, tp_rng *g)
 }
 
 /* ulp-scale bound between the batch and sph_pair_kernel (see the top). */
-static int near(sph_real got, sph_real ref, sph_real at0)
+static int pb_near(sph_real got, sph_real ref, sph_real at0)
 {
     return fabs((double)got - (double)ref) <= 16 * TH_EPS * fabs((double)ref) + 8 * TH_EPS * fabs((double)at0);
 }
 
-static void check_contents(sph_kernel k, int dim)
+static void pb_check_contents(sph_kernel k, int dim)
 {
-    cloud c;
+    pb_cloud c;
     tp_rng g = {(uint64_t)(11 + 7 * k + dim)};
     sph_batch_src S;
     const sph__kdim *kd = &sph__kdims[k][dim - 1];
@@ -77,7 +77,7 @@ static void check_contents(sph_kernel k, int dim)
     sph__period P;
     int i, st, seen_tail = 0, seen_full = 0, seen_empty = 0;
     th_begin("batch contents %s %dD %s", sph_kernel_name(k), dim, TH_PRECISION);
-    make_cloud(&c, dim, &g);
+    pb_make_cloud(&c, dim, &g);
     P = sph__period_of(&c.box, &c.L, dim);
     st = sph_batch_source(&S, k, dim, &c.L, &c.box, sph_view_interleaved(c.x, 3), sph_view_soa(c.h, NULL, NULL));
     TH_CHECK(st == SPH_OK, "sph_batch_source: %s", sph_strerror(st));
@@ -129,8 +129,8 @@ static void check_contents(sph_kernel k, int dim)
                              "row %d lane %d: W_i %.17g F_i %.17g W_j %.17g F_j %.17g, pair loops %.17g %.17g %.17g %.17g",
                              i, l, (double)b.W_i[l], (double)b.F_i[l], (double)b.W_j[l], (double)b.F_j[l], (double)Wi,
                              (double)Fi, (double)Wj, (double)Fj);
-                    TH_CHECK(near(b.W_i[l], pi.W, p0i.W) && near(b.F_i[l], pi.F, p0i.F) && near(b.W_j[l], pj.W, p0j.W) &&
-                                 near(b.F_j[l], pj.F, p0j.F),
+                    TH_CHECK(pb_near(b.W_i[l], pi.W, p0i.W) && pb_near(b.F_i[l], pi.F, p0i.F) && pb_near(b.W_j[l], pj.W, p0j.W) &&
+                                 pb_near(b.F_j[l], pj.F, p0j.F),
                              "row %d lane %d (q_i %.17g): W_i %.17g F_i %.17g W_j %.17g F_j %.17g, sph_pair_kernel %.17g "
                              "%.17g %.17g %.17g",
                              i, l, (double)pi.q, (double)b.W_i[l], (double)b.F_i[l], (double)b.W_j[l],
@@ -152,7 +152,7 @@ static void check_contents(sph_kernel k, int dim)
  * = (i, j) puts -m_j (A_i F_i + A_j F_j) x_ij and m_j A_i F_i v_ij . x_ij
  * into to_i[4 k ..], m_i (A_i F_i + A_j F_j) x_ij and m_i A_j F_j v_ij .
  * x_ij into to_j[4 t_slot[k] ..]; sph_pairs_reduce then sums them. 3-D. */
-static int gradh_batches(const sph_pairs *pr, const sph_batch_src *S, const sph_real *v, const sph_real *m,
+static int pb_gradh_batches(const sph_pairs *pr, const sph_batch_src *S, const sph_real *v, const sph_real *m,
                          const sph_real *A, sph_real *to_i, sph_real *to_j, sph_real *out)
 {
     sph_idx i;
@@ -184,7 +184,7 @@ static int gradh_batches(const sph_pairs *pr, const sph_batch_src *S, const sph_
 
 #define NF 400
 
-static void check_forces(void)
+static void pb_check_forces(void)
 {
     static sph_real x[3 * NF], v[3 * NF], m[NF], h[NF], hl[NF], rho[NF], om[NF], A[NF], dv[3 * NF], du[NF];
     static sph_real out[4 * NF];
@@ -235,7 +235,7 @@ static void check_forces(void)
     if (st == SPH_OK)
         st = sph_batch_source(&S, SPH_KERNEL_CUBIC, 3, &pr.half, &box, sph_view_interleaved(x, 3),
                               sph_view_soa(h, NULL, NULL));
-    if (st == SPH_OK) st = gradh_batches(&pr, &S, v, m, A, to, to + 4 * pairs, out);
+    if (st == SPH_OK) st = pb_gradh_batches(&pr, &S, v, m, A, to, to + 4 * pairs, out);
     TH_CHECK(st == SPH_OK && pairs > 20 * NF, "setup: %s, %ld pairs", sph_strerror(st), (long)pairs);
     for (i = 0; st == SPH_OK && i < NF; ++i)
         for (a = 0; a < 4; ++a) {
@@ -255,7 +255,7 @@ static void check_forces(void)
     th_end();
 }
 
-static void check_bad_input(void)
+static void pb_check_bad_input(void)
 {
     sph_real x[6] = {0, 0, 0, (sph_real)0.1, 0, 0}, h[2] = {(sph_real)0.2, (sph_real)0.2};
     sph_off off[3] = {0, 2, 3};
@@ -293,8 +293,8 @@ int main(void)
 {
     int k, dim;
     for (k = 0; k < SPH_KERNEL_COUNT; ++k)
-        for (dim = 1; dim <= 3; ++dim) check_contents((sph_kernel)k, dim);
-    check_forces();
-    check_bad_input();
+        for (dim = 1; dim <= 3; ++dim) pb_check_contents((sph_kernel)k, dim);
+    pb_check_forces();
+    pb_check_bad_input();
     return th_summary();
 }
