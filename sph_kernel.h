@@ -2097,10 +2097,11 @@ SPH__INLINE __m512d sph__dx8(__m512d xi, const sph_real *p, __m512d L, __m512d i
  * of the indices through a vector type may alias any memory, and would
  * otherwise reload them every step. */
 SPH__INLINE void sph__dg8_body(const sph__args *A, const sph__nshape *sh, const sph__tgt *t, sph_idx i, const int D,
-                               int dens, int grad, const int one, sph_real fi, sph_real *g, sph_real *rho)
+                               int dens, int grad, const int hv, const int one, sph_real fi, sph_real *g, sph_real *rho)
 {
-    const ptrdiff_t sx = A->x.stride, sm = A->m.stride, sV = A->V.stride, sf = A->f.stride;
-    const sph_real *const pm = A->m.p[0], *const pV = A->V.p[0], *const pf = A->f.p[0];
+    const ptrdiff_t sx = A->x.stride, sm = A->m.stride, sV = A->V.stride, sf = A->f.stride, sh_ = A->hs.stride;
+    const sph_real *const pm = A->m.p[0], *const pV = A->V.p[0], *const pf = A->f.p[0], *const ph = A->hs.p[0];
+    const __m512d hi8 = _mm512_set1_pd((double)t->hi), two = _mm512_set1_pd(2), alpha = _mm512_set1_pd((double)t->alpha);
     const sph_idx *const idx = A->idx;
     const sph_off end = A->off[i + 1];
     const __m512d hinv = _mm512_set1_pd((double)t->hinv), kap = _mm512_set1_pd((double)sh->kappa);
@@ -2122,28 +2123,43 @@ SPH__INLINE void sph__dg8_body(const sph__args *A, const sph__nshape *sh, const 
         const sph_off left = end - o;
         const __mmask8 km = (__mmask8)(left >= 8 ? 0xff : (1u << left) - 1);
         sph_idx j[8];
-        ptrdiff_t ox[8], om[8], oV[8], of[8];
-        __m512d d0, d1 = zero, d2 = zero, r2, q;
+        ptrdiff_t ox[8], om[8], oV[8], of[8], oh[8];
+        __m512d d0, d1 = zero, d2 = zero, r2, r, q;
         __mmask8 in;
         _mm256_storeu_si256((__m256i *)j, _mm256_maskz_loadu_epi32(km, idx + o));
         for (k = 0; k < 8; ++k) ox[k] = (ptrdiff_t)j[k] * sx;
         if (!one)
             for (k = 0; k < 8; ++k) om[k] = (ptrdiff_t)j[k] * sm, oV[k] = (ptrdiff_t)j[k] * sV, of[k] = (ptrdiff_t)j[k] * sf;
+        if (!one && hv)
+            for (k = 0; k < 8; ++k) oh[k] = (ptrdiff_t)j[k] * sh_;
         d0 = sph__dx8(xi[0], px[0], L[0], iL[0], km, ox);
         r2 = _mm512_mul_pd(d0, d0);
         if (D > 1) d1 = sph__dx8(xi[1], px[1], L[1], iL[1], km, ox), r2 = _mm512_fmadd_pd(d1, d1, r2);
         if (D > 2) d2 = sph__dx8(xi[2], px[2], L[2], iL[2], km, ox), r2 = _mm512_fmadd_pd(d2, d2, r2);
-        q = _mm512_mul_pd(_mm512_sqrt_pd(r2), hinv);
+        r = _mm512_sqrt_pd(r2);
+        q = _mm512_mul_pd(r, hinv);
         in = _mm512_cmp_pd_mask(q, kap, _CMP_LT_OQ) & km;
         if (dens) {
             const __m512d W = _mm512_maskz_mul_pd(in, cW, sph__nshape_pick8(sh, 0, q));
             sr = _mm512_fmadd_pd(sph__at8(zero, in, pm, one ? ox : om), W, sr);
         }
         if (grad) {
-            __m512d gq = sph__nshape_pick8(sh, 1, q), c;
-            if (sh->npiece > 1) gq = _mm512_div_pd(gq, _mm512_mask_mov_pd(one8, _mm512_cmp_pd_mask(q, lo1, _CMP_GE_OQ), q));
-            c = _mm512_mul_pd(sph__at8(zero, in, pV, one ? ox : oV), _mm512_sub_pd(sph__at8(vfi, in, pf, one ? ox : of), vfi));
-            c = _mm512_mul_pd(c, _mm512_maskz_mul_pd(in, cF, gq));
+            /* F at h_ij = (h_i + h_j) / 2 with per-particle h: 1/h_ij, q and
+             * alpha h_ij^-(d+2) per lane, multiplied as sph__hpow does */
+            __m512d qF = q, cFj = cF, gq, c;
+            __mmask8 inF = in;
+            if (hv) {
+                const __m512d hinvF = _mm512_div_pd(two, _mm512_add_pd(hi8, sph__at8(hi8, km, ph, one ? ox : oh)));
+                qF = _mm512_mul_pd(r, hinvF);
+                inF = _mm512_cmp_pd_mask(qF, kap, _CMP_LT_OQ) & km;
+                cFj = alpha;
+                SPH__UNROLL
+                for (a = 0; a < D + 2; ++a) cFj = _mm512_mul_pd(cFj, hinvF);
+            }
+            gq = sph__nshape_pick8(sh, 1, qF);
+            if (sh->npiece > 1) gq = _mm512_div_pd(gq, _mm512_mask_mov_pd(one8, _mm512_cmp_pd_mask(qF, lo1, _CMP_GE_OQ), qF));
+            c = _mm512_mul_pd(sph__at8(zero, inF, pV, one ? ox : oV), _mm512_sub_pd(sph__at8(vfi, inF, pf, one ? ox : of), vfi));
+            c = _mm512_mul_pd(c, _mm512_maskz_mul_pd(inF, cFj, gq));
             s0 = _mm512_fmadd_pd(c, d0, s0);
             if (D > 1) s1 = _mm512_fmadd_pd(c, d1, s1);
             if (D > 2) s2 = _mm512_fmadd_pd(c, d2, s2);
@@ -2160,23 +2176,23 @@ SPH__INLINE void sph__dg8_body(const sph__args *A, const sph__nshape *sh, const 
 /* One instance per shape, holding each use (density, gradient, both) in
  * each dimension as a loop of its own: a flag or a dimension tested per
  * step costs 15-25 % there. */
+#define SPH__DG8_ONE(S, D, dn, gr, hv)                                                \
+    one ? sph__dg8_body(A, &sph__nshapes[S], t, i, D, dn, gr, hv, 1, fi, g, rho)        \
+        : sph__dg8_body(A, &sph__nshapes[S], t, i, D, dn, gr, hv, 0, fi, g, rho)
 #define SPH__DG8_USES(S, D)                                                           \
-    if (dens && grad)                                                                 \
-        one ? sph__dg8_body(A, &sph__nshapes[S], t, i, D, 1, 1, 1, fi, g, rho)          \
-            : sph__dg8_body(A, &sph__nshapes[S], t, i, D, 1, 1, 0, fi, g, rho);         \
-    else if (dens)                                                                    \
-        one ? sph__dg8_body(A, &sph__nshapes[S], t, i, D, 1, 0, 1, fi, g, rho)          \
-            : sph__dg8_body(A, &sph__nshapes[S], t, i, D, 1, 0, 0, fi, g, rho);         \
-    else                                                                              \
-        one ? sph__dg8_body(A, &sph__nshapes[S], t, i, D, 0, 1, 1, fi, g, rho)          \
-            : sph__dg8_body(A, &sph__nshapes[S], t, i, D, 0, 1, 0, fi, g, rho);
+    if (dens && grad && A->hv) SPH__DG8_ONE(S, D, 1, 1, 1);                           \
+    else if (dens && grad) SPH__DG8_ONE(S, D, 1, 1, 0);                               \
+    else if (dens) SPH__DG8_ONE(S, D, 1, 0, 0);                                       \
+    else if (A->hv) SPH__DG8_ONE(S, D, 0, 1, 1);                                      \
+    else SPH__DG8_ONE(S, D, 0, 1, 0);
 #define SPH__X(S)                                                                                  \
     SPH__NOINLINE void sph__dg8_##S(const sph__args *A, const sph__tgt *t, sph_idx i, int dens, int grad, \
                                     sph_real fi, sph_real *g, sph_real *rho)                        \
     {                                                                                              \
         /* views sharing the stride of x (SoA, or one array of structs) share its offsets */       \
         const ptrdiff_t sx = A->x.stride;                                                          \
-        const int one = (!dens || A->m.stride == sx) && (!grad || (A->V.stride == sx && A->f.stride == sx)); \
+        const int one = (!dens || A->m.stride == sx) && (!grad || (A->V.stride == sx && A->f.stride == sx)) && \
+                        (!grad || !A->hv || A->hs.stride == sx);                                     \
         switch (SPH__DIM(A)) {                                                                     \
         case 1: SPH__DG8_USES(S, 1) break;                                                         \
         case 2: SPH__DG8_USES(S, 2) break;                                                         \
@@ -2186,6 +2202,7 @@ SPH__INLINE void sph__dg8_body(const sph__args *A, const sph__nshape *sh, const 
 SPH__SHAPE_IDS(SPH__X)
 #undef SPH__X
 #undef SPH__DG8_USES
+#undef SPH__DG8_ONE
 #endif /* SPH__OP_AVX512 */
 
 /* ---- without AVX-512: density and difference gradient in two passes ---- */
@@ -2201,10 +2218,10 @@ SPH__SHAPE_IDS(SPH__X)
  * loop, the shape's pieces constants of the instance. The reference loop's
  * arithmetic pair by pair; without OpenMP its sums in list order too. */
 SPH__INLINE void sph__dgc_body(const sph__args *A, const sph__nshape *sh, const sph__tgt *t, sph_idx i, int dens,
-                               int grad, sph_real fi, sph_real *g, sph_real *rho)
+                               int grad, const int hv, sph_real fi, sph_real *g, sph_real *rho)
 {
     const int D = SPH__DIM(A);
-    const sph_real hinv = t->hinv, cW = t->cW, cF = t->cF;
+    const sph_real hinv = t->hinv, cW = t->cW, cF = t->cF, hi = t->hi, alpha = t->alpha;
     sph_real s0 = 0, s1 = 0, s2 = 0, s3 = 0, d[3][SPH__CHUNK], r[SPH__CHUNK];
     sph_off o;
     int n, k, a;
@@ -2226,7 +2243,11 @@ SPH__INLINE void sph__dgc_body(const sph__args *A, const sph__nshape *sh, const 
             SPH__SIMD_SUM4
             for (k = 0; k < n; ++k) {
                 const sph_real q = r[k] * hinv;
-                const sph_real c = SPH__AT(A->V, 0, j[k]) * (SPH__AT(A->f, 0, j[k]) - fi) * (cF * sph__nshape_g(sh, q));
+                /* per-particle h: F at h_ij = (h_i + h_j) / 2, alpha h_ij^-(d+2) as sph__hpow multiplies */
+                const sph_real hF = hv ? 2 / (hi + SPH__AT(A->hs, 0, j[k])) : hinv;
+                const sph_real c3 = alpha * hF * hF * hF, c4 = D > 1 ? c3 * hF : c3, c5 = D > 2 ? c4 * hF : c4;
+                const sph_real c = SPH__AT(A->V, 0, j[k]) * (SPH__AT(A->f, 0, j[k]) - fi) *
+                                   ((hv ? c5 : cF) * sph__nshape_g(sh, hv ? r[k] * hF : q));
                 if (dens) s3 += sph_pair_density(SPH__AT(A->m, 0, j[k]), cW * sph__nshape_w(sh, q));
                 s0 += c * d[0][k];
                 s1 += c * d[1][k];
@@ -2247,20 +2268,24 @@ SPH__INLINE void sph__dgc_body(const sph__args *A, const sph__nshape *sh, const 
     SPH__NOINLINE void sph__dgc_##S(const sph__args *A, const sph__tgt *t, sph_idx i, int dens, int grad, \
                                     sph_real fi, sph_real *g, sph_real *rho)                        \
     {                                                                                              \
-        if (dens && grad)                                                                          \
-            sph__dgc_body(A, &sph__nshapes[S], t, i, 1, 1, fi, g, rho);                            \
+        if (dens && grad && A->hv)                                                                 \
+            sph__dgc_body(A, &sph__nshapes[S], t, i, 1, 1, 1, fi, g, rho);                         \
+        else if (dens && grad)                                                                     \
+            sph__dgc_body(A, &sph__nshapes[S], t, i, 1, 1, 0, fi, g, rho);                         \
         else if (dens)                                                                             \
-            sph__dgc_body(A, &sph__nshapes[S], t, i, 1, 0, fi, g, rho);                            \
+            sph__dgc_body(A, &sph__nshapes[S], t, i, 1, 0, 0, fi, g, rho);                         \
+        else if (A->hv)                                                                            \
+            sph__dgc_body(A, &sph__nshapes[S], t, i, 0, 1, 1, fi, g, rho);                         \
         else                                                                                       \
-            sph__dgc_body(A, &sph__nshapes[S], t, i, 0, 1, fi, g, rho);                            \
+            sph__dgc_body(A, &sph__nshapes[S], t, i, 0, 1, 0, fi, g, rho);                         \
     }
 SPH__SHAPE_IDS(SPH__X)
 #undef SPH__X
 #endif /* !SPH__OP_AVX512 */
 
-/* The one-pass loop for target i where it serves (F at the uniform h; the
- * gradient with per-particle h stays with the chunks): returns 1 with g
- * and/or rho written, else 0. sph__dg8 with AVX-512, sph__dgc otherwise. */
+/* The one-pass loop for target i (W at h_i; F at h or, with per-particle h,
+ * at h_ij per pair): returns 1 with g and/or rho written, else 0. sph__dg8
+ * with AVX-512, sph__dgc otherwise. */
 #if SPH__OP_AVX512
 #define SPH__DG(S) sph__dg8_##S
 #else
@@ -2269,7 +2294,6 @@ SPH__SHAPE_IDS(SPH__X)
 SPH__INLINE int sph__dg(const sph__args *A, const sph__tgt *t, sph_idx i, int dens, int grad, sph_real fi,
                         sph_real *g, sph_real *rho)
 {
-    if (grad && A->hv) return 0;
     switch (t->shape) {
 #define SPH__X(S) case S: SPH__DG(S)(A, t, i, dens, grad, fi, g, rho); return 1;
         SPH__SHAPE_IDS(SPH__X)
