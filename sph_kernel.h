@@ -2182,10 +2182,10 @@ SPH__INLINE void sph__dg8_body(const sph__args *A, const sph__nshape *sh, const 
     one ? sph__dg8_body(A, &sph__nshapes[S], t, i, D, dn, gr, hv, 1, fi, g, rho)        \
         : sph__dg8_body(A, &sph__nshapes[S], t, i, D, dn, gr, hv, 0, fi, g, rho)
 #define SPH__DG8_USES(S, D)                                                           \
-    if (dens && grad && A->hv) SPH__DG8_ONE(S, D, 1, 1, 1);                           \
+    if (dens && grad && A->hv) /* one instance: each field at its own offsets */      \
+        sph__dg8_body(A, &sph__nshapes[S], t, i, D, 1, 1, 1, 0, fi, g, rho);          \
     else if (dens && grad) SPH__DG8_ONE(S, D, 1, 1, 0);                               \
     else if (dens) SPH__DG8_ONE(S, D, 1, 0, 0);                                       \
-    else if (A->hv) SPH__DG8_ONE(S, D, 0, 1, 1);                                      \
     else SPH__DG8_ONE(S, D, 0, 1, 0);
 #define SPH__X(S)                                                                                  \
     SPH__NOINLINE void sph__dg8_##S(const sph__args *A, const sph__tgt *t, sph_idx i, int dens, int grad, \
@@ -2193,8 +2193,7 @@ SPH__INLINE void sph__dg8_body(const sph__args *A, const sph__nshape *sh, const 
     {                                                                                              \
         /* views sharing the stride of x (SoA, or one array of structs) share its offsets */       \
         const ptrdiff_t sx = A->x.stride;                                                          \
-        const int one = (!dens || A->m.stride == sx) && (!grad || (A->V.stride == sx && A->f.stride == sx)) && \
-                        (!grad || !A->hv || A->hs.stride == sx);                                     \
+        const int one = (!dens || A->m.stride == sx) && (!grad || (A->V.stride == sx && A->f.stride == sx)); \
         switch (SPH__DIM(A)) {                                                                     \
         case 1: SPH__DG8_USES(S, 1) break;                                                         \
         case 2: SPH__DG8_USES(S, 2) break;                                                         \
@@ -2339,8 +2338,6 @@ SPH__INLINE void sph__dgc_body(const sph__args *A, const sph__nshape *sh, const 
             sph__dgc_body(A, &sph__nshapes[S], t, i, 1, 1, 0, fi, g, rho);                         \
         else if (dens)                                                                             \
             sph__dgc_body(A, &sph__nshapes[S], t, i, 1, 0, 0, fi, g, rho);                         \
-        else if (A->hv)                                                                            \
-            sph__dgc_body(A, &sph__nshapes[S], t, i, 0, 1, 1, fi, g, rho);                         \
         else                                                                                       \
             sph__dgc_body(A, &sph__nshapes[S], t, i, 0, 1, 0, fi, g, rho);                         \
     }
@@ -2348,9 +2345,11 @@ SPH__SHAPE_IDS(SPH__X)
 #undef SPH__X
 #endif /* !SPH__OP_AVX512 */
 
-/* The one-pass loop for target i (W at h_i; F at h or, with per-particle h,
- * at h_ij per pair): returns 1 with g and/or rho written, else 0. sph__dg8
- * with AVX-512, sph__dgc otherwise. */
+/* The one-pass loop for target i (W at h_i; F at h or, in the fused pass
+ * with per-particle h, at h_ij per pair; the gradient alone with per-particle
+ * h stays with the chunks, one instance fewer per shape to compile): returns
+ * 1 with g and/or rho written, else 0. sph__dg8 with AVX-512, sph__dgc
+ * otherwise. */
 #if SPH__OP_AVX512
 #define SPH__DG(S) sph__dg8_##S
 #else
@@ -2359,6 +2358,7 @@ SPH__SHAPE_IDS(SPH__X)
 SPH__INLINE int sph__dg(const sph__args *A, const sph__tgt *t, sph_idx i, int dens, int grad, sph_real fi,
                         sph_real *g, sph_real *rho)
 {
+    if (grad && !dens && A->hv) return 0;
     switch (t->shape) {
 #define SPH__X(S) case S: SPH__DG(S)(A, t, i, dens, grad, fi, g, rho); return 1;
         SPH__SHAPE_IDS(SPH__X)
