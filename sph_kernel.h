@@ -1889,6 +1889,8 @@ SPH_API sph_idx sph__run_reference(const sph__args *A)
  * a loop per shape of their own instead: one pass in AVX-512 registers
  * (sph__dg8), or elsewhere two passes per chunk (sph__dgc). */
 #if !defined(SPH_OP_REFERENCE)
+/* the fast loops are compiled (sph_h_solve's density sums use them too) */
+#define SPH__FAST_LOOPS 1
 
 #ifndef SPH__CHUNK
 #define SPH__CHUNK 32 /* a multiple of 8 */
@@ -2192,10 +2194,11 @@ SPH__INLINE double sph__sum8(__m512d v)
  * of the indices through a vector type may alias any memory, and would
  * otherwise reload them every step. */
 SPH__INLINE void sph__dg8_body(const sph__args *A, const sph__nshape *sh, const sph__tgt *t, sph_idx i, const int D,
-                               int dens, int grad, const int one, sph_real fi, sph_real *g, sph_real *rho)
+                               int dens, int grad, const int hv, const int one, sph_real fi, sph_real *g, sph_real *rho)
 {
-    const ptrdiff_t sx = A->x.stride, sm = A->m.stride, sV = A->V.stride, sf = A->f.stride;
-    const sph_real *const pm = A->m.p[0], *const pV = A->V.p[0], *const pf = A->f.p[0];
+    const ptrdiff_t sx = A->x.stride, sm = A->m.stride, sV = A->V.stride, sf = A->f.stride, sh_ = A->hs.stride;
+    const sph_real *const pm = A->m.p[0], *const pV = A->V.p[0], *const pf = A->f.p[0], *const ph = A->hs.p[0];
+    const __m512d hi8 = _mm512_set1_pd((double)t->hi), two = _mm512_set1_pd(2), alpha = _mm512_set1_pd((double)t->alpha);
     const sph_idx *const idx = A->idx;
     const sph_off end = A->off[i + 1];
     const __m512d hinv = _mm512_set1_pd((double)t->hinv), kap = _mm512_set1_pd((double)sh->kappa);
@@ -2217,28 +2220,43 @@ SPH__INLINE void sph__dg8_body(const sph__args *A, const sph__nshape *sh, const 
         const sph_off left = end - o;
         const __mmask8 km = (__mmask8)(left >= 8 ? 0xff : (1u << left) - 1);
         sph_idx j[8];
-        ptrdiff_t ox[8], om[8], oV[8], of[8];
-        __m512d d0, d1 = zero, d2 = zero, r2, q;
+        ptrdiff_t ox[8], om[8], oV[8], of[8], oh[8];
+        __m512d d0, d1 = zero, d2 = zero, r2, r, q;
         __mmask8 in;
         _mm256_storeu_si256((__m256i *)j, _mm256_maskz_loadu_epi32(km, idx + o));
         for (k = 0; k < 8; ++k) ox[k] = (ptrdiff_t)j[k] * sx;
         if (!one)
             for (k = 0; k < 8; ++k) om[k] = (ptrdiff_t)j[k] * sm, oV[k] = (ptrdiff_t)j[k] * sV, of[k] = (ptrdiff_t)j[k] * sf;
+        if (!one && hv)
+            for (k = 0; k < 8; ++k) oh[k] = (ptrdiff_t)j[k] * sh_;
         d0 = sph__dx8(xi[0], px[0], L[0], iL[0], km, ox);
         r2 = _mm512_mul_pd(d0, d0);
         if (D > 1) d1 = sph__dx8(xi[1], px[1], L[1], iL[1], km, ox), r2 = _mm512_fmadd_pd(d1, d1, r2);
         if (D > 2) d2 = sph__dx8(xi[2], px[2], L[2], iL[2], km, ox), r2 = _mm512_fmadd_pd(d2, d2, r2);
-        q = _mm512_mul_pd(_mm512_maskz_sqrt_pd(SPH__ALL8, r2), hinv);
+        r = _mm512_maskz_sqrt_pd(SPH__ALL8, r2);
+        q = _mm512_mul_pd(r, hinv);
         in = _mm512_cmp_pd_mask(q, kap, _CMP_LT_OQ) & km;
         if (dens) {
             const __m512d W = _mm512_maskz_mul_pd(in, cW, sph__nshape_pick8(sh, 0, q));
             sr = _mm512_fmadd_pd(sph__at8(zero, in, pm, one ? ox : om), W, sr);
         }
         if (grad) {
-            __m512d gq = sph__nshape_pick8(sh, 1, q), c;
-            if (sh->npiece > 1) gq = _mm512_div_pd(gq, _mm512_mask_mov_pd(one8, _mm512_cmp_pd_mask(q, lo1, _CMP_GE_OQ), q));
-            c = _mm512_mul_pd(sph__at8(zero, in, pV, one ? ox : oV), _mm512_sub_pd(sph__at8(vfi, in, pf, one ? ox : of), vfi));
-            c = _mm512_mul_pd(c, _mm512_maskz_mul_pd(in, cF, gq));
+            /* F at h_ij = (h_i + h_j) / 2 with per-particle h: 1/h_ij, q and
+             * alpha h_ij^-(d+2) per lane, multiplied as sph__hpow does */
+            __m512d qF = q, cFj = cF, gq, c;
+            __mmask8 inF = in;
+            if (hv) {
+                const __m512d hinvF = _mm512_div_pd(two, _mm512_add_pd(hi8, sph__at8(hi8, km, ph, one ? ox : oh)));
+                qF = _mm512_mul_pd(r, hinvF);
+                inF = _mm512_cmp_pd_mask(qF, kap, _CMP_LT_OQ) & km;
+                cFj = alpha;
+                SPH__UNROLL
+                for (a = 0; a < D + 2; ++a) cFj = _mm512_mul_pd(cFj, hinvF);
+            }
+            gq = sph__nshape_pick8(sh, 1, qF);
+            if (sh->npiece > 1) gq = _mm512_div_pd(gq, _mm512_mask_mov_pd(one8, _mm512_cmp_pd_mask(qF, lo1, _CMP_GE_OQ), qF));
+            c = _mm512_mul_pd(sph__at8(zero, inF, pV, one ? ox : oV), _mm512_sub_pd(sph__at8(vfi, inF, pf, one ? ox : of), vfi));
+            c = _mm512_mul_pd(c, _mm512_maskz_mul_pd(inF, cFj, gq));
             s0 = _mm512_fmadd_pd(c, d0, s0);
             if (D > 1) s1 = _mm512_fmadd_pd(c, d1, s1);
             if (D > 2) s2 = _mm512_fmadd_pd(c, d2, s2);
@@ -2255,16 +2273,15 @@ SPH__INLINE void sph__dg8_body(const sph__args *A, const sph__nshape *sh, const 
 /* One instance per shape, holding each use (density, gradient, both) in
  * each dimension as a loop of its own: a flag or a dimension tested per
  * step costs 15-25 % there. */
+#define SPH__DG8_ONE(S, D, dn, gr, hv)                                                \
+    one ? sph__dg8_body(A, &sph__nshapes[S], t, i, D, dn, gr, hv, 1, fi, g, rho)        \
+        : sph__dg8_body(A, &sph__nshapes[S], t, i, D, dn, gr, hv, 0, fi, g, rho)
 #define SPH__DG8_USES(S, D)                                                           \
-    if (dens && grad)                                                                 \
-        one ? sph__dg8_body(A, &sph__nshapes[S], t, i, D, 1, 1, 1, fi, g, rho)          \
-            : sph__dg8_body(A, &sph__nshapes[S], t, i, D, 1, 1, 0, fi, g, rho);         \
-    else if (dens)                                                                    \
-        one ? sph__dg8_body(A, &sph__nshapes[S], t, i, D, 1, 0, 1, fi, g, rho)          \
-            : sph__dg8_body(A, &sph__nshapes[S], t, i, D, 1, 0, 0, fi, g, rho);         \
-    else                                                                              \
-        one ? sph__dg8_body(A, &sph__nshapes[S], t, i, D, 0, 1, 1, fi, g, rho)          \
-            : sph__dg8_body(A, &sph__nshapes[S], t, i, D, 0, 1, 0, fi, g, rho);
+    if (dens && grad && A->hv) /* one instance: each field at its own offsets */      \
+        sph__dg8_body(A, &sph__nshapes[S], t, i, D, 1, 1, 1, 0, fi, g, rho);          \
+    else if (dens && grad) SPH__DG8_ONE(S, D, 1, 1, 0);                               \
+    else if (dens) SPH__DG8_ONE(S, D, 1, 0, 0);                                       \
+    else SPH__DG8_ONE(S, D, 0, 1, 0);
 #define SPH__X(S)                                                                                  \
     SPH__NOINLINE void sph__dg8_##S(const sph__args *A, const sph__tgt *t, sph_idx i, int dens, int grad, \
                                     sph_real fi, sph_real *g, sph_real *rho)                        \
@@ -2281,6 +2298,70 @@ SPH__INLINE void sph__dg8_body(const sph__args *A, const sph__nshape *sh, const 
 SPH__SHAPE_IDS(SPH__X)
 #undef SPH__X
 #undef SPH__DG8_USES
+#undef SPH__DG8_ONE
+
+/* (H2), (K7) the sums of sph_h_solve's density for one particle, 8 pairs
+ * per step as sph__dg8_body: sw = sum_j m_j w(q), sd = sum_j m_j (d w + q^2 g),
+ * q = r_ij hinv, over list positions o..end-1 (positions x, masses m; L, iL
+ * the periods and their inverses, 0 where not periodic). */
+SPH__INLINE void sph__hs8_body(const sph__nshape *sh, const int D, sph_view x, sph_view m, const sph_idx *idx, sph_off o,
+                               sph_off end, const sph_real *xi_, const sph_real *L_, const sph_real *iL_, sph_real hinv_,
+                               sph_real *sw, sph_real *sd)
+{
+    const ptrdiff_t sx = x.stride, sm = m.stride;
+    const sph_real *const pm = m.p[0];
+    const __m512d hinv = _mm512_set1_pd((double)hinv_), kap = _mm512_set1_pd((double)sh->kappa);
+    const __m512d lo1 = _mm512_set1_pd((double)sh->lo[sh->npiece > 1 ? 1 : 0]), one8 = _mm512_set1_pd(1);
+    const __m512d zero = _mm512_setzero_pd(), dd = _mm512_set1_pd((double)D);
+    __m512d xi[3], L[3], iL[3], s0 = zero, s1 = zero;
+    const sph_real *px[3];
+    int k, a;
+    for (a = 0; a < 3; ++a) {
+        const int in = a < D;
+        px[a] = in ? x.p[a] : NULL;
+        xi[a] = _mm512_set1_pd(in ? (double)xi_[a] : 0);
+        L[a] = _mm512_set1_pd(in ? (double)L_[a] : 0);
+        iL[a] = _mm512_set1_pd(in ? (double)iL_[a] : 0);
+    }
+    for (; o < end; o += 8) {
+        const sph_off left = end - o;
+        const __mmask8 km = (__mmask8)(left >= 8 ? 0xff : (1u << left) - 1);
+        sph_idx j[8];
+        ptrdiff_t ox[8], om[8];
+        __m512d d, r2, q, w, g, mj;
+        __mmask8 in;
+        _mm256_storeu_si256((__m256i *)j, _mm256_maskz_loadu_epi32(km, idx + o));
+        for (k = 0; k < 8; ++k) ox[k] = (ptrdiff_t)j[k] * sx, om[k] = (ptrdiff_t)j[k] * sm;
+        d = sph__dx8(xi[0], px[0], L[0], iL[0], km, ox);
+        r2 = _mm512_mul_pd(d, d);
+        if (D > 1) d = sph__dx8(xi[1], px[1], L[1], iL[1], km, ox), r2 = _mm512_fmadd_pd(d, d, r2);
+        if (D > 2) d = sph__dx8(xi[2], px[2], L[2], iL[2], km, ox), r2 = _mm512_fmadd_pd(d, d, r2);
+        q = _mm512_mul_pd(_mm512_maskz_sqrt_pd(SPH__ALL8, r2), hinv);
+        in = _mm512_cmp_pd_mask(q, kap, _CMP_LT_OQ) & km;
+        w = _mm512_maskz_mov_pd(in, sph__nshape_pick8(sh, 0, q));
+        g = sph__nshape_pick8(sh, 1, q);
+        if (sh->npiece > 1) g = _mm512_div_pd(g, _mm512_mask_mov_pd(one8, _mm512_cmp_pd_mask(q, lo1, _CMP_GE_OQ), q));
+        g = _mm512_maskz_mov_pd(in, g);
+        mj = sph__at8(zero, in, pm, om);
+        s0 = _mm512_fmadd_pd(mj, w, s0);
+        s1 = _mm512_fmadd_pd(mj, _mm512_fmadd_pd(dd, w, _mm512_mul_pd(_mm512_mul_pd(q, q), g)), s1);
+    }
+    *sw = (sph_real)sph__sum8(s0);
+    *sd = (sph_real)sph__sum8(s1);
+}
+
+/* One instance per shape, a loop per dimension. */
+#define SPH__X(S)                                                                                               \
+    SPH__NOINLINE void sph__hs8_##S(int D, sph_view x, sph_view m, const sph_idx *idx, sph_off o, sph_off end,  \
+                                    const sph_real *xi, const sph_real *L, const sph_real *iL, sph_real hinv,   \
+                                    sph_real *sw, sph_real *sd)                                                 \
+    {                                                                                                           \
+        if (D == 1) sph__hs8_body(&sph__nshapes[S], 1, x, m, idx, o, end, xi, L, iL, hinv, sw, sd);             \
+        else if (D == 2) sph__hs8_body(&sph__nshapes[S], 2, x, m, idx, o, end, xi, L, iL, hinv, sw, sd);        \
+        else sph__hs8_body(&sph__nshapes[S], 3, x, m, idx, o, end, xi, L, iL, hinv, sw, sd);                    \
+    }
+SPH__SHAPE_IDS(SPH__X)
+#undef SPH__X
 #endif /* SPH__OP_AVX512 */
 
 /* ---- without AVX-512: density and difference gradient in two passes ---- */
@@ -2296,10 +2377,10 @@ SPH__SHAPE_IDS(SPH__X)
  * loop, the shape's pieces constants of the instance. The reference loop's
  * arithmetic pair by pair; without OpenMP its sums in list order too. */
 SPH__INLINE void sph__dgc_body(const sph__args *A, const sph__nshape *sh, const sph__tgt *t, sph_idx i, int dens,
-                               int grad, sph_real fi, sph_real *g, sph_real *rho)
+                               int grad, const int hv, sph_real fi, sph_real *g, sph_real *rho)
 {
     const int D = SPH__DIM(A);
-    const sph_real hinv = t->hinv, cW = t->cW, cF = t->cF;
+    const sph_real hinv = t->hinv, cW = t->cW, cF = t->cF, hi = t->hi, alpha = t->alpha;
     sph_real s0 = 0, s1 = 0, s2 = 0, s3 = 0, d[3][SPH__CHUNK], r[SPH__CHUNK];
     sph_off o;
     int n, k, a;
@@ -2321,7 +2402,11 @@ SPH__INLINE void sph__dgc_body(const sph__args *A, const sph__nshape *sh, const 
             SPH__SIMD_SUM4
             for (k = 0; k < n; ++k) {
                 const sph_real q = r[k] * hinv;
-                const sph_real c = SPH__AT(A->V, 0, j[k]) * (SPH__AT(A->f, 0, j[k]) - fi) * (cF * sph__nshape_g(sh, q));
+                /* per-particle h: F at h_ij = (h_i + h_j) / 2, alpha h_ij^-(d+2) as sph__hpow multiplies */
+                const sph_real hF = hv ? 2 / (hi + SPH__AT(A->hs, 0, j[k])) : hinv;
+                const sph_real c3 = alpha * hF * hF * hF, c4 = D > 1 ? c3 * hF : c3, c5 = D > 2 ? c4 * hF : c4;
+                const sph_real c = SPH__AT(A->V, 0, j[k]) * (SPH__AT(A->f, 0, j[k]) - fi) *
+                                   ((hv ? c5 : cF) * sph__nshape_g(sh, hv ? r[k] * hF : q));
                 if (dens) s3 += sph_pair_density(SPH__AT(A->m, 0, j[k]), cW * sph__nshape_w(sh, q));
                 s0 += c * d[0][k];
                 s1 += c * d[1][k];
@@ -2342,20 +2427,24 @@ SPH__INLINE void sph__dgc_body(const sph__args *A, const sph__nshape *sh, const 
     SPH__NOINLINE void sph__dgc_##S(const sph__args *A, const sph__tgt *t, sph_idx i, int dens, int grad, \
                                     sph_real fi, sph_real *g, sph_real *rho)                        \
     {                                                                                              \
-        if (dens && grad)                                                                          \
-            sph__dgc_body(A, &sph__nshapes[S], t, i, 1, 1, fi, g, rho);                            \
+        if (dens && grad && A->hv)                                                                 \
+            sph__dgc_body(A, &sph__nshapes[S], t, i, 1, 1, 1, fi, g, rho);                         \
+        else if (dens && grad)                                                                     \
+            sph__dgc_body(A, &sph__nshapes[S], t, i, 1, 1, 0, fi, g, rho);                         \
         else if (dens)                                                                             \
-            sph__dgc_body(A, &sph__nshapes[S], t, i, 1, 0, fi, g, rho);                            \
+            sph__dgc_body(A, &sph__nshapes[S], t, i, 1, 0, 0, fi, g, rho);                         \
         else                                                                                       \
-            sph__dgc_body(A, &sph__nshapes[S], t, i, 0, 1, fi, g, rho);                            \
+            sph__dgc_body(A, &sph__nshapes[S], t, i, 0, 1, 0, fi, g, rho);                         \
     }
 SPH__SHAPE_IDS(SPH__X)
 #undef SPH__X
 #endif /* !SPH__OP_AVX512 */
 
-/* The one-pass loop for target i where it serves (F at the uniform h; the
- * gradient with per-particle h stays with the chunks): returns 1 with g
- * and/or rho written, else 0. sph__dg8 with AVX-512, sph__dgc otherwise. */
+/* The one-pass loop for target i (W at h_i; F at h or, in the fused pass
+ * with per-particle h, at h_ij per pair; the gradient alone with per-particle
+ * h stays with the chunks, one instance fewer per shape to compile): returns
+ * 1 with g and/or rho written, else 0. sph__dg8 with AVX-512, sph__dgc
+ * otherwise. */
 #if SPH__OP_AVX512
 #define SPH__DG(S) sph__dg8_##S
 #else
@@ -2364,7 +2453,7 @@ SPH__SHAPE_IDS(SPH__X)
 SPH__INLINE int sph__dg(const sph__args *A, const sph__tgt *t, sph_idx i, int dens, int grad, sph_real fi,
                         sph_real *g, sph_real *rho)
 {
-    if (grad && A->hv) return 0;
+    if (grad && !dens && A->hv) return 0;
     switch (t->shape) {
 #define SPH__X(S) case S: SPH__DG(S)(A, t, i, dens, grad, fi, g, rho); return 1;
         SPH__SHAPE_IDS(SPH__X)
@@ -5111,14 +5200,14 @@ SPH_API int sph__hctx_check(const sph_hctx *c)
     return SPH_OK;
 }
 
-/* (H2) and its h-derivative at h for particle i: rho = sum_j m_j W(r_ij, h),
- * drho = sum_j m_j dW/dh (K7), dW/dh = -alpha_d h^-(d+1) (d w + q w'). */
-SPH_API void sph__h_sums(const sph_hctx *c, const sph__kdim *kd, const sph__period *P, sph_idx i, sph_real h,
-                         sph_real *rho, sph_real *drho)
+/* The sums of (H2) and (K7) at 1/h = hinv for particle i without the
+ * factors of h: sw = sum_j m_j w(q), sd = sum_j m_j (d w + q^2 g(q)), q =
+ * r_ij / h. The reference loop, one pair at a time, in list order. */
+SPH_API void sph__h_sums_ref(const sph_hctx *c, const sph__nshape *s, const sph__period *P, sph_idx i, sph_real hinv,
+                             sph_real *sw, sph_real *sd)
 {
-    const sph__nshape *s = &sph__nshapes[kd->shape];
-    const sph_real hinv = 1 / h, dd = (sph_real)c->dim;
-    sph_real xi[3], dx[3], sw = 0, sd = 0;
+    const sph_real dd = (sph_real)c->dim;
+    sph_real xi[3], dx[3], s0 = 0, s1 = 0;
     sph_off o;
     sph__h_xi(c->x, c->dim, i, xi);
     for (o = c->list->offset[i]; o < c->list->offset[i + 1]; ++o) {
@@ -5126,9 +5215,101 @@ SPH_API void sph__h_sums(const sph_hctx *c, const sph__kdim *kd, const sph__peri
         const sph_real q = sph__sqrt(sph__h_dx(P, c->dim, xi, c->x, j, dx)) * hinv;
         const sph_real mj = c->m.p[0][(ptrdiff_t)j * c->m.stride];
         const sph_real w = sph__nshape_w(s, q), g = sph__nshape_g(s, q);
-        sw += mj * w;
-        sd += mj * (dd * w + q * q * g);
+        s0 += mj * w;
+        s1 += mj * (dd * w + q * q * g);
     }
+    *sw = s0;
+    *sd = s1;
+}
+
+#if defined(SPH__FAST_LOOPS)
+#if defined(_OPENMP) && _OPENMP >= 201307 && !defined(__clang__)
+#define SPH__SIMD_HSUM _Pragma("omp simd reduction(+ : s0, s1)")
+#else
+#define SPH__SIMD_HSUM /* clang: as SPH__SIMD_KERNEL */
+#endif
+/* sph__h_sums_ref's sums with the operators' fast loops (section 6): a chunk
+ * of the list at a time, x_ij and r^2 axis by axis, the vector square
+ * roots, then w, g and both sums in one vector loop, the shape's pieces
+ * constants of the instance. The reference arithmetic pair by pair; without
+ * OpenMP the sums in list order too (bitwise), with it SIMD reductions. */
+SPH__INLINE void sph__h_sums_body(const sph_hctx *c, const sph__nshape *s, const sph__period *P, sph_idx i,
+                                  sph_real hinv, sph_real *sw, sph_real *sd)
+#if SPH__OP_AVX512
+{
+    sph_real xi[3];
+    sph__h_xi(c->x, c->dim, i, xi);
+    switch ((int)(s - sph__nshapes)) { /* AVX-512: the one-pass loop of the shape */
+#define SPH__X(S)                                                                                                \
+    case S:                                                                                                      \
+        sph__hs8_##S(c->dim, c->x, c->m, c->list->index, c->list->offset[i], c->list->offset[i + 1], xi, P->L, \
+                     P->invL, hinv, sw, sd);                                                                     \
+        break;
+        SPH__SHAPE_IDS(SPH__X)
+#undef SPH__X
+    default: *sw = *sd = 0; break;
+    }
+}
+#else
+{
+    const sph_real dd = (sph_real)c->dim, *const pm = c->m.p[0];
+    const ptrdiff_t sm = c->m.stride;
+    const sph_off end = c->list->offset[i + 1];
+    sph_real xi[3], d[SPH__CHUNK], r[SPH__CHUNK], mj[SPH__CHUNK], s0 = 0, s1 = 0;
+    sph_off o;
+    int n, k, a;
+    sph__h_xi(c->x, c->dim, i, xi);
+    for (o = c->list->offset[i]; o < end; o += n) {
+        const sph_idx *j = c->list->index + o;
+        n = end - o < SPH__CHUNK ? (int)(end - o) : SPH__CHUNK;
+        for (k = 0; k < SPH__CHUNK; ++k) r[k] = 0, mj[k] = 0;
+        for (a = 0; a < c->dim && a < 3; ++a)
+            sph__axis_chunk(c->x.p[a], c->x.stride, j, n, xi[a], P->L[a], P->invL[a], d, r);
+        for (k = 0; k < n; ++k) mj[k] = pm[(ptrdiff_t)j[k] * sm];
+        sph__sqrt_chunk(r, (n + 7) & ~7);
+        /* over a multiple of 8 (no scalar remainder): the padding has r = 0 and m_j = 0, adding +0 */
+        SPH__SIMD_HSUM
+        for (k = 0; k < ((n + 7) & ~7); ++k) {
+            const sph_real q = r[k] * hinv;
+            const sph_real w = sph__nshape_w(s, q), g = sph__nshape_g(s, q);
+            s0 += mj[k] * w;
+            s1 += mj[k] * (dd * w + q * q * g);
+        }
+    }
+    *sw = s0;
+    *sd = s1;
+}
+#endif
+#undef SPH__SIMD_HSUM
+
+#define SPH__X(S)                                                                                          \
+    SPH__NOINLINE void sph__h_sums_##S(const sph_hctx *c, const sph__period *P, sph_idx i, sph_real hinv,  \
+                                       sph_real *sw, sph_real *sd)                                        \
+    {                                                                                                      \
+        sph__h_sums_body(c, &sph__nshapes[S], P, i, hinv, sw, sd);                                         \
+    }
+SPH__SHAPE_IDS(SPH__X)
+#undef SPH__X
+#endif /* SPH__FAST_LOOPS */
+
+/* (H2) and its h-derivative at h for particle i: rho = sum_j m_j W(r_ij, h),
+ * drho = sum_j m_j dW/dh (K7), dW/dh = -alpha_d h^-(d+1) (d w + q w'); the
+ * sums in the operators' fast loops where they are compiled. */
+SPH_API void sph__h_sums(const sph_hctx *c, const sph__kdim *kd, const sph__period *P, sph_idx i, sph_real h,
+                         sph_real *rho, sph_real *drho)
+{
+    const sph_real hinv = 1 / h;
+    sph_real sw = 0, sd = 0;
+#if defined(SPH__FAST_LOOPS)
+    switch (kd->shape) {
+#define SPH__X(S) case S: sph__h_sums_##S(c, P, i, hinv, &sw, &sd); break;
+        SPH__SHAPE_IDS(SPH__X)
+#undef SPH__X
+    default: break; /* every shape has its instance (sph__shape_ids_cover_every_shape) */
+    }
+#else
+    sph__h_sums_ref(c, &sph__nshapes[kd->shape], P, i, hinv, &sw, &sd);
+#endif
     *rho = sph__hpow(kd->alpha * sw, hinv, c->dim);
     *drho = -sph__hpow(kd->alpha * sd, hinv, c->dim + 1);
 }

@@ -5,6 +5,7 @@
  *
  *   make bench          (double and float builds, 1 and 2 threads)
  *   build/bench/benchmark_double [side] [repetitions]
+ *   BENCH_ONLY=fused build/bench/benchmark_double 64 7   (density, fused passes, sph_h_solve)
  *
  * Scene: 3-D, side^3 particles (default 64^3) on a lattice perturbed by
  * +-10 % dx in the periodic unit box, sorted by cell (sph_nsearch_permutation
@@ -288,7 +289,7 @@ static void hand_loop(scene *s)
 /* ---- timing ---- */
 enum {
     T_FLOOR, T_FLOOR_FIELDS, T_TEXT, T_BUILD, T_BUILD2, T_DENS, T_GRAD, T_DENS_THEN_GRAD, T_FUSED, T_CORR, T_DIV, T_LAP,
-    T_FUSED_HV, T_FUSED_NOBOX, T_HAND_NOBOX, T_PINNED, T_REFERENCE, T_KERNEL0, T_COUNT = T_KERNEL0 + SPH_KERNEL_COUNT
+    T_FUSED_HV, T_FUSED_HVAR, T_HSOLVE, T_FUSED_NOBOX, T_HAND_NOBOX, T_PINNED, T_REFERENCE, T_KERNEL0, T_COUNT = T_KERNEL0 + SPH_KERNEL_COUNT
 };
 
 static const char *const t_name[T_COUNT] = {
@@ -296,7 +297,8 @@ static const char *const t_name[T_COUNT] = {
     "neighbour list (size+build+count+fill)",
     "density", "gradient (difference)", "density, then gradient (2 calls)", "density + gradient (fused, 1 pass)",
     "corrected gradient incl. B_i", "divergence (difference)", "Laplacian",
-    "fused, per-particle h (all equal)", "fused, no box (scene unwrapped)", "hand-written loop, no box, uniform h",
+    "fused, per-particle h (all equal)", "fused, per-particle h (0.9..1 h)", "sph_h_solve density sums (eta 1.1)",
+    "fused, no box (scene unwrapped)", "hand-written loop, no box, uniform h",
     "fused, SPH_DIM 3 + SPH_KERNEL pinned", "fused, reference loops (SPH_OP_REFERENCE)", "k", "k", "k", "k", "k", "k", "k"};
 
 static sph_ctx ctx_of(scene *s, sph_kernel k)
@@ -316,7 +318,30 @@ static void chk(int st)
     if (st != SPH_OK && g_status == SPH_OK) g_status = st;
 }
 
-/* One timed run of operation op. */
+/* Pairs summed by the last sph_h_solve run (its iterations times the list
+ * lengths): T_HSOLVE's time is per pair of these sums. */
+static double g_hsolve_pairs = 0;
+
+/* sph_h_solve from the guesses h_i = h (above the root of eta 1.1, inside
+ * the list of kappa h): a few density sums per particle. */
+static void run_hsolve(scene *s, sph_real *hwork, int *iters)
+{
+    sph_hctx c = sph_hctx_init(SPH_KERNEL_CUBIC, 3, &s->list, xview(s), sph_view_soa(s->m, NULL, NULL), s->h);
+    sph_real *rho = s->rho, *om = s->out;
+    double np = 0;
+    int i;
+    c.box = &s->box;
+    c.eta = (sph_real)1.1;
+    c.check_list = 0;
+    for (i = 0; i < s->n; ++i) hwork[i] = s->h;
+    chk(sph_h_solve(&c, sph_out_soa(hwork, NULL, NULL), sph_out_soa(rho, NULL, NULL), sph_out_soa(om, NULL, NULL),
+                    iters, NULL, NULL));
+    for (i = 0; i < s->n; ++i) np += (double)iters[i] * (double)(s->off[i + 1] - s->off[i]);
+    g_hsolve_pairs = np;
+}
+
+/* One timed run of operation op (hbuf: h_i = h, then h_i in 0.9..1 h, then
+ * scratch for sph_h_solve). */
 static void run_op(scene *s, int op, sph_real *hbuf)
 {
     sph_ctx c = ctx_of(s, SPH_KERNEL_CUBIC);
@@ -344,6 +369,11 @@ static void run_op(scene *s, int op, sph_real *hbuf)
         c.h_source = sph_view_soa(hbuf, NULL, NULL);
         chk(sph_density_gradient(&c, f, sph_view_none(), rho, g));
         break;
+    case T_FUSED_HVAR:
+        c.h_source = sph_view_soa(hbuf + s->n, NULL, NULL);
+        chk(sph_density_gradient(&c, f, sph_view_none(), rho, g));
+        break;
+    case T_HSOLVE: run_hsolve(s, hbuf + 2 * s->n, (int *)(void *)(hbuf + 3 * s->n)); break;
     case T_FUSED_NOBOX: { /* the list without its periodic box: the open loops' time */
         sph_neighbours open = s->list;
         open.box_known = 0;
@@ -470,7 +500,9 @@ static void put_tables(FILE *f, int md, const timings *T, double pairs, int n, i
     if (med_time(T, 0, T_PINNED) > 0)
         put_ratio(f, md, "run-time selected / pinned (SPH_DIM, SPH_KERNEL)", R1(T_FUSED, T_PINNED), "%.3f", "<= 1.05");
     put_ratio(f, md, "library without box / hand-written, no box", R1(T_FUSED_NOBOX, T_HAND_NOBOX), "%.3f", "<= 1.03");
-    put_ratio(f, md, "per-particle h (all equal) / uniform h", R1(T_FUSED_HV, T_FUSED), "%.3f", "");
+    put_ratio(f, md, "per-particle h (all equal) / uniform h", R1(T_FUSED_HV, T_FUSED), "%.3f", "<= 1.3");
+    put_ratio(f, md, "per-particle h (0.9..1 h) / uniform h", R1(T_FUSED_HVAR, T_FUSED), "%.3f", "<= 1.3");
+    put_ratio(f, md, "sph_h_solve density sums / density, per pair", R1(T_HSOLVE, T_DENS), "%.3f", "<= 1.3");
     put_ratio(f, md, "periodic box / no box", R1(T_FUSED, T_FUSED_NOBOX), "%.3f", "");
     if (med_time(T, 0, T_REFERENCE) > 0) put_ratio(f, md, "reference loops / fast loops", R1(T_REFERENCE, T_FUSED), "%.3f", "");
 #undef R1
@@ -481,6 +513,8 @@ int main(int argc, char **argv)
     const int side = argc > 1 ? atoi(argv[1]) : 64, reps = argc > 2 ? atoi(argv[2]) : 5;
     FILE *md = argc > 3 ? fopen(argv[3], "a") : NULL;
     const int nthreads[2] = {1, 2};
+    /* BENCH_ONLY=fused: the density, the fused passes and sph_h_solve only */
+    const int only_fused = getenv("BENCH_ONLY") != NULL && strcmp(getenv("BENCH_ONLY"), "fused") == 0;
     /* zeros for operations not timed: their median 0 leaves them out of the tables */
     timings T;
     double pairs;
@@ -497,8 +531,10 @@ int main(int argc, char **argv)
     T.s = (double *)calloc(2 * T_COUNT * (size_t)reps, sizeof(double));
     if (T.s == NULL) return 2;
     scene_init(&s, side);
-    hbuf = alloc_real(s.n);
+    hbuf = alloc_real(4 * s.n); /* h, varying h, sph_h_solve's h and its int iterations */
+    if (hbuf == NULL) return 2;
     for (i = 0; i < s.n; ++i) hbuf[i] = s.h;
+    for (i = 0; i < s.n; ++i) hbuf[s.n + i] = s.h * (sph_real)(0.9 + 0.1 * uniform());
     chk(build_list(&s, s.h, sph_kernel_support(SPH_KERNEL_CUBIC), 1));
     {
         sph_nsearch g;
@@ -532,9 +568,15 @@ int main(int argc, char **argv)
 #if !defined(BENCH_LINK_PARTS)
                 if (op == T_PINNED || op == T_REFERENCE) continue;
 #endif
+                if (only_fused && op != T_DENS && op != T_FUSED && op != T_FUSED_HV && op != T_FUSED_HVAR &&
+                    op != T_HSOLVE)
+                    continue;
                 t0 = tm_now();
                 run_op(&s, op, hbuf);
-                if (r >= 0) T.s[((size_t)ti * T_COUNT + (size_t)op) * (size_t)reps + (size_t)r] = tm_now() - t0;
+                t0 = tm_now() - t0;
+                /* sph_h_solve: per pair of its density sums, as ns/pair divides by the list's pairs */
+                if (op == T_HSOLVE && g_hsolve_pairs > 0) t0 *= pairs / g_hsolve_pairs;
+                if (r >= 0) T.s[((size_t)ti * T_COUNT + (size_t)op) * (size_t)reps + (size_t)r] = t0;
             }
         }
     put_tables(stdout, 0, &T, pairs, s.n, side, (double)ncand / (double)npairs, (double)(s.h / s.dx));

@@ -35,6 +35,15 @@ static int cc_host_density(void)
     if (sph_gradient(&c, SPH_SCHEME_DIFFERENCE, fv, sph_view_none(), sph_out_aos(g, 3, 3 * sizeof(sph_real)),
                      NULL) != SPH_OK || !(g[3] > 0))
         return 1;
-    return sph_laplacian(&c, fv, sph_view_none(), sph_out_soa(lap, NULL, NULL)) == SPH_OK ? 0 : 1;
+    if (sph_laplacian(&c, fv, sph_view_none(), sph_out_soa(lap, NULL, NULL)) != SPH_OK) return 1;
+    /* per-particle h: the one-pass loops with h_j, and the density sums of sph_h_solve */
+    sph_real h[2] = {1, 1}, om[2] = {0, 0};
+    c.h_source = sph_view_soa(h, NULL, NULL);
+    if (sph_density_gradient(&c, fv, sph_view_none(), sph_out_soa(rho, NULL, NULL),
+                             sph_out_interleaved(g, 3)) != SPH_OK || !(g[0] > 0))
+        return 1;
+    sph_hctx hc = sph_hctx_init(SPH_KERNEL_CUBIC, 3, &list, xv, sph_view_soa(m, NULL, NULL), 1);
+    return sph_h_solve(&hc, sph_out_soa(h, NULL, NULL), sph_out_soa(rho, NULL, NULL), sph_out_soa(om, NULL, NULL), NULL,
+                       NULL, NULL) == SPH_OK && rho[0] > 0 ? 0 : 1;
 }
 #endif

@@ -10,7 +10,9 @@
  * quintic spline at h = 1.3 dx equals 1 / dx^dim to better than 1e-3 (the
  * discretisation error of a smooth kernel on a lattice, Quinlan et al. 2006),
  * and the difference gradient of a constant field is exactly 0. The square
- * roots are compared bit for bit with sqrt(). */
+ * roots are compared bit for bit with sqrt(). Per-particle h varying by a
+ * factor 2: the fused fast loops equal the reference loops (bitwise where
+ * the fast loops promise it). */
 #include "harness.h"
 #include "op_scene.h"
 
@@ -83,11 +85,46 @@ static void check_scene(sph_kernel k, int dim, int hv, int periodic)
  * soa: positions as three arrays (stride 1) instead of interleaved (stride 3). */
 static const double PTOL = sizeof(sph_real) == sizeof(float) ? 1e-5 : 1e-13;
 
+/* Masses m_j = V_j (1 + 0.1 sin 3j), the field f = ts_sine, SoA copies of
+ * the positions and two sets of outputs (rho, gradient) for scene s. */
+typedef struct {
+    sph_real *m, *f, *xs[3], *rho[2], *g[2][3];
+} fz_data;
+
+static void fz_alloc(fz_data *d, const ts_scene *s, int dim)
+{
+    int i, a, v;
+    d->m = ts_vec(s->n);
+    d->f = ts_vec(s->n);
+    for (a = 0; a < 3; ++a) d->xs[a] = ts_vec(s->n);
+    for (v = 0; v < 2; ++v) {
+        d->rho[v] = ts_vec(s->n);
+        for (a = 0; a < 3; ++a) d->g[v][a] = ts_vec(s->n);
+    }
+    for (i = 0; i < s->n; ++i) {
+        d->m[i] = (sph_real)(s->V[i] * (1 + 0.1 * sin(3.0 * i)));
+        d->f[i] = (sph_real)ts_sine(dim, s->x + 3 * i, NULL);
+        for (a = 0; a < 3; ++a) d->xs[a][i] = s->x[3 * i + a];
+    }
+}
+
+static void fz_free(fz_data *d)
+{
+    int a, v;
+    free(d->m);
+    free(d->f);
+    for (a = 0; a < 3; ++a) free(d->xs[a]);
+    for (v = 0; v < 2; ++v) {
+        free(d->rho[v]);
+        for (a = 0; a < 3; ++a) free(d->g[v][a]);
+    }
+}
+
 static void check_pair_sums(sph_kernel k, int dim, int periodic, int soa)
 {
     sph_box box;
     ts_scene s;
-    sph_real *m, *f, *xs[3], *rho[2], *g[2][3];
+    fz_data d;
     const sph_off *off;
     const sph_idx *idx;
     int i, a, v, st;
@@ -100,25 +137,14 @@ static void check_pair_sums(sph_kernel k, int dim, int periodic, int soa)
     th_begin("density, gradient, fused = sum of pair terms, %s %dD, %s, %s positions", sph_kernel_name(k), dim,
              periodic ? "periodic" : "no box", soa ? "SoA" : "interleaved");
     ts_lattice(&s, k, dim, 8, 0.125, 1.3, 0.2, 11u + (uint64_t)dim, periodic ? &box : NULL);
-    m = ts_vec(s.n);
-    f = ts_vec(s.n);
-    for (a = 0; a < 3; ++a) xs[a] = ts_vec(s.n);
-    for (v = 0; v < 2; ++v) {
-        rho[v] = ts_vec(s.n);
-        for (a = 0; a < 3; ++a) g[v][a] = ts_vec(s.n);
-    }
-    for (i = 0; i < s.n; ++i) {
-        m[i] = (sph_real)(s.V[i] * (1 + 0.1 * sin(3.0 * i)));
-        f[i] = (sph_real)ts_sine(dim, s.x + 3 * i, NULL);
-        for (a = 0; a < 3; ++a) xs[a][i] = s.x[3 * i + a];
-    }
-    if (soa) s.c.x = sph_view_soa(xs[0], dim > 1 ? xs[1] : NULL, dim > 2 ? xs[2] : NULL);
-    s.c.m = sph_view_soa(m, NULL, NULL);
-    st = sph_density(&s.c, sph_out_soa(rho[0], NULL, NULL));
-    st |= sph_gradient(&s.c, SPH_SCHEME_DIFFERENCE, sph_view_soa(f, NULL, NULL), sph_view_none(),
-                       sph_out_soa(g[0][0], g[0][1], g[0][2]), NULL);
-    st |= sph_density_gradient(&s.c, sph_view_soa(f, NULL, NULL), sph_view_none(), sph_out_soa(rho[1], NULL, NULL),
-                               sph_out_soa(g[1][0], g[1][1], g[1][2]));
+    fz_alloc(&d, &s, dim);
+    if (soa) s.c.x = sph_view_soa(d.xs[0], dim > 1 ? d.xs[1] : NULL, dim > 2 ? d.xs[2] : NULL);
+    s.c.m = sph_view_soa(d.m, NULL, NULL);
+    st = sph_density(&s.c, sph_out_soa(d.rho[0], NULL, NULL));
+    st |= sph_gradient(&s.c, SPH_SCHEME_DIFFERENCE, sph_view_soa(d.f, NULL, NULL), sph_view_none(),
+                       sph_out_soa(d.g[0][0], d.g[0][1], d.g[0][2]), NULL);
+    st |= sph_density_gradient(&s.c, sph_view_soa(d.f, NULL, NULL), sph_view_none(), sph_out_soa(d.rho[1], NULL, NULL),
+                               sph_out_soa(d.g[1][0], d.g[1][1], d.g[1][2]));
     TH_CHECK(st == SPH_OK, "status %d", st);
     off = s.L.list.offset;
     idx = s.L.list.index;
@@ -132,23 +158,23 @@ static void check_pair_sums(sph_kernel k, int dim, int periodic, int soa)
             double c;
             for (a = 0; a < dim; ++a) dx[a] = sph_box_delta(s.c.box, a, s.x[3 * i + a] - s.x[3 * j + a]);
             p = sph_pair_kernel(k, dim, dx, (sph_real)s.h);
-            r += (double)m[j] * p.W;
-            rabs += fabs((double)m[j] * p.W);
-            c = (double)s.V[j] * ((double)f[j] - f[i]) * p.F;
+            r += (double)d.m[j] * p.W;
+            rabs += fabs((double)d.m[j] * p.W);
+            c = (double)s.V[j] * ((double)d.f[j] - d.f[i]) * p.F;
             for (a = 0; a < dim; ++a) {
                 gs[a] += c * dx[a];
                 gabs[a] += fabs(c * dx[a]);
             }
         }
         for (v = 0; v < 2; ++v) {
-            const double e = fabs(rho[v][i] - r) / rabs;
+            const double e = fabs(d.rho[v][i] - r) / rabs;
             worst = e > worst ? e : worst;
-            TH_CHECK(e <= PTOL, "%s rho at %d: %.17g, pair sum %.17g", v ? "fused" : "density", i, (double)rho[v][i], r);
+            TH_CHECK(e <= PTOL, "%s rho at %d: %.17g, pair sum %.17g", v ? "fused" : "density", i, (double)d.rho[v][i], r);
             for (a = 0; a < dim; ++a) {
-                const double eg = fabs(g[v][a][i] - gs[a]) / (gabs[a] + 1e-300);
+                const double eg = fabs(d.g[v][a][i] - gs[a]) / (gabs[a] + 1e-300);
                 worst = eg > worst ? eg : worst;
                 TH_CHECK(eg <= PTOL, "%s gradient %d at %d: %.17g, pair sum %.17g", v ? "fused" : "gradient", a, i,
-                         (double)g[v][a][i], gs[a]);
+                         (double)d.g[v][a][i], gs[a]);
             }
         }
     }
@@ -156,13 +182,59 @@ static void check_pair_sums(sph_kernel k, int dim, int periodic, int soa)
         printf("info [%s]: worst |operator - pair sum| / sum |terms|, quintic 3D %s %s: %.3g\n",
                sizeof(sph_real) == sizeof(float) ? "float" : "double", periodic ? "periodic" : "no box",
                soa ? "SoA" : "interleaved", worst);
-    free(m);
-    free(f);
-    for (a = 0; a < 3; ++a) free(xs[a]);
+    fz_free(&d);
+    ts_free(&s);
+    th_end();
+}
+
+/* Per-particle h varying from 0.5 h to h (W at h_i, F at h_ij per pair):
+ * the fused pass of the fast loops against the reference loops
+ * (ctx.loops = SPH_LOOPS_REFERENCE), every view SoA so that the one-pass
+ * loop reads them all at the offsets of x, and once with h interleaved with
+ * another stride. Bitwise where the fast loops promise it (no OpenMP, no
+ * AVX-512), else within HTOL of the largest |value|. */
+#if defined(_OPENMP) || (!defined(SPH_OP_REFERENCE) && SPH__OP_AVX512)
+#define HV_BITWISE 0
+#else
+#define HV_BITWISE 1
+#endif
+static const double HTOL = sizeof(sph_real) == sizeof(float) ? 1e-5 : 1e-13;
+
+static void check_hv_twins(sph_kernel k, int dim, int periodic, int h_strided)
+{
+    sph_box box;
+    ts_scene s;
+    fz_data d;
+    sph_real *hs, *h2;
+    double big[4] = {0, 0, 0, 0};
+    int i, a, v, st = SPH_OK;
+    for (a = 0; a < 3; ++a) box.lo[a] = 0, box.length[a] = 1, box.periodic[a] = periodic;
+    th_begin("fused, h varying 0.5..1 h: fast = reference loops%s, %s %dD, %s, h %s", HV_BITWISE ? " (bitwise)" : "",
+             sph_kernel_name(k), dim, periodic ? "periodic" : "no box", h_strided ? "strided" : "SoA");
+    ts_lattice(&s, k, dim, 8, 0.125, 1.3, 0.2, 5u + (uint64_t)dim, periodic ? &box : NULL);
+    fz_alloc(&d, &s, dim);
+    hs = ts_vec(s.n), h2 = ts_vec(2 * s.n);
+    for (i = 0; i < s.n; ++i) /* <= h: the list holds every pair */
+        hs[i] = h2[2 * i] = (sph_real)(s.h * (0.75 + 0.25 * cos(2.3 * i)));
+    s.c.x = sph_view_soa(d.xs[0], dim > 1 ? d.xs[1] : NULL, dim > 2 ? d.xs[2] : NULL);
+    s.c.m = sph_view_soa(d.m, NULL, NULL);
+    s.c.h_source = h_strided ? sph_view_interleaved(h2, 2) : sph_view_soa(hs, NULL, NULL);
     for (v = 0; v < 2; ++v) {
-        free(rho[v]);
-        for (a = 0; a < 3; ++a) free(g[v][a]);
+        s.c.loops = v ? SPH_LOOPS_REFERENCE : SPH_LOOPS_FAST;
+        st |= sph_density_gradient(&s.c, sph_view_soa(d.f, NULL, NULL), sph_view_none(), sph_out_soa(d.rho[v], NULL, NULL),
+                                   sph_out_soa(d.g[v][0], d.g[v][1], d.g[v][2]));
     }
+    TH_CHECK(st == SPH_OK, "status %d", st);
+    for (i = 0; i < s.n; ++i) {
+        big[0] = fmax(big[0], fabs((double)d.rho[1][i]));
+        for (a = 0; a < dim; ++a) big[1 + a] = fmax(big[1 + a], fabs((double)d.g[1][a][i]));
+    }
+    for (i = 0; i < s.n; ++i) {
+        TH_CLOSE(d.rho[0][i], d.rho[1][i], HV_BITWISE ? 0 : HTOL * big[0]);
+        for (a = 0; a < dim; ++a) TH_CLOSE(d.g[0][a][i], d.g[1][a][i], HV_BITWISE ? 0 : HTOL * big[1 + a]);
+    }
+    fz_free(&d);
+    free(hs), free(h2);
     ts_free(&s);
     th_end();
 }
@@ -281,6 +353,9 @@ int main(void)
         for (ki = 0; ki < SPH_KERNEL_COUNT; ++ki)
             for (per = 0; per < 2; ++per)
                 for (soa = 0; soa < 2; ++soa) check_pair_sums((sph_kernel)ki, dim, per, soa);
+    for (dim = 1; dim <= 3; ++dim)
+        for (ki = 0; ki < SPH_KERNEL_COUNT; ++ki)
+            for (per = 0; per < 2; ++per) check_hv_twins((sph_kernel)ki, dim, per, per);
     check_lattice(2);
     check_lattice(3);
     check_errors();
