@@ -67,6 +67,9 @@
  *               every target. Default: cells refined to the sources' h and a
  *               reach bounded per target (docs/neighbours.md, "Varying h");
  *               the same lists, tested equal.
+ *   SPH_BATCH   lanes of a pair batch (sph_batch_fill, section 9): a power of
+ *               two, 4..64; default 16 (one AVX-512 register of floats, two of
+ *               doubles). Changes speed, not results.
  *   SPH_ONLY_KERNELS   sections 1-3 only: the scalar kernel functions.
  *   SPH_ONLY_PAIRS     sections 1-5: kernels, views and pair terms, for a
  *               solver with its own neighbour loop (no operators, no search),
@@ -206,6 +209,8 @@
  *   sph_pairs_buffer_len(ncomp, pairs)           reals of the two per-pair buffers of sph_pairs_reduce
  *   sph_gradh_pairs_buffer_len(dim, pairs)       reals of the buffer of sph_gradh_forces_pairs
  *   sph_gradh_forces_pairs(c, &P, v, h, A, buf, buf_len, dvdt, dudt)  (H5), (H6), pair-once
+ *   sph_batch_source(&S, k, dim, list, box, x, h)  checks a list once for the batch fills
+ *   sph_batch_fill(&S, i, &next, &b)             next SPH_BATCH pairs of row i: j, k, dx, r, W, F at h_i, h_j
  *
  * ==== EQUATION LABELS (comments cite docs/ by these) ========================
  *   (K1)-(K8)   kernel quantities, docs/kernels.md section 1: W, F, dW/dr,
