@@ -20,13 +20,18 @@
  *
  * Each step (kick-drift-kick leapfrog, dt = C h_min / v_sig,max):
  *   - neighbour lists (section 7, symmetric criterion (N2)) at a search
- *     radius kappa h_list_i, h_list_i = 1.15 h_i (at most the half-period
- *     of the cross-section);
+ *     radius kappa h_list_i, h_list_i = (1 + skin) h_i (--skin, 0.15; at
+ *     most the half-period of the cross-section), with their half list
+ *     (sph_pairs_build), kept over the following steps while they still
+ *     hold every pair within kappa max(h_i, h_j) (a Verlet skin: sd_skin
+ *     gives the rule); a run is the same bit for bit at any skin that needs
+ *     no re-search (tests/check_sod_profile.sh);
  *   - sph_h_solve (section 9, (H1)-(H4)): h_i and rho_i together, Omega_i;
  *     particles whose h outgrew their list get a new radius and are
  *     solved again;
- *   - one pair-once loop over the half list (sph_pairs_build,
- *     sph_pairs_reduce, (H8)): the grad-h momentum and energy equations
+ *   - one pair-once loop over the half list in batches of SPH_BATCH pairs
+ *     (sph_batch_fill: x_ij, r, F at h_i and h_j; the equations in a plain
+ *     loop over the lanes, sd_batch; sph_pairs_reduce, (H8)): the grad-h momentum and energy equations
  *     (H5), (H6), the signal-velocity artificial viscosity (section 8,
  *     (S3), (S4), SWIFT's beta = 3) with alpha_ij = (alpha_i + alpha_j) / 2,
  *     the artificial conductivity of Price (2008), du_i/dt += sum_j m_j
@@ -74,6 +79,7 @@ typedef struct {
     int nx, ny;          /* left lattice: cells per unit length, and across the tube (0: the fewest allowed) */
     const char *kernel, *lattice; /* lattice: fcc (4 particles per cell) or cubic (1) */
     double gamma, t_end, eta, cfl, alpha_min, alpha_max, beta, alpha_u;
+    double skin; /* lists at kappa (1 + skin) h, kept while every pair within kappa h is still listed */
     int profile; /* --profile: time the phases of the step (sd_prof) */
 } sd_param;
 
@@ -83,7 +89,7 @@ typedef struct {
     double t[SD_PHASES], last;  /* seconds per phase; the clock at the last mark */
     double entries, half;       /* sums over the steps: symmetric list entries, half-list pairs */
     double candidates, sampled; /* sums over the sampled steps: search candidates, list entries */
-    long steps, samples, researches;
+    long steps, samples, researches, searches;
     double bytes[4];            /* held at the end: fields, lists, pair buffers, search workspace */
     int threads;
 } sd_prof;
@@ -176,15 +182,17 @@ typedef struct {
     sph_real kappa, dx, W, h_cap, m; /* m: the mass of every particle */
     sph_idx n;
     sph_box box;
-    sph_real *x, *v, *vp, *a, *u, *up, *du, *h, *rho, *om, *hl, *A, *cs, *alpha, *dalpha, *f5, *buf;
+    sph_real *x, *v, *vp, *a, *u, *up, *du, *h, *rho, *om, *hl, *hle, *x0, *A, *cs, *alpha, *dalpha, *f5, *buf;
     int *state;
-    /* lists */
+    /* lists: the symmetric list (cap entries), its half list and transpose (hcap pairs), searched at x0 */
     void *work;
     size_t work_bytes;
-    sph_off *offset, *h_off, *t_off, *t_slot, cap;
+    sph_off *offset, *h_off, *t_off, *t_slot, cap, hcap;
     sph_idx *index, *h_idx;
+    sph_pairs pr;
+    int listed; /* 1 once a search has filled the lists */
     double vsig_max;
-    long solves, sums, researches;
+    long solves, sums, researches, searches;
     int max_sums;
     sph_nsearch grid; /* the last search's cells (sph_nsearch_stats of --profile) */
     sd_prof *prof;    /* inside the step loop with --profile, NULL otherwise */
@@ -193,7 +201,8 @@ typedef struct {
 static void sd_free(sd_sim *S)
 {
     free(S->x), free(S->v), free(S->vp), free(S->a), free(S->u), free(S->up), free(S->du), free(S->h);
-    free(S->rho), free(S->om), free(S->hl), free(S->A), free(S->cs), free(S->alpha), free(S->dalpha);
+    free(S->rho), free(S->om), free(S->hl), free(S->hle), free(S->x0), free(S->A), free(S->cs), free(S->alpha);
+    free(S->dalpha);
     free(S->f5), free(S->buf), free(S->state), free(S->work), free(S->offset), free(S->h_off), free(S->t_off);
     free(S->t_slot), free(S->index), free(S->h_idx);
 }
@@ -214,18 +223,19 @@ static double sd_particles(const sd_param *P)
     return (double)sd_per_cell(P) * ((double)P->nx * P->ny * P->ny + (double)(P->nx / 2) * (P->ny / 2) * (P->ny / 2));
 }
 
-/* Bytes a run allocates per particle: 28 reals, the state and three list
+/* Bytes a run allocates per particle: 32 reals, the state and three list
  * offsets, the search's workspace (about 40 bytes), and per list entry the
- * index, its half-list copy, its slot and 10 reals of pair terms, for 1.25
- * times (the growth slack of sd_search) 1.1 times the neighbours in the
- * sphere of radius kappa 1.15 h = kappa 1.15 eta (m / rho)^(1/3), i.e.
- * 1.1 (4/3) pi (1.15 kappa eta)^3 (measured: 95 at the defaults, 88 in the sphere). */
+ * index, and per half-list pair (half an entry) its index, its slot and 10
+ * reals of pair terms, for 1.25 times (the growth slack of sd_search) 1.1
+ * times the neighbours in the sphere of radius kappa (1 + skin) eta
+ * (m / rho)^(1/3), i.e. 1.1 (4/3) pi (kappa (1 + skin) eta)^3 (measured at
+ * the defaults: 92 entries, 88 in the sphere). */
 static double sd_bytes_per_particle(const sd_param *P)
 {
-    const double kappa = sph_kernel_support((sph_kernel)sph_kernel_from_name(P->kernel)), r = 1.15 * kappa * P->eta;
-    const double entries = 1.25 * 1.1 * 4.18879020478639 * r * r * r;
-    return 28.0 * sizeof(sph_real) + sizeof(int) + 3.0 * sizeof(sph_off) + 40 +
-           entries * (2.0 * sizeof(sph_idx) + sizeof(sph_off) + 10.0 * sizeof(sph_real));
+    const double kappa = sph_kernel_support((sph_kernel)sph_kernel_from_name(P->kernel));
+    const double r = (1 + P->skin) * kappa * P->eta, entries = 1.25 * 1.1 * 4.18879020478639 * r * r * r;
+    return 32.0 * sizeof(sph_real) + sizeof(int) + 3.0 * sizeof(sph_off) + 40 +
+           entries * (sizeof(sph_idx) + (sizeof(sph_idx) + sizeof(sph_off) + 10.0 * sizeof(sph_real)) / 2);
 }
 
 /* Time steps to t_end: about 5 per left cell at t = 0.2 and CFL 0.3 (80 at nx = 16, 120 at 24). */
@@ -291,8 +301,8 @@ static int sd_setup(sd_sim *S)
     S->box.periodic[0] = S->box.periodic[1] = S->box.periodic[2] = 1;
 #define SD_A(f, c) ((S->f = (sph_real *)sd_alloc(n * (c), sizeof(sph_real))) == NULL)
     if (SD_A(x, 3) || SD_A(v, 3) || SD_A(vp, 3) || SD_A(a, 3) || SD_A(u, 1) || SD_A(up, 1) || SD_A(du, 1) ||
-        SD_A(h, 1) || SD_A(rho, 1) || SD_A(om, 1) || SD_A(hl, 1) || SD_A(A, 1) || SD_A(cs, 1) || SD_A(alpha, 1) ||
-        SD_A(dalpha, 1) || SD_A(f5, 5))
+        SD_A(h, 1) || SD_A(rho, 1) || SD_A(om, 1) || SD_A(hl, 1) || SD_A(hle, 1) || SD_A(x0, 3) || SD_A(A, 1) ||
+        SD_A(cs, 1) || SD_A(alpha, 1) || SD_A(dalpha, 1) || SD_A(f5, 5))
         return -1;
 #undef SD_A
     if ((S->state = (int *)sd_alloc(n, sizeof(int))) == NULL ||
@@ -318,10 +328,12 @@ static int sd_setup(sd_sim *S)
     return 0;
 }
 
-/* Symmetric lists (N2) at radius kappa h_list into S->offset/index. */
+/* Symmetric lists (N2) at radius kappa hl_i into S->offset/index, their half list and transpose (sph_pairs_build)
+ * into S->pr; the positions are kept in x0 and every radius is usable (hle = hl) until the particles move. */
 static int sd_search(sd_sim *S)
 {
     const sph_view xv = sph_view_interleaved(S->x, 3), hv = sph_view_soa(S->hl, NULL, NULL);
+    sph_neighbours full = SPH_NEIGHBOURS_INIT(0, 0, NULL, NULL); /* box unknown: the grid's is set below */
     sph_real hmax = S->hl[0];
     size_t bytes;
     sph_off pairs = 0;
@@ -340,18 +352,54 @@ static int sd_search(sd_sim *S)
     if ((st = sph_nsearch_build(&g, 3, xv, S->n, hv, S->kappa * hmax / 2, &S->box, S->work, S->work_bytes)) != SPH_OK)
         return st;
     S->grid = g;
+    S->listed = 0;
     st = sph_nsearch_lists(&g, xv, S->n, hv, 0, S->kappa, SPH_NSEARCH_SYMMETRIC, S->offset, S->index, S->cap, &pairs);
-    if (st == SPH_ESIZE) { /* grow the index arrays with slack, then fill */
+    if (st == SPH_ESIZE) { /* grow the arrays with slack, then fill; the half list holds (entries - n) / 2 pairs */
         free(S->index), free(S->h_idx), free(S->t_slot), free(S->buf);
         S->cap = S->offset[S->n] + S->offset[S->n] / 4 + 1;
+        S->hcap = (S->cap - S->n) / 2 + 1;
         S->index = (sph_idx *)sd_alloc((size_t)S->cap, sizeof(sph_idx));
-        S->h_idx = (sph_idx *)sd_alloc((size_t)S->cap, sizeof(sph_idx));
-        S->t_slot = (sph_off *)sd_alloc((size_t)S->cap, sizeof(sph_off));
-        S->buf = (sph_real *)sd_alloc((size_t)sph_pairs_buffer_len(5, S->cap), sizeof(sph_real)); /* cap / 2 would do */
+        S->h_idx = (sph_idx *)sd_alloc((size_t)S->hcap, sizeof(sph_idx));
+        S->t_slot = (sph_off *)sd_alloc((size_t)S->hcap, sizeof(sph_off));
+        S->buf = (sph_real *)sd_alloc((size_t)sph_pairs_buffer_len(5, S->hcap), sizeof(sph_real));
         if (S->index == NULL || S->h_idx == NULL || S->t_slot == NULL || S->buf == NULL) return S->cap = 0, EX_ENOMEM;
         st = sph_nsearch_fill(&g, xv, S->n, hv, 0, S->kappa, SPH_NSEARCH_SYMMETRIC, S->offset, S->index, S->cap);
     }
-    return st;
+    if (st != SPH_OK) return st;
+    full = sph_nsearch_list(&g, S->n, S->offset, S->index);
+    if ((st = sph_pairs_build(&full, S->h_off, S->h_idx, S->hcap, S->t_off, S->t_slot, &pairs, &S->pr)) != SPH_OK)
+        return st;
+    memcpy(S->x0, S->x, sizeof(sph_real) * 3 * (size_t)S->n);
+    memcpy(S->hle, S->hl, sizeof(sph_real) * (size_t)S->n);
+    S->listed = 1;
+    S->searches++;
+    return SPH_OK;
+}
+
+/* The radii the kept lists still serve (a Verlet skin): a pair was listed when r_ij(x0) < kappa max(hl_i, hl_j),
+ * and |r_ij - r_ij(x0)| <= d_i + d_j with d_i = |x_i - x0_i|, so every j with r_ij < kappa h_i is listed while
+ * kappa h_i + d_i + d_max <= kappa hl_i: hle_i = hl_i - (d_i + d_max) / kappa. Returns 1 when some h_i
+ * exceeds its hle_i (the lists are searched again before the h solve), else 0. */
+static int sd_skin(sd_sim *S)
+{
+    sph_real dmax = 0;
+    sph_idx i;
+    int a, stale = 0;
+    if (!S->listed) return 1;
+    for (i = 0; i < S->n; ++i) { /* d_i, kept in hle until d_max is known */
+        sph_real d2 = 0;
+        for (a = 0; a < 3; ++a) {
+            const sph_real e = sph_box_delta(&S->box, a, S->x[3 * i + a] - S->x0[3 * i + a]);
+            d2 += e * e;
+        }
+        S->hle[i] = sqrt(d2);
+        dmax = S->hle[i] > dmax ? S->hle[i] : dmax;
+    }
+    for (i = 0; i < S->n; ++i) {
+        S->hle[i] = S->hl[i] - (S->hle[i] + dmax) / S->kappa;
+        stale |= S->h[i] > S->hle[i];
+    }
+    return stale;
 }
 
 /* --profile: the wall time since the last mark goes to phase p; without --profile nothing happens. */
@@ -364,26 +412,29 @@ static void sd_mark(sd_sim *S, int p)
     }
 }
 
-/* Lists and h together: search at 1.15 h, solve; particles beyond their
- * list get 1.2 times the solver's estimate and the search is repeated. */
+/* Lists and h together: the kept lists while they serve every h (sd_skin), else a search at (1 + skin) h; then the
+ * h solve on the radii hle; particles beyond them get (1 + skin) times the solver's estimate and the search is repeated. */
 static int sd_density(sd_sim *S)
 {
     sph_neighbours L = SPH_NEIGHBOURS_INIT(0, 0, NULL, NULL); /* box unknown: c.box gives it */
+    const sph_real grow = (sph_real)(1 + S->P.skin);
     sph_hctx c;
     sph_hreport rep;
     sph_idx i;
     int round, st;
-    for (i = 0; i < S->n; ++i) S->hl[i] = (sph_real)1.15 * S->h[i] < S->h_cap ? (sph_real)1.15 * S->h[i] : S->h_cap;
-    for (round = 0; round < 6; ++round) {
+    if (sd_skin(S)) {
+        for (i = 0; i < S->n; ++i) S->hl[i] = grow * S->h[i] < S->h_cap ? grow * S->h[i] : S->h_cap;
         if ((st = sd_search(S)) != SPH_OK) return st;
-        sd_mark(S, round == 0 ? SD_SEARCH : SD_H); /* a re-search counts to the h solve that asked for it */
+    }
+    sd_mark(S, SD_SEARCH);
+    for (round = 0; round < 6; ++round) {
         L.n_targets = L.n_sources = S->n;
         L.offset = S->offset;
         L.index = S->index;
         c = sph_hctx_init(S->k, 3, &L, sph_view_interleaved(S->x, 3), sph_view_aos(&S->m, 1, 0), 0); /* stride 0: one mass */
         c.box = &S->box;
         c.eta = (sph_real)S->P.eta;
-        c.h_list = sph_view_soa(S->hl, NULL, NULL);
+        c.h_list = sph_view_soa(S->hle, NULL, NULL);
         c.check_list = 0; /* the search's lists */
         st = sph_h_solve(&c, sph_out_soa(S->h, NULL, NULL), sph_out_soa(S->rho, NULL, NULL), sph_out_soa(S->om, NULL, NULL),
                          NULL, S->state, &rep);
@@ -397,60 +448,68 @@ static int sd_density(sd_sim *S)
         S->researches++;
         for (i = 0; i < S->n; ++i)
             if (S->state[i] == SPH_H_BEYOND_LIST) {
-                if (S->hl[i] >= S->h_cap) return SPH_EPERIOD; /* h beyond half the cross-section: a wider tube is needed */
-                S->hl[i] = (sph_real)1.2 * S->h[i] < S->h_cap ? (sph_real)1.2 * S->h[i] : S->h_cap;
+                if (S->hle[i] >= S->h_cap) return SPH_EPERIOD; /* h beyond half the cross-section: a wider tube is needed */
+                S->hl[i] = grow * S->h[i] < S->h_cap ? grow * S->h[i] : S->h_cap;
             }
+        if ((st = sd_search(S)) != SPH_OK) return st;
+        sd_mark(S, SD_H); /* a re-search counts to the h solve that asked for it */
     }
     return SD_EHSOLVE;
 }
 
-/* (H5), (H6), (S3), (S4), conductivity and div v for the pair k = (i, j) of the half list. */
-static void sd_pair(const sd_sim *S, sph_idx i, sph_idx j, sph_off k, double m, sph_real *vs)
+/* (H5), (H6), (S3), (S4), conductivity and div v for the pairs of batch b of row i of the half list: to_i of pair k
+ * into buf[5 k ..], to_j into buf[5 (hcap + t_slot[k]) ..]; pairs beyond kappa max(h_i, h_j) (the skin's) add
+ * nothing (F_i = F_j = 0) and do not enter the signal velocity. */
+static void sd_batch(const sd_sim *S, sph_idx i, const sph_batch *b, sph_real *vs)
 {
     const sd_param *P = &S->P;
-    sph_real dx[3], dv[3], xji[3], vji[3], r2 = 0, e = 0, *ti = S->buf + 5 * k, *tj = S->buf + 5 * (S->cap + S->t_slot[k]);
-    sph_real Fi, Fj, Fb, rhob, Pi, p_i, p_j, vu, cond, s, r;
-    int a;
-    for (a = 0; a < 3; ++a) {
-        dx[a] = sph_box_delta(&S->box, a, S->x[3 * i + a] - S->x[3 * j + a]);
-        dv[a] = S->vp[3 * i + a] - S->vp[3 * j + a];
-        xji[a] = -dx[a], vji[a] = -dv[a];
-        r2 += dx[a] * dx[a];
-        e += dv[a] * dx[a];
+    const sph_real m = S->m, g1 = (sph_real)(P->gamma - 1), beta = (sph_real)P->beta, au = (sph_real)P->alpha_u;
+    const sph_real Ai = S->A[i], rhoi = S->rho[i], ci = S->cs[i], ui = S->up[i], ali = S->alpha[i], pi = g1 * rhoi * ui;
+    const sph_real *vi = S->vp + 3 * i, kappa2 = S->kappa * S->kappa, R2i = kappa2 * S->h[i] * S->h[i];
+    sph_real t[10][SPH_BATCH], vsig[SPH_BATCH], vu[SPH_BATCH];
+    sph_real vj[3][SPH_BATCH], Aj[SPH_BATCH], rhoj[SPH_BATCH], cj[SPH_BATCH], uj[SPH_BATCH], alj[SPH_BATCH], hj[SPH_BATCH];
+    int l, a;
+    for (l = 0; l < SPH_BATCH; ++l) { /* the partners' fields into lanes */
+        const sph_idx j = b->j[l];
+        for (a = 0; a < 3; ++a) vj[a][l] = S->vp[3 * j + a];
+        Aj[l] = S->A[j], rhoj[l] = S->rho[j], cj[l] = S->cs[j], uj[l] = S->up[j], alj[l] = S->alpha[j], hj[l] = S->h[j];
     }
-    r = sqrt(r2);
-    Fi = sph_kernel_f(S->k, 3, r, S->h[i]);
-    Fj = sph_kernel_f(S->k, 3, r, S->h[j]);
-    for (a = 0; a < 5; ++a) ti[a] = tj[a] = 0;
-    sph_pair_gradh_pressure(3, (sph_real)m, S->A[i], S->A[j], Fi, Fj, dx, ti); /* acc_i; dv_i/dt = -acc */
-    for (a = 0; a < 3; ++a) tj[a] = ti[a], ti[a] = -ti[a]; /* dv_i/dt = -acc; equal masses: dv_j/dt = +acc */
-    ti[3] = sph_pair_gradh_energy(3, (sph_real)m, S->A[i], Fi, dv, dx);
-    tj[3] = sph_pair_gradh_energy(3, (sph_real)m, S->A[j], Fj, vji, xji);
-    Fb = (Fi + Fj) / 2;
-    rhob = (S->rho[i] + S->rho[j]) / 2;
-    Pi = sph_pair_av_signal(3, (S->alpha[i] + S->alpha[j]) / 2, (sph_real)P->beta, S->cs[i], S->cs[j], rhob, dx, dv);
-    ti[3] += sph_pair_av_apply(3, (sph_real)m, Pi, Fb, dx, dv, ti);
-    tj[3] += sph_pair_av_apply(3, (sph_real)m, Pi, Fb, xji, vji, tj);
-    p_i = (sph_real)(P->gamma - 1) * S->rho[i] * S->up[i];
-    p_j = (sph_real)(P->gamma - 1) * S->rho[j] * S->up[j];
-    vu = sqrt(fabs(p_i - p_j) / rhob);
-    cond = (sph_real)(P->alpha_u * m) * vu * (S->up[i] - S->up[j]) * Fb * r / rhob;
-    ti[3] += cond;
-    tj[3] -= cond;
-    ti[4] = (sph_real)m * e * Fi; /* div v before the factor -1 / (Omega rho) */
-    tj[4] = (sph_real)m * e * Fj;
-    s = sph_pair_signal_velocity(3, (sph_real)P->beta, S->cs[i], S->cs[j], dx, dv);
-    *vs = s > *vs ? s : *vs;
+    for (l = 0; l < SPH_BATCH; ++l) { /* the square root's argument on its own: the loop below then has no call */
+        const sph_real pj = g1 * rhoj[l] * uj[l], rhob = (rhoi + rhoj[l]) / 2;
+        vu[l] = fabs(pi - pj) / rhob;
+    }
+    for (l = 0; l < SPH_BATCH; ++l) vu[l] = sqrt(vu[l]); /* v_u of Price (2008) */
+    for (l = 0; l < SPH_BATCH; ++l) {
+        const sph_real dx = b->dx[0][l], dy = b->dx[1][l], dz = b->dx[2][l], r = b->r[l], Fi = b->F_i[l], Fj = b->F_j[l];
+        const sph_real e = (vi[0] - vj[0][l]) * dx + (vi[1] - vj[1][l]) * dy + (vi[2] - vj[2][l]) * dz; /* v_ij . x_ij */
+        const sph_real Fb = (Fi + Fj) / 2, rhob = (rhoi + rhoj[l]) / 2;
+        const sph_real w = (e < 0 ? e : 0) / (r > 0 ? r : 1);        /* (S2) w_ij, no division by 0 */
+        const sph_real v_sig = ci + cj[l] - beta * w;                 /* (S2) */
+        const sph_real Pi = -((ali + alj[l]) / 4) * v_sig * w / rhob; /* (S3), alpha_ij = (alpha_i + alpha_j) / 2 */
+        const sph_real cav = m * Pi * Fb;                             /* (S4) */
+        const sph_real cp = m * (Ai * Fi + Aj[l] * Fj) + cav;         /* (H5) + (S4): dv_i/dt = -cp x_ij */
+        const sph_real cond = au * m * vu[l] * (ui - uj[l]) * Fb * r / rhob; /* Price (2008) */
+        const sph_real Rj2 = kappa2 * hj[l] * hj[l], R2 = R2i > Rj2 ? R2i : Rj2;
+        t[0][l] = -cp * dx, t[1][l] = -cp * dy, t[2][l] = -cp * dz;
+        t[5][l] = cp * dx, t[6][l] = cp * dy, t[7][l] = cp * dz;
+        t[3][l] = m * Ai * Fi * e + cav * e / 2 + cond;               /* (H6) + (S4) */
+        t[8][l] = m * Aj[l] * Fj * e + cav * e / 2 - cond;
+        t[4][l] = m * e * Fi, t[9][l] = m * e * Fj;                   /* div v before the factor -1 / (Omega rho) */
+        vsig[l] = r * r < R2 && l < b->n ? v_sig : 0;
+    }
+    for (l = 0; l < b->n; ++l) {
+        sph_real *ti = S->buf + 5 * b->k[l], *tj = S->buf + 5 * (S->hcap + S->t_slot[b->k[l]]);
+        for (a = 0; a < 5; ++a) ti[a] = t[a][l], tj[a] = t[5 + a][l];
+        *vs = vsig[l] > *vs ? vsig[l] : *vs;
+    }
 }
 
 /* Accelerations, du/dt, d alpha/dt and the largest signal velocity at the
  * positions x, velocities vp and energies up. */
-static int sd_forces(sd_sim *S, double m)
+static int sd_forces(sd_sim *S)
 {
     const sd_param *P = &S->P;
-    sph_neighbours full = SPH_NEIGHBOURS_INIT(0, 0, NULL, NULL); /* box unknown: c.box gives it */
-    sph_pairs pr;
-    sph_off pairs;
+    sph_batch_src B;
     sph_idx i;
     double vmax = 0;
     int st;
@@ -460,21 +519,19 @@ static int sd_forces(sd_sim *S, double m)
         S->cs[i] = sqrt((sph_real)P->gamma * p / S->rho[i]);
         S->A[i] = sph_gradh_factor(p, S->rho[i], S->om[i]);
     }
-    full.n_targets = full.n_sources = S->n;
-    full.offset = S->offset;
-    full.index = S->index;
-    st = sph_pairs_build(&full, S->h_off, S->h_idx, S->cap, S->t_off, S->t_slot, &pairs, &pr);
+    st = sph_batch_source(&B, S->k, 3, &S->pr.half, &S->box, sph_view_interleaved(S->x, 3), sph_view_soa(S->h, NULL, NULL));
     if (st != SPH_OK) return st;
 #ifdef _OPENMP
 #pragma omp parallel for schedule(dynamic, 64) reduction(max : vmax)
 #endif
     for (i = 0; i < S->n; ++i) {
         sph_real vs = 0;
-        sph_off k;
-        for (k = pr.half.offset[i]; k < pr.half.offset[i + 1]; ++k) sd_pair(S, i, pr.half.index[k], k, m, &vs);
+        sph_off next = 0;
+        sph_batch b;
+        while (sph_batch_fill(&B, i, &next, &b) > 0) sd_batch(S, i, &b, &vs);
         vmax = vs > vmax ? vs : vmax;
     }
-    if ((st = sph_pairs_reduce(&pr, 5, S->buf, S->buf + 5 * S->cap, S->f5)) != SPH_OK) return st;
+    if ((st = sph_pairs_reduce(&S->pr, 5, S->buf, S->buf + 5 * S->hcap, S->f5)) != SPH_OK) return st;
     for (i = 0; i < S->n; ++i) {
         const sph_real divv = -S->f5[5 * i + 4] / (S->om[i] * S->rho[i]), src = divv < 0 ? -divv : 0;
         int a;
@@ -496,6 +553,7 @@ static void sd_profile_start(sd_sim *S, sd_prof *Q)
     Q->threads = 1;
 #endif
     Q->researches = S->researches;
+    Q->searches = S->searches;
     S->prof = Q;
     Q->last = ex_now();
 }
@@ -511,26 +569,27 @@ static void sd_profile_count(sd_sim *S)
     Q->half += (double)S->h_off[S->n];
     if (Q->steps++ % SD_SAMPLE == 0) {
         sph_off pairs = 0, cand = 0;
-        if (sph_nsearch_stats(&S->grid, sph_view_interleaved(S->x, 3), S->n, sph_view_soa(S->hl, NULL, NULL), 0, S->kappa,
+        if (sph_nsearch_stats(&S->grid, sph_view_interleaved(S->x0, 3), S->n, sph_view_soa(S->hl, NULL, NULL), 0, S->kappa,
                               SPH_NSEARCH_SYMMETRIC, &pairs, &cand, NULL) == SPH_OK)
             Q->candidates += (double)cand, Q->sampled += (double)pairs, Q->samples++;
         Q->last = ex_now();
     }
 }
 
-/* --profile, after the step loop: the last rest, the re-searches, and the bytes per particle the step holds, from the
- * sizes sd_setup and sd_search allocated: fields (x, v, vp, a: 3 reals; u, up, du, h, rho, om, hl, A, cs, alpha,
- * dalpha: 1; f5: 5; state; offset, h_off, t_off: n + 1 each), lists (index, h_idx, t_slot: cap entries each), the
- * pair buffers of sph_pairs_reduce (sph_pairs_buffer_len(5, cap) reals) and the search workspace. */
+/* --profile, after the step loop: the last rest, the searches and re-searches, and the bytes per particle the step
+ * holds, from the sizes sd_setup and sd_search allocated: fields (x, v, vp, a, x0: 3 reals; u, up, du, h, rho, om, hl,
+ * hle, A, cs, alpha, dalpha: 1; f5: 5; state; offset, h_off, t_off: n + 1 each), lists (index: cap entries; h_idx,
+ * t_slot: hcap), the pair buffers of sph_pairs_reduce (sph_pairs_buffer_len(5, hcap) reals) and the search workspace. */
 static void sd_profile_end(sd_sim *S)
 {
     sd_prof *Q = S->prof;
     const double n = (double)S->n, cap = (double)S->cap;
     sd_mark(S, SD_REST);
     Q->researches = S->researches - Q->researches;
-    Q->bytes[0] = (double)((4 * 3 + 11 + 5) * sizeof(sph_real) + sizeof(int)) + 3 * (n + 1) / n * (double)sizeof(sph_off);
-    Q->bytes[1] = cap / n * (double)(2 * sizeof(sph_idx) + sizeof(sph_off));
-    Q->bytes[2] = (double)sph_pairs_buffer_len(5, S->cap) / n * (double)sizeof(sph_real);
+    Q->searches = S->searches - Q->searches;
+    Q->bytes[0] = (double)((5 * 3 + 12 + 5) * sizeof(sph_real) + sizeof(int)) + 3 * (n + 1) / n * (double)sizeof(sph_off);
+    Q->bytes[1] = (cap * (double)sizeof(sph_idx) + (double)S->hcap * (double)(sizeof(sph_idx) + sizeof(sph_off))) / n;
+    Q->bytes[2] = (double)sph_pairs_buffer_len(5, S->hcap) / n * (double)sizeof(sph_real);
     Q->bytes[3] = (double)S->work_bytes / n;
     S->prof = NULL;
 }
@@ -575,7 +634,7 @@ static int sd_run(const sd_param *P, sd_result *R, FILE *profile, const char *la
     memcpy(S.up, S.u, sizeof(sph_real) * (size_t)S.n);
     energy.start = 0, energy.factor = 1, energy.margin = SD_ENERGY_TOL;
     density.start = 1, density.factor = SD_RHO_FACTOR, density.margin = 0; /* the left state's density is the largest */
-    st = sd_forces(&S, m);
+    st = sd_forces(&S);
     if (P->profile) sd_profile_start(&S, &R->prof);
     while (st == SPH_OK && t < P->t_end * (1 - 1e-12)) {
         sph_real hmin = S.h[0];
@@ -595,7 +654,7 @@ static int sd_run(const sd_param *P, sd_result *R, FILE *profile, const char *la
             S.alpha[i] += (sph_real)(dt / 2) * S.dalpha[i];
         }
         sd_mark(&S, SD_REST);
-        if ((st = sd_forces(&S, m)) != SPH_OK) break;
+        if ((st = sd_forces(&S)) != SPH_OK) break;
         sd_mark(&S, SD_FORCES); /* sd_density marked its search and h solve: the rest of sd_forces */
         if (S.prof != NULL) sd_profile_count(&S);
         for (i = 0; i < S.n; ++i) { /* kick */
@@ -657,9 +716,9 @@ static int sd_run(const sd_param *P, sd_result *R, FILE *profile, const char *la
 static void sd_print_profile(const sd_result *R)
 {
     static const char *name[SD_PHASES] = {"search", "density/h", "forces", "rest"};
-    static const char *what[SD_PHASES] = {"list radii, sph_nsearch_build, sph_nsearch_lists (and _fill when the lists grew)",
+    static const char *what[SD_PHASES] = {"the skin rule; stale lists: radii, sph_nsearch_build, _lists (_fill), sph_pairs_build",
                                           "sph_h_solve, and the re-searches it asked for",
-                                          "c_s and A, sph_pairs_build, the pair loop, sph_pairs_reduce, d alpha/dt",
+                                          "c_s and A, sph_batch_source, the pair loop, sph_pairs_reduce, d alpha/dt",
                                           "h_min and dt, kicks, drift, progress line"};
     const sd_prof *Q = &R->prof;
     const double n = (double)R->n, ps = n * (double)Q->steps;
@@ -681,6 +740,8 @@ static void sd_print_profile(const sd_result *R)
     printf("  %-28s %10.0f     (fields %.0f, lists %.0f, pair buffers %.0f, search workspace %.0f)\n",
            "bytes per particle", Q->bytes[0] + Q->bytes[1] + Q->bytes[2] + Q->bytes[3], Q->bytes[0], Q->bytes[1],
            Q->bytes[2], Q->bytes[3]);
+    printf("  %-28s %10ld     (%.2f steps per search; the lists are kept while they serve every h)\n", "searches",
+           Q->searches, (double)Q->steps / (double)(Q->searches > 0 ? Q->searches : 1));
     printf("  %-28s %10ld     (their time counts to density/h)\n", "re-searches", Q->researches);
 }
 
@@ -859,6 +920,8 @@ int main(int argc, char **argv)
         {"alpha-max", "viscosity switch: alpha in shocks", &P.alpha_max, NULL, NULL, NULL, 0, 4, 0, NULL},
         {"beta", "signal-velocity viscosity beta", &P.beta, NULL, NULL, NULL, 0, 8, 0, NULL},
         {"alpha-u", "artificial conductivity (0: none)", &P.alpha_u, NULL, NULL, NULL, 0, 4, 0, NULL},
+        {"skin", "lists searched at kappa (1 + skin) h and kept over steps while they serve every h", &P.skin, NULL,
+         NULL, NULL, 0, 1, 0, NULL},
         {"out", "output directory (profiles, exact solution)", NULL, NULL, &out, NULL, 0, 0, 0, NULL},
         {"threads", "OpenMP threads (0: the runtime's default)", NULL, &threads, NULL, NULL, 0, 1024, 0, NULL},
         {"check", "nx = 16 run; exit 1 if it misses its validation bounds", NULL, NULL, NULL, &check, 0, 0, 0, NULL},
@@ -867,7 +930,7 @@ int main(int argc, char **argv)
          0, NULL},
     };
     P.nx = 32, P.ny = 0, P.kernel = "cubic", P.lattice = "fcc", P.gamma = 5.0 / 3.0, P.t_end = 0.2, P.eta = 1.2, P.cfl = 0.3;
-    P.alpha_min = 0.1, P.alpha_max = 1, P.beta = 3, P.alpha_u = 1, P.profile = 0;
+    P.alpha_min = 0.1, P.alpha_max = 1, P.beta = 3, P.alpha_u = 1, P.skin = 0.15, P.profile = 0;
     { /* what the top of --nx needs at the defaults: memory grows as nx ny^2 */
         sd_param Q = P;
         char b[32];
