@@ -87,10 +87,10 @@ typedef struct {
 enum { SD_SEARCH, SD_H, SD_FORCES, SD_REST, SD_PHASES };
 typedef struct {
     double t[SD_PHASES], last;  /* seconds per phase; the clock at the last mark */
-    double entries, half;       /* sums over the steps: symmetric list entries, half-list pairs */
+    double entries, pairs;      /* sums over the steps: kept list entries, pairs within kappa max(h_i, h_j) */
     double candidates, sampled; /* sums over the sampled steps: search candidates, list entries */
     long steps, samples, researches, searches;
-    double bytes[4];            /* held at the end: fields, lists, pair buffers, search workspace */
+    double bytes[3];            /* held at the end: fields, lists, search workspace */
     int threads;
 } sd_prof;
 
@@ -182,15 +182,16 @@ typedef struct {
     sph_real kappa, dx, W, h_cap, m; /* m: the mass of every particle */
     sph_idx n;
     sph_box box;
-    sph_real *x, *v, *vp, *a, *u, *up, *du, *h, *rho, *om, *hl, *hle, *x0, *A, *cs, *alpha, *dalpha, *f5, *buf;
+    sph_real *x, *v, *vp, *a, *u, *up, *du, *h, *rho, *om, *hl, *hle, *x0, *A, *cs, *alpha, *dalpha;
     int *state;
-    /* lists: the symmetric list (cap entries), its half list and transpose (hcap pairs), searched at x0 */
+    /* lists: kept, the symmetric list at kappa hl searched at x0 (cap entries); pairs, its pairs within
+       kappa max(h_i, h_j) at x (sph_nsearch_prune, cap entries) */
     void *work;
     size_t work_bytes;
-    sph_off *offset, *h_off, *t_off, *t_slot, cap, hcap;
-    sph_idx *index, *h_idx;
-    sph_pairs pr;
-    int listed; /* 1 once a search has filled the lists */
+    sph_off *offset, *p_off, cap;
+    sph_idx *index, *p_idx;
+    sph_neighbours kept, pairs;
+    int listed; /* 1 once a search has filled the kept list */
     double vsig_max;
     long solves, sums, researches, searches;
     int max_sums;
@@ -203,8 +204,7 @@ static void sd_free(sd_sim *S)
     free(S->x), free(S->v), free(S->vp), free(S->a), free(S->u), free(S->up), free(S->du), free(S->h);
     free(S->rho), free(S->om), free(S->hl), free(S->hle), free(S->x0), free(S->A), free(S->cs), free(S->alpha);
     free(S->dalpha);
-    free(S->f5), free(S->buf), free(S->state), free(S->work), free(S->offset), free(S->h_off), free(S->t_off);
-    free(S->t_slot), free(S->index), free(S->h_idx);
+    free(S->state), free(S->work), free(S->offset), free(S->p_off), free(S->index), free(S->p_idx);
 }
 
 /* Particles per lattice cell: 4 (fcc) or 1 (cubic). */
@@ -223,19 +223,17 @@ static double sd_particles(const sd_param *P)
     return (double)sd_per_cell(P) * ((double)P->nx * P->ny * P->ny + (double)(P->nx / 2) * (P->ny / 2) * (P->ny / 2));
 }
 
-/* Bytes a run allocates per particle: 32 reals, the state and three list
- * offsets, the search's workspace (about 40 bytes), and per list entry the
- * index, and per half-list pair (half an entry) its index, its slot and 10
- * reals of pair terms, for 1.25 times (the growth slack of sd_search) 1.1
- * times the neighbours in the sphere of radius kappa (1 + skin) eta
- * (m / rho)^(1/3), i.e. 1.1 (4/3) pi (kappa (1 + skin) eta)^3 (measured at
- * the defaults: 92 entries, 88 in the sphere). */
+/* Bytes a run allocates per particle: 27 reals, the state and two list
+ * offsets, the search's workspace (about 40 bytes), and per list entry two
+ * indices (the kept list and its pruned copy), for 1.25 times (the growth
+ * slack of sd_search) 1.1 times the neighbours in the sphere of radius
+ * kappa (1 + skin) eta (m / rho)^(1/3), i.e. 1.1 (4/3) pi (kappa (1 + skin)
+ * eta)^3 (measured at the defaults: 92 entries, 88 in the sphere). */
 static double sd_bytes_per_particle(const sd_param *P)
 {
     const double kappa = sph_kernel_support((sph_kernel)sph_kernel_from_name(P->kernel));
     const double r = (1 + P->skin) * kappa * P->eta, entries = 1.25 * 1.1 * 4.18879020478639 * r * r * r;
-    return 32.0 * sizeof(sph_real) + sizeof(int) + 3.0 * sizeof(sph_off) + 40 +
-           entries * (sizeof(sph_idx) + (sizeof(sph_idx) + sizeof(sph_off) + 10.0 * sizeof(sph_real)) / 2);
+    return 27.0 * sizeof(sph_real) + sizeof(int) + 2.0 * sizeof(sph_off) + 40 + entries * 2.0 * sizeof(sph_idx);
 }
 
 /* Time steps to t_end: about 5 per left cell at t = 0.2 and CFL 0.3 (80 at nx = 16, 120 at 24). */
@@ -302,13 +300,12 @@ static int sd_setup(sd_sim *S)
 #define SD_A(f, c) ((S->f = (sph_real *)sd_alloc(n * (c), sizeof(sph_real))) == NULL)
     if (SD_A(x, 3) || SD_A(v, 3) || SD_A(vp, 3) || SD_A(a, 3) || SD_A(u, 1) || SD_A(up, 1) || SD_A(du, 1) ||
         SD_A(h, 1) || SD_A(rho, 1) || SD_A(om, 1) || SD_A(hl, 1) || SD_A(hle, 1) || SD_A(x0, 3) || SD_A(A, 1) ||
-        SD_A(cs, 1) || SD_A(alpha, 1) || SD_A(dalpha, 1) || SD_A(f5, 5))
+        SD_A(cs, 1) || SD_A(alpha, 1) || SD_A(dalpha, 1))
         return -1;
 #undef SD_A
     if ((S->state = (int *)sd_alloc(n, sizeof(int))) == NULL ||
         (S->offset = (sph_off *)sd_alloc(n + 1, sizeof(sph_off))) == NULL ||
-        (S->h_off = (sph_off *)sd_alloc(n + 1, sizeof(sph_off))) == NULL ||
-        (S->t_off = (sph_off *)sd_alloc(n + 1, sizeof(sph_off))) == NULL)
+        (S->p_off = (sph_off *)sd_alloc(n + 1, sizeof(sph_off))) == NULL)
         return -1;
     for (l = 0; l < 2; ++l) { /* l = 0: left lattice on [-1, 0), l = 1: right lattice on [0, 1) */
         const int mx = l ? nxr : P->nx, my = l ? nyr : P->ny;
@@ -328,12 +325,11 @@ static int sd_setup(sd_sim *S)
     return 0;
 }
 
-/* Symmetric lists (N2) at radius kappa hl_i into S->offset/index, their half list and transpose (sph_pairs_build)
- * into S->pr; the positions are kept in x0 and every radius is usable (hle = hl) until the particles move. */
+/* Symmetric lists (N2) at radius kappa hl_i into S->offset/index (S->kept); the positions are kept in x0 and every
+ * radius is usable (hle = hl) until the particles move. */
 static int sd_search(sd_sim *S)
 {
     const sph_view xv = sph_view_interleaved(S->x, 3), hv = sph_view_soa(S->hl, NULL, NULL);
-    sph_neighbours full = SPH_NEIGHBOURS_INIT(0, 0, NULL, NULL); /* box unknown: the grid's is set below */
     sph_real hmax = S->hl[0];
     size_t bytes;
     sph_off pairs = 0;
@@ -354,52 +350,21 @@ static int sd_search(sd_sim *S)
     S->grid = g;
     S->listed = 0;
     st = sph_nsearch_lists(&g, xv, S->n, hv, 0, S->kappa, SPH_NSEARCH_SYMMETRIC, S->offset, S->index, S->cap, &pairs);
-    if (st == SPH_ESIZE) { /* grow the arrays with slack, then fill; the half list holds (entries - n) / 2 pairs */
-        free(S->index), free(S->h_idx), free(S->t_slot), free(S->buf);
+    if (st == SPH_ESIZE) { /* grow the index arrays with slack, then fill */
+        free(S->index), free(S->p_idx);
         S->cap = S->offset[S->n] + S->offset[S->n] / 4 + 1;
-        S->hcap = (S->cap - S->n) / 2 + 1;
         S->index = (sph_idx *)sd_alloc((size_t)S->cap, sizeof(sph_idx));
-        S->h_idx = (sph_idx *)sd_alloc((size_t)S->hcap, sizeof(sph_idx));
-        S->t_slot = (sph_off *)sd_alloc((size_t)S->hcap, sizeof(sph_off));
-        S->buf = (sph_real *)sd_alloc((size_t)sph_pairs_buffer_len(5, S->hcap), sizeof(sph_real));
-        if (S->index == NULL || S->h_idx == NULL || S->t_slot == NULL || S->buf == NULL) return S->cap = 0, EX_ENOMEM;
+        S->p_idx = (sph_idx *)sd_alloc((size_t)S->cap, sizeof(sph_idx));
+        if (S->index == NULL || S->p_idx == NULL) return S->cap = 0, EX_ENOMEM;
         st = sph_nsearch_fill(&g, xv, S->n, hv, 0, S->kappa, SPH_NSEARCH_SYMMETRIC, S->offset, S->index, S->cap);
     }
     if (st != SPH_OK) return st;
-    full = sph_nsearch_list(&g, S->n, S->offset, S->index);
-    if ((st = sph_pairs_build(&full, S->h_off, S->h_idx, S->hcap, S->t_off, S->t_slot, &pairs, &S->pr)) != SPH_OK)
-        return st;
+    S->kept = sph_nsearch_list(&g, S->n, S->offset, S->index);
     memcpy(S->x0, S->x, sizeof(sph_real) * 3 * (size_t)S->n);
     memcpy(S->hle, S->hl, sizeof(sph_real) * (size_t)S->n);
     S->listed = 1;
     S->searches++;
     return SPH_OK;
-}
-
-/* The radii the kept lists still serve (a Verlet skin): a pair was listed when r_ij(x0) < kappa max(hl_i, hl_j),
- * and |r_ij - r_ij(x0)| <= d_i + d_j with d_i = |x_i - x0_i|, so every j with r_ij < kappa h_i is listed while
- * kappa h_i + d_i + d_max <= kappa hl_i: hle_i = hl_i - (d_i + d_max) / kappa. Returns 1 when some h_i
- * exceeds its hle_i (the lists are searched again before the h solve), else 0. */
-static int sd_skin(sd_sim *S)
-{
-    sph_real dmax = 0;
-    sph_idx i;
-    int a, stale = 0;
-    if (!S->listed) return 1;
-    for (i = 0; i < S->n; ++i) { /* d_i, kept in hle until d_max is known */
-        sph_real d2 = 0;
-        for (a = 0; a < 3; ++a) {
-            const sph_real e = sph_box_delta(&S->box, a, S->x[3 * i + a] - S->x0[3 * i + a]);
-            d2 += e * e;
-        }
-        S->hle[i] = sqrt(d2);
-        dmax = S->hle[i] > dmax ? S->hle[i] : dmax;
-    }
-    for (i = 0; i < S->n; ++i) {
-        S->hle[i] = S->hl[i] - (S->hle[i] + dmax) / S->kappa;
-        stale |= S->h[i] > S->hle[i];
-    }
-    return stale;
 }
 
 /* --profile: the wall time since the last mark goes to phase p; without --profile nothing happens. */
@@ -412,27 +377,30 @@ static void sd_mark(sd_sim *S, int p)
     }
 }
 
-/* Lists and h together: the kept lists while they serve every h (sd_skin), else a search at (1 + skin) h; then the
- * h solve on the radii hle; particles beyond them get (1 + skin) times the solver's estimate and the search is repeated. */
+/* Lists and h together: the kept list while it serves every h (sph_nsearch_skin: the radii hle it still serves),
+ * else a search at (1 + skin) h; then the h solve on the radii hle; particles beyond them get (1 + skin) times the
+ * solver's estimate and the search is repeated. Last, the pairs within kappa max(h_i, h_j) (sph_nsearch_prune). */
 static int sd_density(sd_sim *S)
 {
-    sph_neighbours L = SPH_NEIGHBOURS_INIT(0, 0, NULL, NULL); /* box unknown: c.box gives it */
     const sph_real grow = (sph_real)(1 + S->P.skin);
+    const sph_view xv = sph_view_interleaved(S->x, 3);
     sph_hctx c;
     sph_hreport rep;
-    sph_idx i;
+    sph_idx i, stale = 1;
+    sph_off pairs;
     int round, st;
-    if (sd_skin(S)) {
+    if (S->listed) {
+        st = sph_nsearch_skin(&S->kept, NULL, 3, xv, sph_view_interleaved(S->x0, 3), sph_view_soa(S->hl, NULL, NULL),
+                              S->kappa, sph_view_soa(S->h, NULL, NULL), sph_out_soa(S->hle, NULL, NULL), &stale);
+        if (st != SPH_OK) return st;
+    }
+    if (stale > 0) {
         for (i = 0; i < S->n; ++i) S->hl[i] = grow * S->h[i] < S->h_cap ? grow * S->h[i] : S->h_cap;
         if ((st = sd_search(S)) != SPH_OK) return st;
     }
     sd_mark(S, SD_SEARCH);
     for (round = 0; round < 6; ++round) {
-        L.n_targets = L.n_sources = S->n;
-        L.offset = S->offset;
-        L.index = S->index;
-        c = sph_hctx_init(S->k, 3, &L, sph_view_interleaved(S->x, 3), sph_view_aos(&S->m, 1, 0), 0); /* stride 0: one mass */
-        c.box = &S->box;
+        c = sph_hctx_init(S->k, 3, &S->kept, xv, sph_view_aos(&S->m, 1, 0), 0); /* stride 0: one mass; the list's box */
         c.eta = (sph_real)S->P.eta;
         c.h_list = sph_view_soa(S->hle, NULL, NULL);
         c.check_list = 0; /* the search's lists */
@@ -444,7 +412,12 @@ static int sd_density(sd_sim *S)
         S->sums += (long)rep.iterations;
         S->max_sums = rep.max_iterations > S->max_sums ? rep.max_iterations : S->max_sums;
         if (rep.n_not_converged > 0) return SD_EHSOLVE;
-        if (rep.n_beyond_list == 0) return SPH_OK;
+        if (rep.n_beyond_list == 0) {
+            st = sph_nsearch_prune(&S->kept, NULL, 3, xv, sph_view_soa(S->h, NULL, NULL), S->kappa, SPH_NSEARCH_SYMMETRIC,
+                                   S->p_off, S->p_idx, S->cap, &pairs, &S->pairs);
+            sd_mark(S, SD_H);
+            return st;
+        }
         S->researches++;
         for (i = 0; i < S->n; ++i)
             if (S->state[i] == SPH_H_BEYOND_LIST) {
@@ -457,22 +430,21 @@ static int sd_density(sd_sim *S)
     return SD_EHSOLVE;
 }
 
-/* (H5), (H6), (S3), (S4), conductivity and div v for the pairs of batch b of row i of the half list: to_i of pair k
- * into buf[5 k ..], to_j into buf[5 (hcap + t_slot[k]) ..]; pairs beyond kappa max(h_i, h_j) (the skin's) add
- * nothing (F_i = F_j = 0) and do not enter the signal velocity. */
-static void sd_batch(const sd_sim *S, sph_idx i, const sph_batch *b, sph_real *vs)
+/* (H5), (H6), (S3), (S4), conductivity and div v of particle i from the pairs of batch b of its row, added to
+ * acc (dv/dt, du/dt, sum m_j v_ij . x_ij F_i); the largest signal velocity of the pairs other than (i, i) into vs. */
+static void sd_batch(const sd_sim *S, sph_idx i, const sph_batch *b, sph_real *vs, sph_real *acc)
 {
     const sd_param *P = &S->P;
     const sph_real m = S->m, g1 = (sph_real)(P->gamma - 1), beta = (sph_real)P->beta, au = (sph_real)P->alpha_u;
     const sph_real Ai = S->A[i], rhoi = S->rho[i], ci = S->cs[i], ui = S->up[i], ali = S->alpha[i], pi = g1 * rhoi * ui;
-    const sph_real *vi = S->vp + 3 * i, kappa2 = S->kappa * S->kappa, R2i = kappa2 * S->h[i] * S->h[i];
-    sph_real t[10][SPH_BATCH], vsig[SPH_BATCH], vu[SPH_BATCH];
-    sph_real vj[3][SPH_BATCH], Aj[SPH_BATCH], rhoj[SPH_BATCH], cj[SPH_BATCH], uj[SPH_BATCH], alj[SPH_BATCH], hj[SPH_BATCH];
+    const sph_real *vi = S->vp + 3 * i;
+    sph_real t[5][SPH_BATCH], vsig[SPH_BATCH], vu[SPH_BATCH], vmax = *vs;
+    sph_real vj[3][SPH_BATCH], Aj[SPH_BATCH], rhoj[SPH_BATCH], cj[SPH_BATCH], uj[SPH_BATCH], alj[SPH_BATCH];
     int l, a;
     for (l = 0; l < SPH_BATCH; ++l) { /* the partners' fields into lanes */
         const sph_idx j = b->j[l];
         for (a = 0; a < 3; ++a) vj[a][l] = S->vp[3 * j + a];
-        Aj[l] = S->A[j], rhoj[l] = S->rho[j], cj[l] = S->cs[j], uj[l] = S->up[j], alj[l] = S->alpha[j], hj[l] = S->h[j];
+        Aj[l] = S->A[j], rhoj[l] = S->rho[j], cj[l] = S->cs[j], uj[l] = S->up[j], alj[l] = S->alpha[j];
     }
     for (l = 0; l < SPH_BATCH; ++l) { /* the square root's argument on its own: the loop below then has no call */
         const sph_real pj = g1 * rhoj[l] * uj[l], rhob = (rhoi + rhoj[l]) / 2;
@@ -489,23 +461,23 @@ static void sd_batch(const sd_sim *S, sph_idx i, const sph_batch *b, sph_real *v
         const sph_real cav = m * Pi * Fb;                             /* (S4) */
         const sph_real cp = m * (Ai * Fi + Aj[l] * Fj) + cav;         /* (H5) + (S4): dv_i/dt = -cp x_ij */
         const sph_real cond = au * m * vu[l] * (ui - uj[l]) * Fb * r / rhob; /* Price (2008) */
-        const sph_real Rj2 = kappa2 * hj[l] * hj[l], R2 = R2i > Rj2 ? R2i : Rj2;
         t[0][l] = -cp * dx, t[1][l] = -cp * dy, t[2][l] = -cp * dz;
-        t[5][l] = cp * dx, t[6][l] = cp * dy, t[7][l] = cp * dz;
         t[3][l] = m * Ai * Fi * e + cav * e / 2 + cond;               /* (H6) + (S4) */
-        t[8][l] = m * Aj[l] * Fj * e + cav * e / 2 - cond;
-        t[4][l] = m * e * Fi, t[9][l] = m * e * Fj;                   /* div v before the factor -1 / (Omega rho) */
-        vsig[l] = r * r < R2 && l < b->n ? v_sig : 0;
+        t[4][l] = m * e * Fi;                                         /* div v before the factor -1 / (Omega rho) */
+        vsig[l] = b->j[l] != i ? v_sig : 0;                           /* padding lanes hold j = i */
     }
-    for (l = 0; l < b->n; ++l) {
-        sph_real *ti = S->buf + 5 * b->k[l], *tj = S->buf + 5 * (S->hcap + S->t_slot[b->k[l]]);
-        for (a = 0; a < 5; ++a) ti[a] = t[a][l], tj[a] = t[5 + a][l];
-        *vs = vsig[l] > *vs ? vsig[l] : *vs;
+    for (a = 0; a < 5; ++a) {
+        sph_real sum = 0;
+        for (l = 0; l < SPH_BATCH; ++l) sum += t[a][l];
+        acc[a] += sum;
     }
+    for (l = 0; l < SPH_BATCH; ++l) vmax = vsig[l] > vmax ? vsig[l] : vmax;
+    *vs = vmax;
 }
 
-/* Accelerations, du/dt, d alpha/dt and the largest signal velocity at the
- * positions x, velocities vp and energies up. */
+/* Accelerations, du/dt, d alpha/dt and the largest signal velocity at the positions x, velocities vp and energies
+ * up: each particle sums over its row of the pruned list (each pair is evaluated from both ends: no scatter, no
+ * reduction, no per-pair buffers; the pair terms are antisymmetric, so momentum is conserved to round-off). */
 static int sd_forces(sd_sim *S)
 {
     const sd_param *P = &S->P;
@@ -519,26 +491,23 @@ static int sd_forces(sd_sim *S)
         S->cs[i] = sqrt((sph_real)P->gamma * p / S->rho[i]);
         S->A[i] = sph_gradh_factor(p, S->rho[i], S->om[i]);
     }
-    st = sph_batch_source(&B, S->k, 3, &S->pr.half, &S->box, sph_view_interleaved(S->x, 3), sph_view_soa(S->h, NULL, NULL));
+    st = sph_batch_source(&B, S->k, 3, &S->pairs, NULL, sph_view_interleaved(S->x, 3), sph_view_soa(S->h, NULL, NULL));
     if (st != SPH_OK) return st;
 #ifdef _OPENMP
 #pragma omp parallel for schedule(dynamic, 64) reduction(max : vmax)
 #endif
     for (i = 0; i < S->n; ++i) {
-        sph_real vs = 0;
+        sph_real vs = 0, acc[5] = {0, 0, 0, 0, 0}, divv, src;
         sph_off next = 0;
         sph_batch b;
-        while (sph_batch_fill(&B, i, &next, &b) > 0) sd_batch(S, i, &b, &vs);
-        vmax = vs > vmax ? vs : vmax;
-    }
-    if ((st = sph_pairs_reduce(&S->pr, 5, S->buf, S->buf + 5 * S->hcap, S->f5)) != SPH_OK) return st;
-    for (i = 0; i < S->n; ++i) {
-        const sph_real divv = -S->f5[5 * i + 4] / (S->om[i] * S->rho[i]), src = divv < 0 ? -divv : 0;
         int a;
-        for (a = 0; a < 3; ++a) S->a[3 * i + a] = S->f5[5 * i + a];
-        S->du[i] = S->f5[5 * i + 3];
+        while (sph_batch_fill(&B, i, &next, &b) > 0) sd_batch(S, i, &b, &vs, acc);
+        for (a = 0; a < 3; ++a) S->a[3 * i + a] = acc[a];
+        S->du[i] = acc[3];
+        divv = -acc[4] / (S->om[i] * S->rho[i]), src = divv < 0 ? -divv : 0;
         S->dalpha[i] = -(S->alpha[i] - (sph_real)P->alpha_min) * (sph_real)0.1 * S->cs[i] / S->h[i] +
                        src * ((sph_real)P->alpha_max - S->alpha[i]);
+        vmax = vs > vmax ? vs : vmax;
     }
     S->vsig_max = vmax;
     return SPH_OK;
@@ -566,7 +535,7 @@ static void sd_profile_count(sd_sim *S)
 {
     sd_prof *Q = S->prof;
     Q->entries += (double)S->offset[S->n];
-    Q->half += (double)S->h_off[S->n];
+    Q->pairs += (double)(S->p_off[S->n] - S->n) / 2;
     if (Q->steps++ % SD_SAMPLE == 0) {
         sph_off pairs = 0, cand = 0;
         if (sph_nsearch_stats(&S->grid, sph_view_interleaved(S->x0, 3), S->n, sph_view_soa(S->hl, NULL, NULL), 0, S->kappa,
@@ -578,8 +547,8 @@ static void sd_profile_count(sd_sim *S)
 
 /* --profile, after the step loop: the last rest, the searches and re-searches, and the bytes per particle the step
  * holds, from the sizes sd_setup and sd_search allocated: fields (x, v, vp, a, x0: 3 reals; u, up, du, h, rho, om, hl,
- * hle, A, cs, alpha, dalpha: 1; f5: 5; state; offset, h_off, t_off: n + 1 each), lists (index: cap entries; h_idx,
- * t_slot: hcap), the pair buffers of sph_pairs_reduce (sph_pairs_buffer_len(5, hcap) reals) and the search workspace. */
+ * hle, A, cs, alpha, dalpha: 1; state; offset, p_off: n + 1 each), lists (index, p_idx: cap entries each) and the
+ * search workspace. */
 static void sd_profile_end(sd_sim *S)
 {
     sd_prof *Q = S->prof;
@@ -587,10 +556,9 @@ static void sd_profile_end(sd_sim *S)
     sd_mark(S, SD_REST);
     Q->researches = S->researches - Q->researches;
     Q->searches = S->searches - Q->searches;
-    Q->bytes[0] = (double)((5 * 3 + 12 + 5) * sizeof(sph_real) + sizeof(int)) + 3 * (n + 1) / n * (double)sizeof(sph_off);
-    Q->bytes[1] = (cap * (double)sizeof(sph_idx) + (double)S->hcap * (double)(sizeof(sph_idx) + sizeof(sph_off))) / n;
-    Q->bytes[2] = (double)sph_pairs_buffer_len(5, S->hcap) / n * (double)sizeof(sph_real);
-    Q->bytes[3] = (double)S->work_bytes / n;
+    Q->bytes[0] = (double)((5 * 3 + 12) * sizeof(sph_real) + sizeof(int)) + 2 * (n + 1) / n * (double)sizeof(sph_off);
+    Q->bytes[1] = 2 * cap / n * (double)sizeof(sph_idx);
+    Q->bytes[2] = (double)S->work_bytes / n;
     S->prof = NULL;
 }
 
@@ -716,9 +684,9 @@ static int sd_run(const sd_param *P, sd_result *R, FILE *profile, const char *la
 static void sd_print_profile(const sd_result *R)
 {
     static const char *name[SD_PHASES] = {"search", "density/h", "forces", "rest"};
-    static const char *what[SD_PHASES] = {"the skin rule; stale lists: radii, sph_nsearch_build, _lists (_fill), sph_pairs_build",
-                                          "sph_h_solve, and the re-searches it asked for",
-                                          "c_s and A, sph_batch_source, the pair loop, sph_pairs_reduce, d alpha/dt",
+    static const char *what[SD_PHASES] = {"sph_nsearch_skin; stale lists: radii, sph_nsearch_build, _lists (_fill)",
+                                          "sph_h_solve and the re-searches it asked for, sph_nsearch_prune",
+                                          "c_s and A, sph_batch_source, the pair loop, d alpha/dt",
                                           "h_min and dt, kicks, drift, progress line"};
     const sd_prof *Q = &R->prof;
     const double n = (double)R->n, ps = n * (double)Q->steps;
@@ -731,15 +699,15 @@ static void sd_print_profile(const sd_result *R)
     for (p = 0; p < SD_PHASES; ++p)
         printf("  %-28s %10.3f us %5.1f %%  %s\n", name[p], 1e6 * Q->t[p] / ps, 100 * Q->t[p] / total, what[p]);
     printf("  %-28s %10.3f us 100.0 %%  %.3f s in the step loop\n", "total", 1e6 * total / ps, total);
-    printf("  %-28s %10.2f     (symmetric lists, self included: the sums of the h solve)\n", "list entries per particle",
-           Q->entries / ps);
-    printf("  %-28s %10.2f     (the pair-once force loop)\n", "half-list pairs per particle", Q->half / ps);
+    printf("  %-28s %10.2f     (the kept symmetric list at kappa (1 + skin) h, self included: the sums of the h solve)\n",
+           "list entries per particle", Q->entries / ps);
+    printf("  %-28s %10.2f     (within kappa max(h_i, h_j): the force loop visits each from both ends)\n",
+           "pairs per particle", Q->pairs / ps);
     if (Q->samples > 0)
         printf("  %-28s %10.2f     (%.2f per list entry; sph_nsearch_stats on %ld of the steps, untimed)\n",
                "candidates per particle", Q->candidates / (n * (double)Q->samples), Q->candidates / Q->sampled, Q->samples);
-    printf("  %-28s %10.0f     (fields %.0f, lists %.0f, pair buffers %.0f, search workspace %.0f)\n",
-           "bytes per particle", Q->bytes[0] + Q->bytes[1] + Q->bytes[2] + Q->bytes[3], Q->bytes[0], Q->bytes[1],
-           Q->bytes[2], Q->bytes[3]);
+    printf("  %-28s %10.0f     (fields %.0f, lists %.0f, search workspace %.0f)\n", "bytes per particle",
+           Q->bytes[0] + Q->bytes[1] + Q->bytes[2], Q->bytes[0], Q->bytes[1], Q->bytes[2]);
     printf("  %-28s %10ld     (%.2f steps per search; the lists are kept while they serve every h)\n", "searches",
            Q->searches, (double)Q->steps / (double)(Q->searches > 0 ? Q->searches : 1));
     printf("  %-28s %10ld     (their time counts to density/h)\n", "re-searches", Q->researches);
