@@ -18,29 +18,44 @@
  * of the two stay apart; errors are measured over |x| <= 0.5, where only the
  * x = 0 problem has arrived.
  *
- * Each step (kick-drift-kick leapfrog, dt = C h_min / v_sig,max):
+ * Each step (kick-drift-kick leapfrog, dt = C h_min / v_sig,max, v_sig,max
+ * over the pairs within kappa max(h_i, h_j)):
  *   - neighbour lists (section 7, symmetric criterion (N2)) at a search
  *     radius kappa h_list_i, h_list_i = (1 + skin) h_i (--skin, 0.15; at
- *     most the half-period of the cross-section), with their half list
- *     (sph_pairs_build), kept over the following steps while they still
- *     hold every pair within kappa max(h_i, h_j) (a Verlet skin: sd_skin
- *     gives the rule); a run is the same bit for bit at any skin that needs
- *     no re-search (tests/check_sod_profile.sh);
+ *     most the half-period of the cross-section), kept over the following
+ *     steps while they still hold every pair within kappa max(h_i, h_j)
+ *     (a Verlet skin: sph_nsearch_skin gives the radii they still serve);
+ *     a run is the same bit for bit at any skin that needs no re-search
+ *     (tests/check_sod_profile.sh);
  *   - sph_h_solve (section 9, (H1)-(H4)): h_i and rho_i together, Omega_i;
  *     particles whose h outgrew their list get a new radius and are
- *     solved again;
- *   - one pair-once loop over the half list in batches of SPH_BATCH pairs
- *     (sph_batch_fill: x_ij, r, F at h_i and h_j; the equations in a plain
- *     loop over the lanes, sd_batch; sph_pairs_reduce, (H8)): the grad-h momentum and energy equations
+ *     solved again; then sph_nsearch_prune keeps the pairs within
+ *     kappa max(h_i, h_j);
+ *   - one loop over the particles, each summing its own row in batches of
+ *     SPH_BATCH pairs (sph_batch_fill: x_ij, r, F at h_i and h_j; the
+ *     equations in a plain loop over the lanes, sd_batch; each pair is
+ *     evaluated from both ends, its terms antisymmetric): the grad-h
+ *     momentum and energy equations
  *     (H5), (H6), the signal-velocity artificial viscosity (section 8,
- *     (S3), (S4), SWIFT's beta = 3) with alpha_ij = (alpha_i + alpha_j) / 2,
- *     the artificial conductivity of Price (2008), du_i/dt += sum_j m_j
- *     alpha_u v_u (u_i - u_j) F_ij r / rho_ij with v_u = sqrt(|P_i - P_j| /
- *     rho_ij), and div v_i = -(1 / (Omega_i rho_i)) sum_j m_j v_ij . grad_i
- *     W_ij(h_i) (Price 2012);
- *   - the viscosity switch of Morris & Monaghan (1997) with the source of
- *     Rosswog et al. (2000): d alpha_i / dt = -(alpha_i - alpha_min) / tau_i
- *     + max(-div v_i, 0) (alpha_max - alpha_i), tau_i = h_i / (0.1 c_i).
+ *     (S3), (S4), SWIFT's beta = 3) with alpha_ij = (alpha_i + alpha_j) / 2
+ *     (B_i + B_j) / 2, the artificial conductivity of SPHENIX (Borrow,
+ *     Schaller, Bower & Schaye 2022, MNRAS 511, 2367), du_i/dt += sum_j m_j
+ *     alpha_D,ij (v_u + |v_ij . x_ij| / r) / 2 (u_i - u_j) (F_i / (Omega_i
+ *     rho_i) + F_j / (Omega_j rho_j)) r with v_u = sqrt(|P_i - P_j| /
+ *     rho_ij), and the sums of div v_i = -(1 / (Omega_i rho_i)) sum_j m_j
+ *     v_ij . grad_i W_ij(h_i) (Price 2012), curl v_i and lap u_i;
+ *   - after the sums, SPHENIX's switches per particle: the Balsara (1995)
+ *     factor B_i = |div v| / (|div v| + |curl v| + 1e-4 c / h); alpha_i =
+ *     alpha_max S / (c^2 + S), S = H^2 max(0, -d(div v)/dt) (H = kappa h,
+ *     d(div v)/dt over the last step) where that is larger, else a decay
+ *     to it at the rate 0.25 c / H, alpha in [0, 2]; d alpha_D / dt =
+ *     H lap u / sqrt(u) - alpha_D 2 c / H, alpha_D <= 1 - alpha_i / 2. The
+ *     example's first scheme stays behind options: --switch mm97 (Morris &
+ *     Monaghan 1997 with the source of Rosswog et al. 2000: d alpha_i / dt
+ *     = -(alpha_i - alpha_min) 0.1 c_i / h_i + max(-div v_i, 0) (alpha_max
+ *     - alpha_i)), --conductivity price08 (Price 2008: du_i/dt += sum_j m_j
+ *     alpha_u v_u (u_i - u_j) F_ij r / rho_ij), --balsara 0, --alpha-min
+ *     0.1 --alpha-max 1.
  *
  * The exact solution is the program's own iterative Riemann solver (Toro
  * 2009, chapter 4: Newton-Raphson on the pressure function, then the
@@ -73,6 +88,7 @@
 #define SD_EREFUSED 200 /* status of a run refused by its memory estimate (the message printed) */
 #define SD_EHSOLVE 201  /* smoothing lengths that did not converge */
 #define SD_EEXACT 202   /* no exact Riemann solution for the states */
+#define SD_NT 9 /* pair terms per particle: dv/dt (3), du/dt, the sums of div v, curl v (3) and lap u */
 #define SD_NX_MAX 256 /* 73728 particles at the fewest ny, 0.9 GB, about 1300 steps: hours of one core (--help prints the memory) */
 
 typedef struct {
@@ -80,6 +96,9 @@ typedef struct {
     const char *kernel, *lattice; /* lattice: fcc (4 particles per cell) or cubic (1) */
     double gamma, t_end, eta, cfl, alpha_min, alpha_max, beta, alpha_u;
     double skin; /* lists at kappa (1 + skin) h, kept while every pair within kappa h is still listed */
+    const char *av_switch, *cond; /* viscosity switch: sphenix or mm97; conductivity: sphenix or price08 */
+    double av_length, beta_u;     /* SPHENIX: decay length of the viscosity, source coefficient of the conductivity */
+    int balsara;                  /* the Balsara (1995) limiter on the viscosity */
     int profile; /* --profile: time the phases of the step (sd_prof) */
 } sd_param;
 
@@ -183,6 +202,10 @@ typedef struct {
     sph_idx n;
     sph_box box;
     sph_real *x, *v, *vp, *a, *u, *up, *du, *h, *rho, *om, *hl, *hle, *x0, *A, *cs, *alpha, *dalpha;
+    sph_real *B, *alpha_d, *divv; /* Balsara factor, conductivity alpha_D, div v of the last force evaluation */
+    sph_real *sw;                 /* div v, |curl v|, lap u of this evaluation: the switches' input */
+    double dt;                    /* the step since the last force evaluation (0 before the first) */
+    int sphenix_av, sphenix_cond; /* P's switches as flags */
     int *state;
     /* lists: kept, the symmetric list at kappa hl searched at x0 (cap entries); pairs, its pairs within
        kappa max(h_i, h_j) at x (sph_nsearch_prune, cap entries) */
@@ -203,7 +226,7 @@ static void sd_free(sd_sim *S)
 {
     free(S->x), free(S->v), free(S->vp), free(S->a), free(S->u), free(S->up), free(S->du), free(S->h);
     free(S->rho), free(S->om), free(S->hl), free(S->hle), free(S->x0), free(S->A), free(S->cs), free(S->alpha);
-    free(S->dalpha);
+    free(S->dalpha), free(S->B), free(S->alpha_d), free(S->divv), free(S->sw);
     free(S->state), free(S->work), free(S->offset), free(S->p_off), free(S->index), free(S->p_idx);
 }
 
@@ -223,7 +246,7 @@ static double sd_particles(const sd_param *P)
     return (double)sd_per_cell(P) * ((double)P->nx * P->ny * P->ny + (double)(P->nx / 2) * (P->ny / 2) * (P->ny / 2));
 }
 
-/* Bytes a run allocates per particle: 27 reals, the state and two list
+/* Bytes a run allocates per particle: 33 reals, the state and two list
  * offsets, the search's workspace (about 40 bytes), and per list entry two
  * indices (the kept list and its pruned copy), for 1.25 times (the growth
  * slack of sd_search) 1.1 times the neighbours in the sphere of radius
@@ -233,7 +256,7 @@ static double sd_bytes_per_particle(const sd_param *P)
 {
     const double kappa = sph_kernel_support((sph_kernel)sph_kernel_from_name(P->kernel));
     const double r = (1 + P->skin) * kappa * P->eta, entries = 1.25 * 1.1 * 4.18879020478639 * r * r * r;
-    return 27.0 * sizeof(sph_real) + sizeof(int) + 2.0 * sizeof(sph_off) + 40 + entries * 2.0 * sizeof(sph_idx);
+    return 33.0 * sizeof(sph_real) + sizeof(int) + 2.0 * sizeof(sph_off) + 40 + entries * 2.0 * sizeof(sph_idx);
 }
 
 /* Time steps to t_end: about 5 per left cell at t = 0.2 and CFL 0.3 (80 at nx = 16, 120 at 24). */
@@ -300,7 +323,8 @@ static int sd_setup(sd_sim *S)
 #define SD_A(f, c) ((S->f = (sph_real *)sd_alloc(n * (c), sizeof(sph_real))) == NULL)
     if (SD_A(x, 3) || SD_A(v, 3) || SD_A(vp, 3) || SD_A(a, 3) || SD_A(u, 1) || SD_A(up, 1) || SD_A(du, 1) ||
         SD_A(h, 1) || SD_A(rho, 1) || SD_A(om, 1) || SD_A(hl, 1) || SD_A(hle, 1) || SD_A(x0, 3) || SD_A(A, 1) ||
-        SD_A(cs, 1) || SD_A(alpha, 1) || SD_A(dalpha, 1))
+        SD_A(cs, 1) || SD_A(alpha, 1) || SD_A(dalpha, 1) || SD_A(B, 1) || SD_A(alpha_d, 1) || SD_A(divv, 1) ||
+        SD_A(sw, 3))
         return -1;
 #undef SD_A
     if ((S->state = (int *)sd_alloc(n, sizeof(int))) == NULL ||
@@ -320,6 +344,7 @@ static int sd_setup(sd_sim *S)
                 S->u[p] = (sph_real)(pr / (g1 * rho));
                 S->h[p] = (sph_real)(P->eta * d / cbrt((double)ppc));
                 S->alpha[p] = (sph_real)P->alpha_min;
+                S->B[p] = 1, S->alpha_d[p] = S->sphenix_cond ? 0 : (sph_real)P->alpha_u, S->divv[p] = 0;
             }
     }
     return 0;
@@ -430,49 +455,97 @@ static int sd_density(sd_sim *S)
     return SD_EHSOLVE;
 }
 
-/* (H5), (H6), (S3), (S4), conductivity and div v of particle i from the pairs of batch b of its row, added to
- * acc (dv/dt, du/dt, sum m_j v_ij . x_ij F_i); the largest signal velocity of the pairs other than (i, i) into vs. */
+/* (H5), (H6), (S3), (S4), conductivity, and the sums of div v, curl v and lap u of particle i from the pairs of
+ * batch b of its row, added to acc[SD_NT] (dv/dt, du/dt, sum m_j v_ij . x_ij F_i, sum m_j (v_ij x x_ij) F_i,
+ * lap u); the largest signal velocity of the pairs other than (i, i) into vs. SPHENIX: Borrow, Schaller, Bower &
+ * Schaye (2022, MNRAS 511, 2367). */
 static void sd_batch(const sd_sim *S, sph_idx i, const sph_batch *b, sph_real *vs, sph_real *acc)
 {
     const sd_param *P = &S->P;
     const sph_real m = S->m, g1 = (sph_real)(P->gamma - 1), beta = (sph_real)P->beta, au = (sph_real)P->alpha_u;
-    const sph_real Ai = S->A[i], rhoi = S->rho[i], ci = S->cs[i], ui = S->up[i], ali = S->alpha[i], pi = g1 * rhoi * ui;
+    const sph_real Ai = S->A[i], rhoi = S->rho[i], ci = S->cs[i], ui = S->up[i], pi = g1 * rhoi * ui;
+    const sph_real ali = S->alpha[i], Bi = S->B[i], adi = S->alpha_d[i], Gi_rho = 1 / (S->om[i] * rhoi);
     const sph_real *vi = S->vp + 3 * i;
-    sph_real t[5][SPH_BATCH], vsig[SPH_BATCH], vu[SPH_BATCH], vmax = *vs;
+    const int sphenix = S->sphenix_cond;
+    sph_real t[SD_NT][SPH_BATCH], vsig[SPH_BATCH], vu[SPH_BATCH], vmax = *vs;
     sph_real vj[3][SPH_BATCH], Aj[SPH_BATCH], rhoj[SPH_BATCH], cj[SPH_BATCH], uj[SPH_BATCH], alj[SPH_BATCH];
+    sph_real Bj[SPH_BATCH], adj[SPH_BATCH], omj[SPH_BATCH];
     int l, a;
     for (l = 0; l < SPH_BATCH; ++l) { /* the partners' fields into lanes */
         const sph_idx j = b->j[l];
         for (a = 0; a < 3; ++a) vj[a][l] = S->vp[3 * j + a];
         Aj[l] = S->A[j], rhoj[l] = S->rho[j], cj[l] = S->cs[j], uj[l] = S->up[j], alj[l] = S->alpha[j];
+        Bj[l] = S->B[j], adj[l] = S->alpha_d[j], omj[l] = S->om[j];
     }
     for (l = 0; l < SPH_BATCH; ++l) { /* the square root's argument on its own: the loop below then has no call */
         const sph_real pj = g1 * rhoj[l] * uj[l], rhob = (rhoi + rhoj[l]) / 2;
         vu[l] = fabs(pi - pj) / rhob;
     }
-    for (l = 0; l < SPH_BATCH; ++l) vu[l] = sqrt(vu[l]); /* v_u of Price (2008) */
+    for (l = 0; l < SPH_BATCH; ++l) vu[l] = sqrt(vu[l]); /* v_u = sqrt(|P_i - P_j| / rho_ij) */
     for (l = 0; l < SPH_BATCH; ++l) {
         const sph_real dx = b->dx[0][l], dy = b->dx[1][l], dz = b->dx[2][l], r = b->r[l], Fi = b->F_i[l], Fj = b->F_j[l];
-        const sph_real e = (vi[0] - vj[0][l]) * dx + (vi[1] - vj[1][l]) * dy + (vi[2] - vj[2][l]) * dz; /* v_ij . x_ij */
-        const sph_real Fb = (Fi + Fj) / 2, rhob = (rhoi + rhoj[l]) / 2;
-        const sph_real w = (e < 0 ? e : 0) / (r > 0 ? r : 1);        /* (S2) w_ij, no division by 0 */
+        const sph_real dvx = vi[0] - vj[0][l], dvy = vi[1] - vj[1][l], dvz = vi[2] - vj[2][l];
+        const sph_real e = dvx * dx + dvy * dy + dvz * dz, rinv = 1 / (r > 0 ? r : 1); /* e = v_ij . x_ij */
+        const sph_real Fb = (Fi + Fj) / 2, rhob = (rhoi + rhoj[l]) / 2, pj = g1 * rhoj[l] * uj[l];
+        const sph_real w = (e < 0 ? e : 0) * rinv;                    /* (S2) w_ij, no division by 0 */
         const sph_real v_sig = ci + cj[l] - beta * w;                 /* (S2) */
-        const sph_real Pi = -((ali + alj[l]) / 4) * v_sig * w / rhob; /* (S3), alpha_ij = (alpha_i + alpha_j) / 2 */
+        /* (S3) with alpha_ij = (alpha_i + alpha_j) / 2 (B_i + B_j) / 2 (SPHENIX eq. 20; B = 1 without Balsara) */
+        const sph_real Pi = -((ali + alj[l]) / 2 * (Bi + Bj[l]) / 4) * v_sig * w / rhob;
         const sph_real cav = m * Pi * Fb;                             /* (S4) */
         const sph_real cp = m * (Ai * Fi + Aj[l] * Fj) + cav;         /* (H5) + (S4): dv_i/dt = -cp x_ij */
-        const sph_real cond = au * m * vu[l] * (ui - uj[l]) * Fb * r / rhob; /* Price (2008) */
+        /* SPHENIX eqs. 24-26: m_j alpha_D,ij v_D (u_i - u_j) (F_i / (Omega_i rho_i) + F_j / (Omega_j rho_j)) r,
+           alpha_D,ij = (P_i alpha_D,i + P_j alpha_D,j) / (P_i + P_j), v_D = (v_u + |e| / r) / 2; else Price (2008):
+           m_j alpha_u v_u (u_i - u_j) F_ij r / rho_ij */
+        const sph_real cond = sphenix ? m * (pi * adi + pj * adj[l]) / (pi + pj) * (vu[l] + fabs(e) * rinv) / 2 *
+                                            (ui - uj[l]) * (Fi * Gi_rho + Fj / (omj[l] * rhoj[l])) * r
+                                      : au * m * vu[l] * (ui - uj[l]) * Fb * r / rhob;
         t[0][l] = -cp * dx, t[1][l] = -cp * dy, t[2][l] = -cp * dz;
         t[3][l] = m * Ai * Fi * e + cav * e / 2 + cond;               /* (H6) + (S4) */
         t[4][l] = m * e * Fi;                                         /* div v before the factor -1 / (Omega rho) */
+        t[5][l] = m * (dvy * dz - dvz * dy) * Fi;                     /* curl v before the factor 1 / (Omega rho) */
+        t[6][l] = m * (dvz * dx - dvx * dz) * Fi;
+        t[7][l] = m * (dvx * dy - dvy * dx) * Fi;
+        t[8][l] = 2 * m * (ui - uj[l]) * Fi / rhoj[l];                /* lap u (Brookshaw 1985; SPHENIX eq. 27) */
         vsig[l] = b->j[l] != i ? v_sig : 0;                           /* padding lanes hold j = i */
     }
-    for (a = 0; a < 5; ++a) {
+    for (a = 0; a < SD_NT; ++a) {
         sph_real sum = 0;
         for (l = 0; l < SPH_BATCH; ++l) sum += t[a][l];
         acc[a] += sum;
     }
     for (l = 0; l < SPH_BATCH; ++l) vmax = vsig[l] > vmax ? vsig[l] : vmax;
     *vs = vmax;
+}
+
+/* The viscosity switch of SPHENIX (Borrow et al. 2022, section 2.4) for particle i from div v and curl v at this
+ * evaluation and div v at the last, then its conductivity switch (section 2.5) from lap u; dt: the step between. */
+static void sd_switch_sphenix(sd_sim *S, sph_idx i, sph_real divv, sph_real curl, sph_real lapu, double dt)
+{
+    const sd_param *P = &S->P;
+    const sph_real c = S->cs[i], H = S->kappa * S->h[i]; /* H: the kernel's support radius */
+    const sph_real ddivv = dt > 0 ? (divv - S->divv[i]) / (sph_real)dt : 0; /* d(div v)/dt by the last step (eq. 18) */
+    const sph_real src = divv < 0 && ddivv < 0 ? -H * H * ddivv : 0;    /* S_i = H^2 max(0, -d(div v)/dt) where div v < 0 (eq. 18) */
+    const sph_real loc = (sph_real)P->alpha_max * src / (c * c + src);  /* alpha_loc = alpha_max S / (c^2 + S) (eq. 19) */
+    const sph_real rate = (sph_real)(dt * P->av_length) * c / H;        /* dt ell c / H: the decay of eq. 21 */
+    sph_real ad;
+    if (P->balsara) /* B_i = |div v| / (|div v| + |curl v| + 1e-4 c / h) (Balsara 1995; SPHENIX eq. 22) */
+        S->B[i] = fabs(divv) / (fabs(divv) + curl + (sph_real)1e-4 * c / S->h[i]);
+    if (S->sphenix_av) {
+        /* alpha_i = alpha_loc where it is larger, else decays to it implicitly: (alpha + alpha_loc r) / (1 + r) (eq. 21) */
+        S->alpha[i] = loc > S->alpha[i] ? loc : (S->alpha[i] + loc * rate) / (1 + rate);
+        S->alpha[i] = S->alpha[i] < (sph_real)P->alpha_min ? (sph_real)P->alpha_min : S->alpha[i];
+        S->dalpha[i] = 0;
+    }
+    S->divv[i] = divv;
+    if (!S->sphenix_cond) return;
+    /* d alpha_D / dt = beta_D H lap u / sqrt(u) - alpha_D v_sig / H, v_sig = 2 c (SPHENIX eq. 28, alpha_D,min = 0) */
+    ad = S->alpha_d[i] + (sph_real)dt * ((sph_real)P->beta_u * H * lapu / sqrt(S->up[i]) - S->alpha_d[i] * 2 * c / H);
+    ad = ad < 0 ? 0 : ad;
+    /* alpha_D <= alpha_D,max (1 - alpha_i / alpha_max): none in viscous flow (SPHENIX eq. 29, with the own alpha) */
+    {
+        const sph_real lim = (sph_real)P->alpha_u * (1 - S->alpha[i] / (sph_real)P->alpha_max);
+        S->alpha_d[i] = ad < lim ? ad : lim;
+    }
 }
 
 /* Accelerations, du/dt, d alpha/dt and the largest signal velocity at the positions x, velocities vp and energies
@@ -497,18 +570,25 @@ static int sd_forces(sd_sim *S)
 #pragma omp parallel for schedule(dynamic, 64) reduction(max : vmax)
 #endif
     for (i = 0; i < S->n; ++i) {
-        sph_real vs = 0, acc[5] = {0, 0, 0, 0, 0}, divv, src;
+        sph_real vs = 0, acc[SD_NT] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
+        const sph_real orho = S->om[i] * S->rho[i];
+        sph_real divv, src, curl;
         sph_off next = 0;
         sph_batch b;
         int a;
         while (sph_batch_fill(&B, i, &next, &b) > 0) sd_batch(S, i, &b, &vs, acc);
         for (a = 0; a < 3; ++a) S->a[3 * i + a] = acc[a];
         S->du[i] = acc[3];
-        divv = -acc[4] / (S->om[i] * S->rho[i]), src = divv < 0 ? -divv : 0;
+        divv = -acc[4] / orho, src = divv < 0 ? -divv : 0; /* div v_i (Price 2012) */
+        curl = sqrt(acc[5] * acc[5] + acc[6] * acc[6] + acc[7] * acc[7]) / orho;
+        /* Morris & Monaghan (1997) with the source of Rosswog et al. (2000); SPHENIX's switch replaces it */
         S->dalpha[i] = -(S->alpha[i] - (sph_real)P->alpha_min) * (sph_real)0.1 * S->cs[i] / S->h[i] +
                        src * ((sph_real)P->alpha_max - S->alpha[i]);
         vmax = vs > vmax ? vs : vmax;
+        S->sw[3 * i] = divv, S->sw[3 * i + 1] = curl, S->sw[3 * i + 2] = acc[8];
     }
+    for (i = 0; i < S->n; ++i) /* after the loop: it read alpha, B and alpha_D of the neighbours */
+        sd_switch_sphenix(S, i, S->sw[3 * i], S->sw[3 * i + 1], S->sw[3 * i + 2], S->dt);
     S->vsig_max = vmax;
     return SPH_OK;
 }
@@ -546,9 +626,9 @@ static void sd_profile_count(sd_sim *S)
 }
 
 /* --profile, after the step loop: the last rest, the searches and re-searches, and the bytes per particle the step
- * holds, from the sizes sd_setup and sd_search allocated: fields (x, v, vp, a, x0: 3 reals; u, up, du, h, rho, om, hl,
- * hle, A, cs, alpha, dalpha: 1; state; offset, p_off: n + 1 each), lists (index, p_idx: cap entries each) and the
- * search workspace. */
+ * holds, from the sizes sd_setup and sd_search allocated: fields (x, v, vp, a, x0, sw: 3 reals; u, up, du, h, rho, om,
+ * hl, hle, A, cs, alpha, dalpha, B, alpha_d, divv: 1; state; offset, p_off: n + 1 each), lists (index, p_idx: cap entries
+ * each) and the search workspace. */
 static void sd_profile_end(sd_sim *S)
 {
     sd_prof *Q = S->prof;
@@ -556,7 +636,7 @@ static void sd_profile_end(sd_sim *S)
     sd_mark(S, SD_REST);
     Q->researches = S->researches - Q->researches;
     Q->searches = S->searches - Q->searches;
-    Q->bytes[0] = (double)((5 * 3 + 12) * sizeof(sph_real) + sizeof(int)) + 2 * (n + 1) / n * (double)sizeof(sph_off);
+    Q->bytes[0] = (double)((6 * 3 + 15) * sizeof(sph_real) + sizeof(int)) + 2 * (n + 1) / n * (double)sizeof(sph_off);
     Q->bytes[1] = 2 * cap / n * (double)sizeof(sph_idx);
     Q->bytes[2] = (double)S->work_bytes / n;
     S->prof = NULL;
@@ -588,6 +668,8 @@ static int sd_run(const sd_param *P, sd_result *R, FILE *profile, const char *la
     memset(&S, 0, sizeof S);
     memset(R, 0, sizeof *R);
     S.P = *P;
+    S.sphenix_av = strcmp(P->av_switch, "sphenix") == 0;
+    S.sphenix_cond = strcmp(P->cond, "sphenix") == 0;
     S.k = (sph_kernel)sph_kernel_from_name(P->kernel);
     S.kappa = sph_kernel_support(S.k);
     if (!sd_fits(P)) return SD_EREFUSED;
@@ -622,6 +704,7 @@ static int sd_run(const sd_param *P, sd_result *R, FILE *profile, const char *la
             S.alpha[i] += (sph_real)(dt / 2) * S.dalpha[i];
         }
         sd_mark(&S, SD_REST);
+        S.dt = dt;
         if ((st = sd_forces(&S)) != SPH_OK) break;
         sd_mark(&S, SD_FORCES); /* sd_density marked its search and h solve: the rest of sd_forces */
         if (S.prof != NULL) sd_profile_count(&S);
@@ -686,7 +769,7 @@ static void sd_print_profile(const sd_result *R)
     static const char *name[SD_PHASES] = {"search", "density/h", "forces", "rest"};
     static const char *what[SD_PHASES] = {"sph_nsearch_skin; stale lists: radii, sph_nsearch_build, _lists (_fill)",
                                           "sph_h_solve and the re-searches it asked for, sph_nsearch_prune",
-                                          "c_s and A, sph_batch_source, the pair loop, d alpha/dt",
+                                          "c_s and A, sph_batch_source, the pair loop, the switches",
                                           "h_min and dt, kicks, drift, progress line"};
     const sd_prof *Q = &R->prof;
     const double n = (double)R->n, ps = n * (double)Q->steps;
@@ -839,14 +922,14 @@ static int sd_study(const sd_param *P0, const char *dir, const char *out)
     if ((md = fopen(path, "w")) == NULL) return -1;
     fprintf(md, "# Sod shock tube in 3-D (examples/sod_shock.c)\n\n"
                 "Written by `make plots-sod` (`build/sod_shock --study %s`). gamma = %g, t = %g, %s kernel, eta = %g, "
-                "%s lattices, %d x %d cells across the tube on the left, CFL %g, viscosity switch alpha in [%g, %g], "
-                "beta = %g, conductivity alpha_u = %g. L1 = mean over the particles with |x| <= 0.5 of "
+                "%s lattices, %d x %d cells across the tube on the left, CFL %g, viscosity switch %s (av-length %g, "
+                "Balsara %s), alpha in [%g, %g], beta = %g, conductivity %s, alpha_u = %g (beta_u %g). L1 = mean over the particles with |x| <= 0.5 of "
                 "|q_i - q_exact(x_i)|; order = log(L1 ratio) / log(nx ratio) of successive rows.\n\n"
                 "| nx | particles | steps | L1 rho | order | L1 v_x | order | L1 P | order | density sums per "
                 "particle and solve (max) | re-searches | abs(dE)/E | run time (s) |\n"
                 "|---|---|---|---|---|---|---|---|---|---|---|---|---|\n",
-            dir, P0->gamma, P0->t_end, P0->kernel, P0->eta, P0->lattice, P0->ny, P0->ny, P0->cfl, P0->alpha_min, P0->alpha_max,
-            P0->beta, P0->alpha_u);
+            dir, P0->gamma, P0->t_end, P0->kernel, P0->eta, P0->lattice, P0->ny, P0->ny, P0->cfl, P0->av_switch, P0->av_length,
+            P0->balsara ? "on" : "off", P0->alpha_min, P0->alpha_max, P0->beta, P0->cond, P0->alpha_u, P0->beta_u);
     for (r = 0; r < NRES; ++r) {
         char o[3][16] = {"-", "-", "-"};
         if (r > 0) {
@@ -887,7 +970,17 @@ int main(int argc, char **argv)
          4, 0, NULL},
         {"alpha-max", "viscosity switch: alpha in shocks", &P.alpha_max, NULL, NULL, NULL, 0, 4, 0, NULL},
         {"beta", "signal-velocity viscosity beta", &P.beta, NULL, NULL, NULL, 0, 8, 0, NULL},
-        {"alpha-u", "artificial conductivity (0: none)", &P.alpha_u, NULL, NULL, NULL, 0, 4, 0, NULL},
+        {"alpha-u", "artificial conductivity: alpha_D,max of the SPHENIX switch, or price08's constant alpha_u (0: none)",
+         &P.alpha_u, NULL, NULL, NULL, 0, 4, 0, NULL},
+        {"switch", "viscosity switch: sphenix (Borrow et al. 2022) or mm97 (Morris & Monaghan 1997)", NULL, NULL,
+         &P.av_switch, NULL, 0, 0, 0, "sphenix|mm97"},
+        {"av-length", "sphenix switch: alpha decays at the rate av-length c / H (H: kernel support)", &P.av_length, NULL,
+         NULL, NULL, 0, 1, EX_OPEN_LO, NULL},
+        {"balsara", "1: Balsara limiter B_i on alpha, 0: none", NULL, &P.balsara, NULL, NULL, 0, 1, 0, NULL},
+        {"conductivity", "sphenix (switched alpha_D, Borrow et al. 2022) or price08 (constant alpha-u, Price 2008)", NULL,
+         NULL, &P.cond, NULL, 0, 0, 0, "sphenix|price08"},
+        {"beta-u", "sphenix conductivity: source coefficient beta_D of d alpha_D / dt", &P.beta_u, NULL, NULL, NULL, 0, 8,
+         0, NULL},
         {"skin", "lists searched at kappa (1 + skin) h and kept over steps while they serve every h", &P.skin, NULL,
          NULL, NULL, 0, 1, 0, NULL},
         {"out", "output directory (profiles, exact solution)", NULL, NULL, &out, NULL, 0, 0, 0, NULL},
@@ -898,7 +991,8 @@ int main(int argc, char **argv)
          0, NULL},
     };
     P.nx = 32, P.ny = 0, P.kernel = "cubic", P.lattice = "fcc", P.gamma = 5.0 / 3.0, P.t_end = 0.2, P.eta = 1.2, P.cfl = 0.3;
-    P.alpha_min = 0.1, P.alpha_max = 1, P.beta = 3, P.alpha_u = 1, P.skin = 0.15, P.profile = 0;
+    P.alpha_min = 0, P.alpha_max = 2, P.beta = 3, P.alpha_u = 1, P.skin = 0.15, P.profile = 0;
+    P.av_switch = "sphenix", P.cond = "sphenix", P.av_length = 0.25, P.balsara = 1, P.beta_u = 1;
     { /* what the top of --nx needs at the defaults: memory grows as nx ny^2 */
         sd_param Q = P;
         char b[32];
@@ -925,11 +1019,11 @@ int main(int argc, char **argv)
             return 1;
         }
         sd_print(&P, &R);
-        /* L1 bounds: 1.5 times the figures of the nx = 16 run (0.0196, 0.0464, 0.0193), a regression guard; the
+        /* L1 bounds: 1.5 times the figures of the nx = 16 run (0.0174, 0.0363, 0.0192), a regression guard; the
            conservation and iteration bounds are properties of the scheme */
-        ok = ok && R.l1_rho < 0.03 && R.l1_v < 0.07 && R.l1_p < 0.03 && R.energy_drift < 1e-3 && R.momentum < 1e-10 &&
+        ok = ok && R.l1_rho < 0.026 && R.l1_v < 0.055 && R.l1_p < 0.029 && R.energy_drift < 1e-3 && R.momentum < 1e-10 &&
              R.max_sums <= 10;
-        printf("sod_shock --check: L1 rho %.4f (bound 0.03), v %.4f (0.07), P %.4f (0.03), energy drift %.1e (1e-3), "
+        printf("sod_shock --check: L1 rho %.4f (bound 0.026), v %.4f (0.055), P %.4f (0.029), energy drift %.1e (1e-3), "
                "momentum %.1e (1e-10), most density sums %d (10): %s\n",
                R.l1_rho, R.l1_v, R.l1_p, R.energy_drift, R.momentum, R.max_sums, ok ? "pass" : "FAIL");
         return ok ? 0 : 1;
