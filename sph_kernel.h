@@ -222,9 +222,9 @@
  *               (O4)-(O8), divergences (O9)-(O10), curl, Laplacian, k_ij,
  *               diffusion, correction matrix and inverse, velocity gradient,
  *               corrected divergence
- *   (N1)-(N7)   neighbour search, docs/neighbours.md: criteria (N1)-(N3),
+ *   (N1)-(N8)   neighbour search, docs/neighbours.md: criteria (N1)-(N3),
  *               grid (N4), permutation and inverse (N5)-(N6), periodic
- *               image of a run of cells (N7)
+ *               image of a run of cells (N7), lists kept over steps (N8)
  *   (S1)-(S12)  solver terms, docs/solver.md: artificial viscosity
  *               (S1)-(S4), viscosity (S5), density diffusion (S6)-(S7),
  *               walls (S8), time-step limits (S9)-(S12)
