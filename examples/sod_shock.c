@@ -496,9 +496,10 @@ static void sd_batch(const sd_sim *S, sph_idx i, const sph_batch *b, sph_real *v
         /* SPHENIX eqs. 24-26: m_j alpha_D,ij v_D (u_i - u_j) (F_i / (Omega_i rho_i) + F_j / (Omega_j rho_j)) r,
            alpha_D,ij = (P_i alpha_D,i + P_j alpha_D,j) / (P_i + P_j), v_D = (v_u + |e| / r) / 2; else Price (2008):
            m_j alpha_u v_u (u_i - u_j) F_ij r / rho_ij */
-        const sph_real cond = sphenix ? m * (pi * adi + pj * adj[l]) / (pi + pj) * (vu[l] + fabs(e) * rinv) / 2 *
-                                            (ui - uj[l]) * (Fi * Gi_rho + Fj / (omj[l] * rhoj[l])) * r
-                                      : au * m * vu[l] * (ui - uj[l]) * Fb * r / rhob;
+        const sph_real cond_s = m * (pi * adi + pj * adj[l]) / (pi + pj) * (vu[l] + fabs(e) * rinv) / 2 * (ui - uj[l]) *
+                                (Fi * Gi_rho + Fj / (omj[l] * rhoj[l])) * r;
+        const sph_real cond_p = au * m * vu[l] * (ui - uj[l]) * Fb * r / rhob;
+        const sph_real cond = sphenix ? cond_s : cond_p; /* both computed: a select, not a branch, in the lanes */
         t[0][l] = -cp * dx, t[1][l] = -cp * dy, t[2][l] = -cp * dz;
         t[3][l] = m * Ai * Fi * e + cav * e / 2 + cond;               /* (H6) + (S4) */
         t[4][l] = m * e * Fi;                                         /* div v before the factor -1 / (Omega rho) */
