@@ -175,6 +175,8 @@
  *   sph_nsearch_lists(&g, ..., offset, index, cap, &pairs)  count and fill in one search
  *   sph_nsearch_stats(&g, ..., &pairs, &candidates, &fill)  pairs, checks, grid fill; no lists
  *   sph_nsearch_list(&g, n_t, offset, index)     the sph_neighbours view of the lists, with the box
+ *   sph_nsearch_skin(&list, box, dim, x, x0, hl, kappa, h, h_keep, &n_stale)  whether a kept list serves h (N8)
+ *   sph_nsearch_prune(&list, box, dim, x, h, kappa, mode, offset, index, cap, &pairs, &out)  its pairs within reach
  *   sph_nsearch_permutation(&g, perm)            sources in cell order (N5)
  *   sph_permutation_invert(perm, n, inv)         inverse permutation (N6)
  *   sph_permute(in, ncomp, n, perm, out)         out[k] = in[perm[k]] (N5)
@@ -220,9 +222,9 @@
  *               (O4)-(O8), divergences (O9)-(O10), curl, Laplacian, k_ij,
  *               diffusion, correction matrix and inverse, velocity gradient,
  *               corrected divergence
- *   (N1)-(N7)   neighbour search, docs/neighbours.md: criteria (N1)-(N3),
+ *   (N1)-(N8)   neighbour search, docs/neighbours.md: criteria (N1)-(N3),
  *               grid (N4), permutation and inverse (N5)-(N6), periodic
- *               image of a run of cells (N7)
+ *               image of a run of cells (N7), lists kept over steps (N8)
  *   (S1)-(S12)  solver terms, docs/solver.md: artificial viscosity
  *               (S1)-(S4), viscosity (S5), density diffusion (S6)-(S7),
  *               walls (S8), time-step limits (S9)-(S12)
@@ -4400,6 +4402,175 @@ SPH_API sph_neighbours sph_nsearch_list(const sph_nsearch *g, sph_idx n_targets,
         l.box_known = SPH_BOX_KNOWN;
     }
     return l;
+}
+
+/* (N8) Lists kept over steps (a Verlet skin). A list (targets = sources,
+ * gather or symmetric) searched at radii kappa hl_i from positions x0
+ * holds, at positions x, every j with r_ij < kappa h_i while
+ * kappa h_i + d_i + d_max <= kappa hl_i, d_i = |x_i - x0_i| (minimum image)
+ * and d_max the largest d_i: r_ij changed by at most d_i + d_j since the
+ * search (in a symmetric list the larger of h_i, h_j decides, and the same
+ * bound holds for it). Writes h_keep_i = hl_i (1 - 64 eps) - (d_i + d_max +
+ * 64 eps X) / kappa, X the largest |coordinate| of x and x0 (the rounding
+ * of r^2 and of the differences allowed for), the radii the list still
+ * serves (ctx.h_list of sph_h_solve), and *n_stale, how many h_i exceed their
+ * h_keep_i: 0, keep the list; else search again (docs/neighbours.md, "Lists
+ * kept over steps"). h_list, h: one component (stride 0: one value for
+ * all); box NULL takes the list's, a different one is SPH_EBOX. Returns
+ * SPH_ENULL, SPH_EDIM, SPH_ECOUNT (n_sources != n_targets), SPH_ERANGE
+ * (kappa not positive and finite), SPH_EBOX, SPH_EBOXLEN, SPH_EH (an h or
+ * h_list not usable), SPH_ENONFINITE (a position NaN or Inf); else SPH_OK. */
+SPH_API int sph_nsearch_skin(const sph_neighbours *list, const sph_box *box, int dim, sph_view x, sph_view x0,
+                             sph_view h_list, sph_real kappa, sph_view h, sph_out h_keep, sph_idx *n_stale)
+{
+    const sph_box *bx;
+    const sph_real eps = 64 * sph__nsearch_eps();
+    sph_real dmax = 0, X = 0;
+    sph_idx i, n, stale = 0;
+    int a, st;
+    if (n_stale != NULL) *n_stale = 0;
+    if (list == NULL || n_stale == NULL) return SPH_ENULL;
+    if (dim < 1 || dim > 3) return SPH_EDIM;
+    n = list->n_targets;
+    if (n < 0 || list->n_sources != n) return SPH_ECOUNT;
+    if (!(kappa > 0 && kappa <= SPH__REAL_MAX)) return SPH_ERANGE;
+    if ((st = sph__box_of(box, list, dim, &bx)) != SPH_OK) return st;
+    if (n == 0) return SPH_OK;
+    if (h_list.p[0] == NULL || h.p[0] == NULL || h_keep.p[0] == NULL) return SPH_ENULL;
+    for (a = 0; a < dim; ++a)
+        if (x.p[a] == NULL || x0.p[a] == NULL) return SPH_ENULL;
+    for (i = 0; i < n; ++i) { /* d_i into h_keep until d_max is known */
+        sph_real d2 = 0, d;
+        if (!sph__h_ok(sph__ns_at(h_list, 0, i), dim) || !sph__h_ok(sph__ns_at(h, 0, i), dim)) return SPH_EH;
+        for (a = 0; a < dim; ++a) {
+            const sph_real xa = sph__ns_at(x, a, i), ya = sph__ns_at(x0, a, i);
+            if (!sph__finite(xa) || !sph__finite(ya)) return SPH_ENONFINITE;
+            X = xa > X ? xa : -xa > X ? -xa : X;
+            X = ya > X ? ya : -ya > X ? -ya : X;
+            d = sph_box_delta(bx, a, xa - ya);
+            d2 += d * d;
+        }
+        d = sph__sqrt(d2);
+        h_keep.p[0][(ptrdiff_t)i * h_keep.stride] = d;
+        dmax = d > dmax ? d : dmax;
+    }
+    dmax += eps * X;
+    for (i = 0; i < n; ++i) {
+        sph_real *k = h_keep.p[0] + (ptrdiff_t)i * h_keep.stride;
+        *k = sph__ns_at(h_list, 0, i) * (1 - eps) - (*k + dmax) / kappa;
+        stale += sph__ns_at(h, 0, i) > *k;
+    }
+    *n_stale = stale;
+    return SPH_OK;
+}
+
+/* Row i of sph_nsearch_prune: the j of the row with r_ij^2 < R^2 (as sph__nsearch_in decides: the minimum
+ * image only where |dx_a| exceeds the quarter period q_a, below which it is dx_a itself), written to index[k..]
+ * when index is not NULL; returns how many. */
+SPH__INLINE sph_off sph__prune_row(const sph_neighbours *list, const sph_box *bx, const sph_real *q, int dim,
+                                   sph_view x, sph_view h, sph_real kappa, int symmetric, sph_idx i, sph_idx *index)
+{
+    const sph_real hi = sph__ns_at(h, 0, i);
+    sph_real xi[3] = {0, 0, 0};
+    sph_off k = 0, p;
+    int a;
+    for (a = 0; a < dim; ++a) xi[a] = sph__ns_at(x, a, i);
+    for (p = list->offset[i]; p < list->offset[i + 1]; ++p) {
+        const sph_idx j = list->index[p];
+        const sph_real hj = sph__ns_at(h, 0, j), R = kappa * (symmetric && hj > hi ? hj : hi);
+        sph_real r2 = 0;
+        for (a = 0; a < dim; ++a) {
+            sph_real d = xi[a] - sph__ns_at(x, a, j);
+            if ((d < 0 ? -d : d) > q[a]) d = sph_box_delta(bx, a, d);
+            r2 += d * d;
+        }
+        if (r2 < R * R) {
+            if (index != NULL) index[k] = j;
+            ++k;
+        }
+    }
+    return k;
+}
+
+/* (N1)/(N2) on a kept list: row i of list keeps, in its order, the j with
+ * r_ij^2 < R^2, R = kappa h_i (SPH_NSEARCH_GATHER) or kappa max(h_i, h_j)
+ * (SPH_NSEARCH_SYMMETRIC), r_ij^2 and R^2 as sph_nsearch_fill computes them:
+ * a list kept with sph_nsearch_skin comes out as a fresh search at h would
+ * (a symmetric list stays symmetric and ascending). Writes offset [n + 1]
+ * and, when cap is at least the *pairs kept, index [cap] (else SPH_ESIZE,
+ * offset complete); *out (optional) is their sph_neighbours view with the
+ * box. offset and index must not be the list's own arrays. box as
+ * sph_nsearch_skin. Returns SPH_ENULL, SPH_EDIM, SPH_ECOUNT, SPH_ERANGE,
+ * SPH_EOPTION (mode), SPH_EBOX, SPH_EBOXLEN, SPH_EOFFSET, SPH_EINDEX, SPH_EH,
+ * SPH_ENONFINITE, SPH_ESIZE; else SPH_OK. With OpenMP and n >= 4096, a
+ * counting pass and a filling pass run in parallel over rows; else one pass. */
+SPH_API int sph_nsearch_prune(const sph_neighbours *list, const sph_box *box, int dim, sph_view x, sph_view h,
+                              sph_real kappa, int mode, sph_off *offset, sph_idx *index, sph_off cap, sph_off *pairs,
+                              sph_neighbours *out)
+{
+    const sph_box *bx;
+    sph_real q[3];
+    sph_idx i, n;
+    sph_off o;
+    int a, st, threads = 1;
+    if (pairs != NULL) *pairs = 0;
+    if (list == NULL || list->offset == NULL || offset == NULL) return SPH_ENULL;
+    if (dim < 1 || dim > 3) return SPH_EDIM;
+    n = list->n_targets;
+    if (n < 0 || list->n_sources != n || cap < 0) return SPH_ECOUNT;
+    if (!(kappa > 0 && kappa <= SPH__REAL_MAX)) return SPH_ERANGE;
+    if (mode != SPH_NSEARCH_GATHER && mode != SPH_NSEARCH_SYMMETRIC) return SPH_EOPTION;
+    if ((st = sph__box_of(box, list, dim, &bx)) != SPH_OK) return st;
+    if (list->offset[0] != 0) return SPH_EOFFSET;
+    for (i = 0; i < n; ++i)
+        if (list->offset[i + 1] < list->offset[i]) return SPH_EOFFSET;
+    if (list->offset[n] > 0 && list->index == NULL) return SPH_ENULL;
+    for (o = 0; o < list->offset[n]; ++o)
+        if (list->index[o] < 0 || list->index[o] >= n) return SPH_EINDEX;
+    if (n > 0 && h.p[0] == NULL) return SPH_ENULL;
+    for (a = 0; a < dim; ++a)
+        if (n > 0 && x.p[a] == NULL) return SPH_ENULL;
+    for (i = 0; i < n; ++i) {
+        if (!sph__h_ok(sph__ns_at(h, 0, i), dim)) return SPH_EH;
+        for (a = 0; a < dim; ++a)
+            if (!sph__finite(sph__ns_at(x, a, i))) return SPH_ENONFINITE;
+    }
+    for (a = 0; a < 3; ++a) q[a] = bx != NULL && bx->periodic[a] ? bx->length[a] / 4 : SPH__REAL_MAX;
+#ifdef _OPENMP
+    threads = n >= 4096 ? omp_get_max_threads() : 1;
+#endif
+    offset[0] = 0;
+    if (threads == 1) { /* one pass: rows written while they fit */
+        for (i = 0; i < n; ++i)
+            offset[i + 1] = offset[i] + sph__prune_row(list, bx, q, dim, x, h, kappa, mode, i,
+                                                      index != NULL && cap - offset[i] >= list->offset[i + 1] -
+                                                      list->offset[i] ? index + offset[i] : NULL);
+    } else {
+#ifdef _OPENMP
+#pragma omp parallel for schedule(dynamic, 256)
+#endif
+        for (i = 0; i < n; ++i) offset[i + 1] = sph__prune_row(list, bx, q, dim, x, h, kappa, mode, i, NULL);
+        for (i = 0; i < n; ++i) offset[i + 1] += offset[i];
+    }
+    if (pairs != NULL) *pairs = offset[n];
+    if (cap < offset[n]) return SPH_ESIZE;
+    if (offset[n] > 0 && index == NULL) return SPH_ENULL;
+    if (threads == 1) { /* rows that might not have fitted were counted only: write them now */
+        for (i = 0; i < n; ++i)
+            if (!(cap - offset[i] >= list->offset[i + 1] - list->offset[i]))
+                sph__prune_row(list, bx, q, dim, x, h, kappa, mode, i, index + offset[i]);
+    } else {
+#ifdef _OPENMP
+#pragma omp parallel for schedule(dynamic, 256)
+#endif
+        for (i = 0; i < n; ++i) sph__prune_row(list, bx, q, dim, x, h, kappa, mode, i, index + offset[i]);
+    }
+    if (out != NULL) {
+        sph_neighbours l = SPH_NEIGHBOURS_INIT(n, n, offset, index);
+        if (bx != NULL) l.box = *bx, l.box_known = SPH_BOX_KNOWN;
+        *out = l;
+    }
+    return SPH_OK;
 }
 
 /* Locality permutation of the sources, eq. (N5): perm[new] = old, sources

@@ -53,12 +53,12 @@ while [ "$r" -le "$REPEATS" ]; do
                     exit 1
                 fi
                 # one line per run: repeat build nx threads n steps, us of total search density/h forces rest, list
-                # entries, half-list pairs, candidates, bytes (per particle)
+                # entries, pairs, candidates, bytes (per particle)
                 awk -v r="$r" -v b="$b" -v nx="$nx" -v th="$th" '
                     /^profile: / { steps = $2; n = $5 }
                     $1 == "search" || $1 == "density/h" || $1 == "forces" || $1 == "rest" || $1 == "total" { us[$1] = $2 }
                     /^  list entries per particle/ { e = $5 }
-                    /^  half-list pairs per particle/ { hp = $5 }
+                    /^  pairs per particle/ { hp = $4 }
                     /^  candidates per particle/ { c = $4 }
                     /^  bytes per particle/ { by = $4 }
                     END {
@@ -85,14 +85,16 @@ T1=$(date +%s)
     echo "- runs: \`sod_shock --nx NX --t-end $T_END --threads T --profile\`, $REPEATS repeats each"
     echo
     echo "Microseconds of wall time per particle and step (monotonic clock), medians over the"
-    echo "repeats; in brackets the median share of the step within a run. search: list radii,"
-    echo "cells and symmetric lists; density/h: sph_h_solve and any re-search it asks for;"
-    echo "forces: sound speeds, the half list, the pair loop, the reduction; rest: time step,"
-    echo "kicks, drift. The first forces before the step loop and the final densities are not"
-    echo "timed. Entries: symmetric list entries (self included, the h solve's sums); pairs: the"
-    echo "half list of the force loop; candidates: positions the search checked"
-    echo "(sph_nsearch_stats every 10th step, outside the timed phases); bytes: held by the step"
-    echo "(fields, lists, pair buffers, search workspace). spread: the slowest and fastest total."
+    echo "repeats; in brackets the median share of the step within a run. search: the skin rule,"
+    echo "and on the steps whose kept lists are stale the list radii, cells and symmetric lists;"
+    echo "density/h: sph_h_solve, any re-search it asks for, and the pruning of the kept list to"
+    echo "the pairs within reach; forces: sound speeds and the pair loop; rest: time step, kicks,"
+    echo "drift. The first forces before the step loop and the final densities are not timed."
+    echo "Entries: entries of the kept symmetric list (self included, the h solve's sums); pairs:"
+    echo "pairs within kappa max(h_i, h_j), which the force loop visits from both ends;"
+    echo "candidates: positions the search checked (sph_nsearch_stats every 10th step, outside"
+    echo "the timed phases); bytes: held by the step (fields, lists, search workspace). spread:"
+    echo "the slowest and fastest total."
     echo
     awk '
         function median(s,    a, m, i, j, t) { # of the space-separated numbers in s
