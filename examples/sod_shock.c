@@ -350,17 +350,16 @@ static int sd_setup(sd_sim *S)
     return 0;
 }
 
-/* Symmetric lists (N2) at radius kappa hl_i into S->offset/index (S->kept); the positions are kept in x0 and every
- * radius is usable (hle = hl) until the particles move. */
-static int sd_search(sd_sim *S)
+/* The grid of sph_nsearch_build for the radii kappa h_v (cells of kappa h_max / 2: the symmetric criterion reaches
+ * that far) in S->grid, the workspace grown when it is short. */
+static int sd_grid(sd_sim *S, const sph_real *hr)
 {
-    const sph_view xv = sph_view_interleaved(S->x, 3), hv = sph_view_soa(S->hl, NULL, NULL);
-    sph_real hmax = S->hl[0];
+    const sph_view xv = sph_view_interleaved(S->x, 3), hv = sph_view_soa(hr, NULL, NULL);
+    sph_real hmax = hr[0];
     size_t bytes;
-    sph_off pairs = 0;
     sph_idx i;
     int st;
-    for (i = 1; i < S->n; ++i) hmax = S->hl[i] > hmax ? S->hl[i] : hmax; /* cells of kappa h_max / 2: the symmetric criterion reaches that far */
+    for (i = 1; i < S->n; ++i) hmax = hr[i] > hmax ? hr[i] : hmax;
     st = sph_nsearch_workspace_size(3, xv, S->n, hv, S->kappa * hmax / 2, &S->box, &bytes);
     if (st != SPH_OK) return st;
     if (bytes > S->work_bytes) {
@@ -369,22 +368,55 @@ static int sd_search(sd_sim *S)
         S->work_bytes = S->work != NULL ? bytes : 0;
         if (S->work == NULL) return EX_ENOMEM;
     }
-    sph_nsearch g;
-    if ((st = sph_nsearch_build(&g, 3, xv, S->n, hv, S->kappa * hmax / 2, &S->box, S->work, S->work_bytes)) != SPH_OK)
+    return sph_nsearch_build(&S->grid, 3, xv, S->n, hv, S->kappa * hmax / 2, &S->box, S->work, S->work_bytes);
+}
+
+/* The particles in the cell order of a grid for kappa h (sph_nsearch_permutation, (N5)), once after the set-up:
+ * neighbours then lie close in memory for the whole run (the particles of a shock tube move little against each
+ * other), whatever the skin. x0 and hle, not used before the first search, serve as scratch. */
+static int sd_cell_order(sd_sim *S)
+{
+    sph_real *f1[3] = {S->u, S->h, S->alpha};
+    sph_idx *perm = (sph_idx *)sd_alloc((size_t)S->n, sizeof(sph_idx));
+    int st, k;
+    if (perm == NULL) return EX_ENOMEM;
+    if ((st = sd_grid(S, S->h)) != SPH_OK || (st = sph_nsearch_permutation(&S->grid, perm)) != SPH_OK) {
+        free(perm);
         return st;
-    S->grid = g;
+    }
+    for (k = 0; k < 2 && st == SPH_OK; ++k) { /* x, v: three components */
+        sph_real *f = k == 0 ? S->x : S->v;
+        st = sph_permute(sph_view_interleaved(f, 3), 3, S->n, perm, sph_out_interleaved(S->x0, 3));
+        memcpy(f, S->x0, sizeof(sph_real) * 3 * (size_t)S->n);
+    }
+    for (k = 0; k < 3 && st == SPH_OK; ++k) { /* the fields set per particle; B, alpha_D, div v start uniform */
+        st = sph_permute(sph_view_soa(f1[k], NULL, NULL), 1, S->n, perm, sph_out_soa(S->hle, NULL, NULL));
+        memcpy(f1[k], S->hle, sizeof(sph_real) * (size_t)S->n);
+    }
+    free(perm);
+    return st;
+}
+
+/* Symmetric lists (N2) at radius kappa hl_i into S->offset/index (S->kept); the positions are kept in x0 and every
+ * radius is usable (hle = hl) until the particles move. */
+static int sd_search(sd_sim *S)
+{
+    const sph_view xv = sph_view_interleaved(S->x, 3), hv = sph_view_soa(S->hl, NULL, NULL);
+    sph_off pairs = 0;
+    int st;
+    if ((st = sd_grid(S, S->hl)) != SPH_OK) return st;
     S->listed = 0;
-    st = sph_nsearch_lists(&g, xv, S->n, hv, 0, S->kappa, SPH_NSEARCH_SYMMETRIC, S->offset, S->index, S->cap, &pairs);
+    st = sph_nsearch_lists(&S->grid, xv, S->n, hv, 0, S->kappa, SPH_NSEARCH_SYMMETRIC, S->offset, S->index, S->cap, &pairs);
     if (st == SPH_ESIZE) { /* grow the index arrays with slack, then fill */
         free(S->index), free(S->p_idx);
         S->cap = S->offset[S->n] + S->offset[S->n] / 4 + 1;
         S->index = (sph_idx *)sd_alloc((size_t)S->cap, sizeof(sph_idx));
         S->p_idx = (sph_idx *)sd_alloc((size_t)S->cap, sizeof(sph_idx));
         if (S->index == NULL || S->p_idx == NULL) return S->cap = 0, EX_ENOMEM;
-        st = sph_nsearch_fill(&g, xv, S->n, hv, 0, S->kappa, SPH_NSEARCH_SYMMETRIC, S->offset, S->index, S->cap);
+        st = sph_nsearch_fill(&S->grid, xv, S->n, hv, 0, S->kappa, SPH_NSEARCH_SYMMETRIC, S->offset, S->index, S->cap);
     }
     if (st != SPH_OK) return st;
-    S->kept = sph_nsearch_list(&g, S->n, S->offset, S->index);
+    S->kept = sph_nsearch_list(&S->grid, S->n, S->offset, S->index);
     memcpy(S->x0, S->x, sizeof(sph_real) * 3 * (size_t)S->n);
     memcpy(S->hle, S->hl, sizeof(sph_real) * (size_t)S->n);
     S->listed = 1;
@@ -677,6 +709,10 @@ static int sd_run(const sd_param *P, sd_result *R, FILE *profile, const char *la
     if (sd_setup(&S) != 0) {
         sd_free(&S);
         return EX_ENOMEM;
+    }
+    if ((st = sd_cell_order(&S)) != SPH_OK) {
+        sd_free(&S);
+        return st;
     }
     m = 1.0 / ((double)sd_per_cell(P) * P->nx * P->nx * P->nx); /* rho_L a^3 / ppc = rho_R (2 a)^3 / ppc */
     S.m = (sph_real)m;
