@@ -4466,7 +4466,7 @@ SPH_API int sph_nsearch_skin(const sph_neighbours *list, const sph_box *box, int
 }
 
 /* Row i of sph_nsearch_prune: the j of the row with r_ij^2 < R^2 (as sph__nsearch_in decides: the minimum
- * image only where |dx_a| exceeds the quarter period q_a, below which it is dx_a itself), written to index[k..]
+ * image only where |dx_a| exceeds q_a = 0.49 L_a, below which it is dx_a itself), written to index[k..]
  * when index is not NULL; returns how many. */
 SPH__INLINE sph_off sph__prune_row(const sph_neighbours *list, const sph_box *bx, const sph_real *q, int dim,
                                    sph_view x, sph_view h, sph_real kappa, int symmetric, sph_idx i, sph_idx *index)
@@ -4536,7 +4536,7 @@ SPH_API int sph_nsearch_prune(const sph_neighbours *list, const sph_box *box, in
         for (a = 0; a < dim; ++a)
             if (!sph__finite(sph__ns_at(x, a, i))) return SPH_ENONFINITE;
     }
-    for (a = 0; a < 3; ++a) q[a] = bx != NULL && bx->periodic[a] ? bx->length[a] / 4 : SPH__REAL_MAX;
+    for (a = 0; a < 3; ++a) q[a] = bx != NULL && bx->periodic[a] ? (sph_real)0.49 * bx->length[a] : SPH__REAL_MAX;
 #ifdef _OPENMP
     threads = n >= 4096 ? omp_get_max_threads() : 1;
 #endif
