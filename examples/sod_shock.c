@@ -27,9 +27,10 @@
  *     (a Verlet skin: sph_nsearch_skin gives the radii they still serve);
  *     a run is the same bit for bit at any skin that needs no re-search
  *     (tests/check_sod_profile.sh);
- *   - sph_h_solve (section 9, (H1)-(H4)): h_i and rho_i together, Omega_i;
- *     particles whose h outgrew their list get a new radius and are
- *     solved again; then sph_nsearch_prune keeps the pairs within
+ *   - sph_h_solve (section 9, (H1)-(H4)): h_i and rho_i together, Omega_i,
+ *     from the guess h_i (1 + dt div v_i / 3) (the drift of h that (H1)
+ *     implies); particles whose h outgrew their list get a new radius and
+ *     are solved again; then sph_nsearch_prune keeps the pairs within
  *     kappa max(h_i, h_j);
  *   - one loop over the particles, each summing its own row in batches of
  *     SPH_BATCH pairs (sph_batch_fill: x_ij, r, F at h_i and h_j; the
@@ -739,6 +740,7 @@ static int sd_run(const sd_param *P, sd_result *R, FILE *profile, const char *la
             S.u[i] += (sph_real)(dt / 2) * S.du[i];
             S.up[i] = S.u[i] + (sph_real)(dt / 2) * S.du[i];
             S.alpha[i] += (sph_real)(dt / 2) * S.dalpha[i];
+            S.h[i] *= 1 + (sph_real)(dt / 3) * S.sw[3 * i]; /* the h solve's guess: dh/dt = (h / 3) div v (from (H1)) */
         }
         sd_mark(&S, SD_REST);
         S.dt = dt;
