@@ -4420,7 +4420,8 @@ SPH_API sph_neighbours sph_nsearch_list(const sph_nsearch *g, sph_idx n_targets,
  * all); box NULL takes the list's, a different one is SPH_EBOX. Returns
  * SPH_ENULL, SPH_EDIM, SPH_ECOUNT (n_sources != n_targets), SPH_ERANGE
  * (kappa not positive and finite), SPH_EBOX, SPH_EBOXLEN, SPH_EH (an h or
- * h_list not usable), SPH_ENONFINITE (a position NaN or Inf); else SPH_OK. */
+ * h_list not usable), SPH_ENONFINITE (a position NaN or Inf); else SPH_OK.
+ * Parallel under OpenMP for n >= 4096; the same for any thread count. */
 SPH_API int sph_nsearch_skin(const sph_neighbours *list, const sph_box *box, int dim, sph_view x, sph_view x0,
                              sph_view h_list, sph_real kappa, sph_view h, sph_out h_keep, sph_idx *n_stale)
 {
@@ -4440,15 +4441,22 @@ SPH_API int sph_nsearch_skin(const sph_neighbours *list, const sph_box *box, int
     if (h_list.p[0] == NULL || h.p[0] == NULL || h_keep.p[0] == NULL) return SPH_ENULL;
     for (a = 0; a < dim; ++a)
         if (x.p[a] == NULL || x0.p[a] == NULL) return SPH_ENULL;
+    for (i = 0; i < n; ++i) {
+        if (!sph__h_ok(sph__ns_at(h_list, 0, i), dim) || !sph__h_ok(sph__ns_at(h, 0, i), dim)) return SPH_EH;
+        for (a = 0; a < dim; ++a)
+            if (!sph__finite(sph__ns_at(x, a, i)) || !sph__finite(sph__ns_at(x0, a, i))) return SPH_ENONFINITE;
+    }
+#ifdef _OPENMP
+#pragma omp parallel for schedule(static) reduction(max : dmax, X) if (n >= 4096)
+#endif
     for (i = 0; i < n; ++i) { /* d_i into h_keep until d_max is known */
         sph_real d2 = 0, d;
-        if (!sph__h_ok(sph__ns_at(h_list, 0, i), dim) || !sph__h_ok(sph__ns_at(h, 0, i), dim)) return SPH_EH;
-        for (a = 0; a < dim; ++a) {
-            const sph_real xa = sph__ns_at(x, a, i), ya = sph__ns_at(x0, a, i);
-            if (!sph__finite(xa) || !sph__finite(ya)) return SPH_ENONFINITE;
+        int b;
+        for (b = 0; b < dim; ++b) {
+            const sph_real xa = sph__ns_at(x, b, i), ya = sph__ns_at(x0, b, i);
             X = xa > X ? xa : -xa > X ? -xa : X;
             X = ya > X ? ya : -ya > X ? -ya : X;
-            d = sph_box_delta(bx, a, xa - ya);
+            d = sph_box_delta(bx, b, xa - ya);
             d2 += d * d;
         }
         d = sph__sqrt(d2);
@@ -4456,6 +4464,9 @@ SPH_API int sph_nsearch_skin(const sph_neighbours *list, const sph_box *box, int
         dmax = d > dmax ? d : dmax;
     }
     dmax += eps * X;
+#ifdef _OPENMP
+#pragma omp parallel for schedule(static) reduction(+ : stale) if (n >= 4096)
+#endif
     for (i = 0; i < n; ++i) {
         sph_real *k = h_keep.p[0] + (ptrdiff_t)i * h_keep.stride;
         *k = sph__ns_at(h_list, 0, i) * (1 - eps) - (*k + dmax) / kappa;

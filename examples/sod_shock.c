@@ -593,6 +593,9 @@ static int sd_forces(sd_sim *S)
     double vmax = 0;
     int st;
     if ((st = sd_density(S)) != SPH_OK) return st;
+#ifdef _OPENMP
+#pragma omp parallel for schedule(static)
+#endif
     for (i = 0; i < S->n; ++i) {
         const sph_real p = (sph_real)(P->gamma - 1) * S->rho[i] * S->up[i];
         S->cs[i] = sqrt((sph_real)P->gamma * p / S->rho[i]);
@@ -621,6 +624,9 @@ static int sd_forces(sd_sim *S)
         vmax = vs > vmax ? vs : vmax;
         S->sw[3 * i] = divv, S->sw[3 * i + 1] = curl, S->sw[3 * i + 2] = acc[8];
     }
+#ifdef _OPENMP
+#pragma omp parallel for schedule(static)
+#endif
     for (i = 0; i < S->n; ++i) /* after the loop: it read alpha, B and alpha_D of the neighbours */
         sd_switch_sphenix(S, i, S->sw[3 * i], S->sw[3 * i + 1], S->sw[3 * i + 2], S->dt);
     S->vsig_max = vmax;
@@ -730,6 +736,9 @@ static int sd_run(const sd_param *P, sd_result *R, FILE *profile, const char *la
         for (i = 1; i < S.n; ++i) hmin = S.h[i] < hmin ? S.h[i] : hmin;
         dt = P->cfl * hmin / S.vsig_max;
         if (t + dt > P->t_end) dt = P->t_end - t;
+#ifdef _OPENMP
+#pragma omp parallel for schedule(static) private(a)
+#endif
         for (i = 0; i < S.n; ++i) { /* kick, drift, predict */
             for (a = 0; a < 3; ++a) {
                 S.v[3 * i + a] += (sph_real)(dt / 2) * S.a[3 * i + a];
@@ -747,6 +756,9 @@ static int sd_run(const sd_param *P, sd_result *R, FILE *profile, const char *la
         if ((st = sd_forces(&S)) != SPH_OK) break;
         sd_mark(&S, SD_FORCES); /* sd_density marked its search and h solve: the rest of sd_forces */
         if (S.prof != NULL) sd_profile_count(&S);
+#ifdef _OPENMP
+#pragma omp parallel for schedule(static) private(a)
+#endif
         for (i = 0; i < S.n; ++i) { /* kick */
             for (a = 0; a < 3; ++a) S.v[3 * i + a] += (sph_real)(dt / 2) * S.a[3 * i + a];
             S.u[i] += (sph_real)(dt / 2) * S.du[i];

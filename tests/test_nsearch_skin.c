@@ -238,7 +238,8 @@ static void sk_errors_case(void)
     th_end();
 }
 
-/* The prune is the same for 1 and 2 threads: 5000 particles, so that 2 threads take its parallel two-pass form. */
+/* The prune and the skin radii are the same for 1 and 2 threads: 5000 particles, so that 2 threads take their
+ * parallel forms. */
 static void sk_threads_case(void)
 {
     enum { NT = 5000 };
@@ -267,6 +268,20 @@ static void sk_threads_case(void)
                  "%d %d, pairs %ld %ld of %ld", st1, st2, (long)p1, (long)p2, (long)L.offset[NT]);
         TH_CHECK(memcmp(o1, o2, (NT + 1) * sizeof(sph_off)) == 0 && memcmp(i1, i2, (size_t)p1 * sizeof(sph_idx)) == 0,
                  "lists differ");
+        { /* the skin radii: x moved (x0 = x + a wave), hs the h, h the list's radii; h_keep into the spare index */
+            sph_real *x0 = (sph_real *)(void *)i1, *k1 = (sph_real *)(void *)i2, *k2 = k1 + NT;
+            sph_idx n1 = -1, n2 = -2;
+            for (i = 0; i < 3 * NT; ++i) x0[i] = x[i] + (sph_real)(0.004 * sin(0.37 * i));
+            th_set_threads(1);
+            st1 = sph_nsearch_skin(&L.list, NULL, 3, sph_view_interleaved(x, 3), sph_view_interleaved(x0, 3), th_in1(h),
+                                   sk_kappa, th_in1(hs), th_out1(k1), &n1);
+            th_set_threads(2);
+            st2 = sph_nsearch_skin(&L.list, NULL, 3, sph_view_interleaved(x, 3), sph_view_interleaved(x0, 3), th_in1(h),
+                                   sk_kappa, th_in1(hs), th_out1(k2), &n2);
+            TH_CHECK(st1 == SPH_OK && st2 == SPH_OK && n1 == n2 && n1 > 0 && n1 < NT, "skin %d %d, stale %ld %ld", st1,
+                     st2, (long)n1, (long)n2);
+            TH_CHECK(memcmp(k1, k2, NT * sizeof(sph_real)) == 0, "skin radii differ between 1 and 2 threads");
+        }
     } else
         TH_CHECK(0, "out of memory");
     sk_free(&L);
