@@ -3127,7 +3127,8 @@ typedef struct {
     sph_real w[3];        /* cell width per axis */
     sph_real inv_w[3];    /* 1 / w */
     sph_real quarter[3];  /* L / 4 on periodic axes, the largest real elsewhere */
-    sph_real quarter2;    /* smallest quarter[a]^2 of the periodic axes, the largest real without */
+    sph_real image_ok[3]; /* 0.49 L on periodic axes, the largest real elsewhere: an image offset that leaves |d_a|
+                             below it gave the minimum image (eq. (N7)) */
     sph_real slack;       /* rounding allowance added to every search radius */
     sph_real h_max;       /* largest per-source h (0 without per-source h) */
     sph_box box;          /* copy of the caller's box (periodic axes) */
@@ -3380,10 +3381,12 @@ SPH_API int sph__nsearch_in(const sph_nsearch *g, const sph__probe *p, sph_idx k
  * over a whole block (the padding beyond k1 is masked). The run's image
  * offset s (eq. (N7); IMG: the run has one) gives d_a = (x_t - x_j) - s_a,
  * bit for bit the value sph__nsearch_delta returns whenever |d_a| is at
- * most the quarter period. Where r^2 exceeds the smallest squared quarter
- * period that may not hold (a wrong image, or a box not much larger than
- * the radius): such a block is redone by sph__nsearch_in. HV: R per source
- * (symmetric with per-source h); dim, HV, IMG constants once inlined. */
+ * most image_ok_a = 0.49 L_a: then round((x_t - x_j) / L_a) is the run's
+ * image w_a (or 0 without one) with a margin far above the rounding, so
+ * sph_box_delta subtracts the same w_a L_a. A block with some |d_a| beyond
+ * it (a wrong image, or a box not much larger than the radius) is redone
+ * by sph__nsearch_in. HV: R per source (symmetric with per-source h); dim,
+ * HV, IMG constants once inlined. */
 SPH__INLINE unsigned sph__nsearch_mask(const sph_nsearch *g, sph__probe *p, sph_idx b, sph_idx k1,
                                        const sph_real *s, const int dim, const int HV, const int IMG)
 {
@@ -3396,8 +3399,8 @@ SPH__INLINE unsigned sph__nsearch_mask(const sph_nsearch *g, sph__probe *p, sph_
         for (a = 0; a < dim; ++a) {
             const sph_real d = IMG ? (p->xt[a] - x[a * stride + k]) - s[a] : p->xt[a] - x[a * stride + k];
             r2 += d * d;
+            wide |= ((d < 0 ? -d : d) > g->image_ok[a]) & (b + k < k1);
         }
-        wide |= (r2 > g->quarter2) & (b + k < k1);
         if (HV) {
             const sph_real hj = g->h[b + k], R = p->kappa * (hj > p->hi ? hj : p->hi);
             R2 = R * R;
@@ -3429,9 +3432,9 @@ SPH__INLINE __m512d sph__nsearch_round8(__m512d v)
  * (contraction into fused multiply-adds is the compiler's choice; with
  * SPH_REAL float the scalar sum is rounded to float), so r^2 differs from
  * the scalar one by at most a few ulp of sph_real; a source within 16 ulp
- * of R^2 is therefore decided by sph__nsearch_in, and a block beyond the
- * smallest squared quarter period is redone by the scalar mask, so the
- * lists stay those of the scalar criterion bit for bit. */
+ * of R^2 is therefore decided by sph__nsearch_in, and a block with some
+ * |d_a| beyond image_ok_a is redone by the scalar mask, so the lists stay
+ * those of the scalar criterion bit for bit. */
 SPH__INLINE unsigned sph__nsearch_mask16(const sph_nsearch *g, sph__probe *p, sph_idx b, sph_idx k1,
                                          const sph_real *s, const int dim, const int HV, const int IMG)
 {
@@ -3451,8 +3454,8 @@ SPH__INLINE unsigned sph__nsearch_mask16(const sph_nsearch *g, sph__probe *p, sp
             if (IMG && sizeof(sph_real) == sizeof(float) && s[a] != 0) d = sph__nsearch_round8(d);
             if (IMG) d = _mm512_sub_pd(d, _mm512_set1_pd((double)s[a]));
             r2 = _mm512_fmadd_pd(d, d, r2);
+            wide |= _mm512_mask_cmp_pd_mask(lv, _mm512_abs_pd(d), _mm512_set1_pd((double)g->image_ok[a]), _CMP_GT_OQ);
         }
-        wide |= _mm512_mask_cmp_pd_mask(lv, r2, _mm512_set1_pd((double)g->quarter2), _CMP_GT_OQ);
         if (HV) {
             const __m512d R = _mm512_mul_pd(_mm512_set1_pd((double)p->kappa),
                                             _mm512_maskz_max_pd(SPH__ALL8, sph__load8(g->h + b + 8 * half),
@@ -3956,6 +3959,7 @@ SPH_API int sph__nsearch_geometry(sph_nsearch *g, int dim, sph_view xs, sph_idx 
         g->box.length[a] = per ? L[a] : 0;
         g->box.periodic[a] = per;
         g->quarter[a] = per ? L[a] / 4 : SPH__REAL_MAX;
+        g->image_ok[a] = per ? (sph_real)0.49 * L[a] : SPH__REAL_MAX;
     }
     if ((st = sph__nsearch_axes(g, dim, L, amax, cell)) != SPH_OK) return st;
     if (hs.p[0] != NULL && ns > 0 && !plain) /* finer cells for the h the sources have */
@@ -3968,9 +3972,6 @@ SPH_API int sph__nsearch_geometry(sph_nsearch *g, int dim, sph_view xs, sph_idx 
                 break;
             }
         }
-    g->quarter2 = SPH__REAL_MAX;
-    for (a = 0; a < dim; ++a)
-        if (g->box.periodic[a] && g->quarter[a] * g->quarter[a] < g->quarter2) g->quarter2 = g->quarter[a] * g->quarter[a];
     g->dim = dim;
     return SPH_OK;
 }
@@ -4419,7 +4420,8 @@ SPH_API sph_neighbours sph_nsearch_list(const sph_nsearch *g, sph_idx n_targets,
  * all); box NULL takes the list's, a different one is SPH_EBOX. Returns
  * SPH_ENULL, SPH_EDIM, SPH_ECOUNT (n_sources != n_targets), SPH_ERANGE
  * (kappa not positive and finite), SPH_EBOX, SPH_EBOXLEN, SPH_EH (an h or
- * h_list not usable), SPH_ENONFINITE (a position NaN or Inf); else SPH_OK. */
+ * h_list not usable), SPH_ENONFINITE (a position NaN or Inf); else SPH_OK.
+ * Parallel under OpenMP for n >= 4096; the same for any thread count. */
 SPH_API int sph_nsearch_skin(const sph_neighbours *list, const sph_box *box, int dim, sph_view x, sph_view x0,
                              sph_view h_list, sph_real kappa, sph_view h, sph_out h_keep, sph_idx *n_stale)
 {
@@ -4439,15 +4441,22 @@ SPH_API int sph_nsearch_skin(const sph_neighbours *list, const sph_box *box, int
     if (h_list.p[0] == NULL || h.p[0] == NULL || h_keep.p[0] == NULL) return SPH_ENULL;
     for (a = 0; a < dim; ++a)
         if (x.p[a] == NULL || x0.p[a] == NULL) return SPH_ENULL;
+    for (i = 0; i < n; ++i) {
+        if (!sph__h_ok(sph__ns_at(h_list, 0, i), dim) || !sph__h_ok(sph__ns_at(h, 0, i), dim)) return SPH_EH;
+        for (a = 0; a < dim; ++a)
+            if (!sph__finite(sph__ns_at(x, a, i)) || !sph__finite(sph__ns_at(x0, a, i))) return SPH_ENONFINITE;
+    }
+#ifdef _OPENMP
+#pragma omp parallel for schedule(static) reduction(max : dmax, X) if (n >= 4096)
+#endif
     for (i = 0; i < n; ++i) { /* d_i into h_keep until d_max is known */
         sph_real d2 = 0, d;
-        if (!sph__h_ok(sph__ns_at(h_list, 0, i), dim) || !sph__h_ok(sph__ns_at(h, 0, i), dim)) return SPH_EH;
-        for (a = 0; a < dim; ++a) {
-            const sph_real xa = sph__ns_at(x, a, i), ya = sph__ns_at(x0, a, i);
-            if (!sph__finite(xa) || !sph__finite(ya)) return SPH_ENONFINITE;
+        int b;
+        for (b = 0; b < dim; ++b) {
+            const sph_real xa = sph__ns_at(x, b, i), ya = sph__ns_at(x0, b, i);
             X = xa > X ? xa : -xa > X ? -xa : X;
             X = ya > X ? ya : -ya > X ? -ya : X;
-            d = sph_box_delta(bx, a, xa - ya);
+            d = sph_box_delta(bx, b, xa - ya);
             d2 += d * d;
         }
         d = sph__sqrt(d2);
@@ -4455,6 +4464,9 @@ SPH_API int sph_nsearch_skin(const sph_neighbours *list, const sph_box *box, int
         dmax = d > dmax ? d : dmax;
     }
     dmax += eps * X;
+#ifdef _OPENMP
+#pragma omp parallel for schedule(static) reduction(+ : stale) if (n >= 4096)
+#endif
     for (i = 0; i < n; ++i) {
         sph_real *k = h_keep.p[0] + (ptrdiff_t)i * h_keep.stride;
         *k = sph__ns_at(h_list, 0, i) * (1 - eps) - (*k + dmax) / kappa;
@@ -4465,7 +4477,7 @@ SPH_API int sph_nsearch_skin(const sph_neighbours *list, const sph_box *box, int
 }
 
 /* Row i of sph_nsearch_prune: the j of the row with r_ij^2 < R^2 (as sph__nsearch_in decides: the minimum
- * image only where |dx_a| exceeds the quarter period q_a, below which it is dx_a itself), written to index[k..]
+ * image only where |dx_a| exceeds q_a = 0.49 L_a, below which it is dx_a itself), written to index[k..]
  * when index is not NULL; returns how many. */
 SPH__INLINE sph_off sph__prune_row(const sph_neighbours *list, const sph_box *bx, const sph_real *q, int dim,
                                    sph_view x, sph_view h, sph_real kappa, int symmetric, sph_idx i, sph_idx *index)
@@ -4535,7 +4547,7 @@ SPH_API int sph_nsearch_prune(const sph_neighbours *list, const sph_box *box, in
         for (a = 0; a < dim; ++a)
             if (!sph__finite(sph__ns_at(x, a, i))) return SPH_ENONFINITE;
     }
-    for (a = 0; a < 3; ++a) q[a] = bx != NULL && bx->periodic[a] ? bx->length[a] / 4 : SPH__REAL_MAX;
+    for (a = 0; a < 3; ++a) q[a] = bx != NULL && bx->periodic[a] ? (sph_real)0.49 * bx->length[a] : SPH__REAL_MAX;
 #ifdef _OPENMP
     threads = n >= 4096 ? omp_get_max_threads() : 1;
 #endif

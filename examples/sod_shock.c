@@ -21,15 +21,16 @@
  * Each step (kick-drift-kick leapfrog, dt = C h_min / v_sig,max, v_sig,max
  * over the pairs within kappa max(h_i, h_j)):
  *   - neighbour lists (section 7, symmetric criterion (N2)) at a search
- *     radius kappa h_list_i, h_list_i = (1 + skin) h_i (--skin, 0.15; at
+ *     radius kappa h_list_i, h_list_i = (1 + skin) h_i (--skin, 0.1; at
  *     most the half-period of the cross-section), kept over the following
  *     steps while they still hold every pair within kappa max(h_i, h_j)
  *     (a Verlet skin: sph_nsearch_skin gives the radii they still serve);
  *     a run is the same bit for bit at any skin that needs no re-search
  *     (tests/check_sod_profile.sh);
- *   - sph_h_solve (section 9, (H1)-(H4)): h_i and rho_i together, Omega_i;
- *     particles whose h outgrew their list get a new radius and are
- *     solved again; then sph_nsearch_prune keeps the pairs within
+ *   - sph_h_solve (section 9, (H1)-(H4)): h_i and rho_i together, Omega_i,
+ *     from the guess h_i (1 + dt div v_i / 3) (the drift of h that (H1)
+ *     implies); particles whose h outgrew their list get a new radius and
+ *     are solved again; then sph_nsearch_prune keeps the pairs within
  *     kappa max(h_i, h_j);
  *   - one loop over the particles, each summing its own row in batches of
  *     SPH_BATCH pairs (sph_batch_fill: x_ij, r, F at h_i and h_j; the
@@ -251,7 +252,7 @@ static double sd_particles(const sd_param *P)
  * indices (the kept list and its pruned copy), for 1.25 times (the growth
  * slack of sd_search) 1.1 times the neighbours in the sphere of radius
  * kappa (1 + skin) eta (m / rho)^(1/3), i.e. 1.1 (4/3) pi (kappa (1 + skin)
- * eta)^3 (measured at the defaults: 92 entries, 88 in the sphere). */
+ * eta)^3 (at the defaults: 81 entries measured, 77 in the sphere). */
 static double sd_bytes_per_particle(const sd_param *P)
 {
     const double kappa = sph_kernel_support((sph_kernel)sph_kernel_from_name(P->kernel));
@@ -350,17 +351,16 @@ static int sd_setup(sd_sim *S)
     return 0;
 }
 
-/* Symmetric lists (N2) at radius kappa hl_i into S->offset/index (S->kept); the positions are kept in x0 and every
- * radius is usable (hle = hl) until the particles move. */
-static int sd_search(sd_sim *S)
+/* The grid of sph_nsearch_build for the radii kappa h_v (cells of kappa h_max / 2: the symmetric criterion reaches
+ * that far) in S->grid, the workspace grown when it is short. */
+static int sd_grid(sd_sim *S, const sph_real *hr)
 {
-    const sph_view xv = sph_view_interleaved(S->x, 3), hv = sph_view_soa(S->hl, NULL, NULL);
-    sph_real hmax = S->hl[0];
+    const sph_view xv = sph_view_interleaved(S->x, 3), hv = sph_view_soa(hr, NULL, NULL);
+    sph_real hmax = hr[0];
     size_t bytes;
-    sph_off pairs = 0;
     sph_idx i;
     int st;
-    for (i = 1; i < S->n; ++i) hmax = S->hl[i] > hmax ? S->hl[i] : hmax; /* cells of kappa h_max / 2: the symmetric criterion reaches that far */
+    for (i = 1; i < S->n; ++i) hmax = hr[i] > hmax ? hr[i] : hmax;
     st = sph_nsearch_workspace_size(3, xv, S->n, hv, S->kappa * hmax / 2, &S->box, &bytes);
     if (st != SPH_OK) return st;
     if (bytes > S->work_bytes) {
@@ -369,22 +369,55 @@ static int sd_search(sd_sim *S)
         S->work_bytes = S->work != NULL ? bytes : 0;
         if (S->work == NULL) return EX_ENOMEM;
     }
-    sph_nsearch g;
-    if ((st = sph_nsearch_build(&g, 3, xv, S->n, hv, S->kappa * hmax / 2, &S->box, S->work, S->work_bytes)) != SPH_OK)
+    return sph_nsearch_build(&S->grid, 3, xv, S->n, hv, S->kappa * hmax / 2, &S->box, S->work, S->work_bytes);
+}
+
+/* The particles in the cell order of a grid for kappa h (sph_nsearch_permutation, (N5)), once after the set-up:
+ * neighbours then lie close in memory for the whole run (the particles of a shock tube move little against each
+ * other), whatever the skin. x0 and hle, not used before the first search, serve as scratch. */
+static int sd_cell_order(sd_sim *S)
+{
+    sph_real *f1[3] = {S->u, S->h, S->alpha};
+    sph_idx *perm = (sph_idx *)sd_alloc((size_t)S->n, sizeof(sph_idx));
+    int st, k;
+    if (perm == NULL) return EX_ENOMEM;
+    if ((st = sd_grid(S, S->h)) != SPH_OK || (st = sph_nsearch_permutation(&S->grid, perm)) != SPH_OK) {
+        free(perm);
         return st;
-    S->grid = g;
+    }
+    for (k = 0; k < 2 && st == SPH_OK; ++k) { /* x, v: three components */
+        sph_real *f = k == 0 ? S->x : S->v;
+        st = sph_permute(sph_view_interleaved(f, 3), 3, S->n, perm, sph_out_interleaved(S->x0, 3));
+        memcpy(f, S->x0, sizeof(sph_real) * 3 * (size_t)S->n);
+    }
+    for (k = 0; k < 3 && st == SPH_OK; ++k) { /* the fields set per particle; B, alpha_D, div v start uniform */
+        st = sph_permute(sph_view_soa(f1[k], NULL, NULL), 1, S->n, perm, sph_out_soa(S->hle, NULL, NULL));
+        memcpy(f1[k], S->hle, sizeof(sph_real) * (size_t)S->n);
+    }
+    free(perm);
+    return st;
+}
+
+/* Symmetric lists (N2) at radius kappa hl_i into S->offset/index (S->kept); the positions are kept in x0 and every
+ * radius is usable (hle = hl) until the particles move. */
+static int sd_search(sd_sim *S)
+{
+    const sph_view xv = sph_view_interleaved(S->x, 3), hv = sph_view_soa(S->hl, NULL, NULL);
+    sph_off pairs = 0;
+    int st;
+    if ((st = sd_grid(S, S->hl)) != SPH_OK) return st;
     S->listed = 0;
-    st = sph_nsearch_lists(&g, xv, S->n, hv, 0, S->kappa, SPH_NSEARCH_SYMMETRIC, S->offset, S->index, S->cap, &pairs);
+    st = sph_nsearch_lists(&S->grid, xv, S->n, hv, 0, S->kappa, SPH_NSEARCH_SYMMETRIC, S->offset, S->index, S->cap, &pairs);
     if (st == SPH_ESIZE) { /* grow the index arrays with slack, then fill */
         free(S->index), free(S->p_idx);
         S->cap = S->offset[S->n] + S->offset[S->n] / 4 + 1;
         S->index = (sph_idx *)sd_alloc((size_t)S->cap, sizeof(sph_idx));
         S->p_idx = (sph_idx *)sd_alloc((size_t)S->cap, sizeof(sph_idx));
         if (S->index == NULL || S->p_idx == NULL) return S->cap = 0, EX_ENOMEM;
-        st = sph_nsearch_fill(&g, xv, S->n, hv, 0, S->kappa, SPH_NSEARCH_SYMMETRIC, S->offset, S->index, S->cap);
+        st = sph_nsearch_fill(&S->grid, xv, S->n, hv, 0, S->kappa, SPH_NSEARCH_SYMMETRIC, S->offset, S->index, S->cap);
     }
     if (st != SPH_OK) return st;
-    S->kept = sph_nsearch_list(&g, S->n, S->offset, S->index);
+    S->kept = sph_nsearch_list(&S->grid, S->n, S->offset, S->index);
     memcpy(S->x0, S->x, sizeof(sph_real) * 3 * (size_t)S->n);
     memcpy(S->hle, S->hl, sizeof(sph_real) * (size_t)S->n);
     S->listed = 1;
@@ -560,6 +593,9 @@ static int sd_forces(sd_sim *S)
     double vmax = 0;
     int st;
     if ((st = sd_density(S)) != SPH_OK) return st;
+#ifdef _OPENMP
+#pragma omp parallel for schedule(static)
+#endif
     for (i = 0; i < S->n; ++i) {
         const sph_real p = (sph_real)(P->gamma - 1) * S->rho[i] * S->up[i];
         S->cs[i] = sqrt((sph_real)P->gamma * p / S->rho[i]);
@@ -588,6 +624,9 @@ static int sd_forces(sd_sim *S)
         vmax = vs > vmax ? vs : vmax;
         S->sw[3 * i] = divv, S->sw[3 * i + 1] = curl, S->sw[3 * i + 2] = acc[8];
     }
+#ifdef _OPENMP
+#pragma omp parallel for schedule(static)
+#endif
     for (i = 0; i < S->n; ++i) /* after the loop: it read alpha, B and alpha_D of the neighbours */
         sd_switch_sphenix(S, i, S->sw[3 * i], S->sw[3 * i + 1], S->sw[3 * i + 2], S->dt);
     S->vsig_max = vmax;
@@ -678,6 +717,10 @@ static int sd_run(const sd_param *P, sd_result *R, FILE *profile, const char *la
         sd_free(&S);
         return EX_ENOMEM;
     }
+    if ((st = sd_cell_order(&S)) != SPH_OK) {
+        sd_free(&S);
+        return st;
+    }
     m = 1.0 / ((double)sd_per_cell(P) * P->nx * P->nx * P->nx); /* rho_L a^3 / ppc = rho_R (2 a)^3 / ppc */
     S.m = (sph_real)m;
     E0 = sd_energy(&S, m);
@@ -693,6 +736,9 @@ static int sd_run(const sd_param *P, sd_result *R, FILE *profile, const char *la
         for (i = 1; i < S.n; ++i) hmin = S.h[i] < hmin ? S.h[i] : hmin;
         dt = P->cfl * hmin / S.vsig_max;
         if (t + dt > P->t_end) dt = P->t_end - t;
+#ifdef _OPENMP
+#pragma omp parallel for schedule(static) private(a)
+#endif
         for (i = 0; i < S.n; ++i) { /* kick, drift, predict */
             for (a = 0; a < 3; ++a) {
                 S.v[3 * i + a] += (sph_real)(dt / 2) * S.a[3 * i + a];
@@ -703,12 +749,16 @@ static int sd_run(const sd_param *P, sd_result *R, FILE *profile, const char *la
             S.u[i] += (sph_real)(dt / 2) * S.du[i];
             S.up[i] = S.u[i] + (sph_real)(dt / 2) * S.du[i];
             S.alpha[i] += (sph_real)(dt / 2) * S.dalpha[i];
+            S.h[i] *= 1 + (sph_real)(dt / 3) * S.sw[3 * i]; /* the h solve's guess: dh/dt = (h / 3) div v (from (H1)) */
         }
         sd_mark(&S, SD_REST);
         S.dt = dt;
         if ((st = sd_forces(&S)) != SPH_OK) break;
         sd_mark(&S, SD_FORCES); /* sd_density marked its search and h solve: the rest of sd_forces */
         if (S.prof != NULL) sd_profile_count(&S);
+#ifdef _OPENMP
+#pragma omp parallel for schedule(static) private(a)
+#endif
         for (i = 0; i < S.n; ++i) { /* kick */
             for (a = 0; a < 3; ++a) S.v[3 * i + a] += (sph_real)(dt / 2) * S.a[3 * i + a];
             S.u[i] += (sph_real)(dt / 2) * S.du[i];
@@ -992,7 +1042,7 @@ int main(int argc, char **argv)
          0, NULL},
     };
     P.nx = 32, P.ny = 0, P.kernel = "cubic", P.lattice = "fcc", P.gamma = 5.0 / 3.0, P.t_end = 0.2, P.eta = 1.2, P.cfl = 0.3;
-    P.alpha_min = 0, P.alpha_max = 2, P.beta = 3, P.alpha_u = 1, P.skin = 0.15, P.profile = 0;
+    P.alpha_min = 0, P.alpha_max = 2, P.beta = 3, P.alpha_u = 1, P.skin = 0.1, P.profile = 0;
     P.av_switch = "sphenix", P.cond = "sphenix", P.av_length = 0.25, P.balsara = 1, P.beta_u = 1;
     { /* what the top of --nx needs at the defaults: memory grows as nx ny^2 */
         sd_param Q = P;

@@ -24,6 +24,12 @@ OMP_NUM_THREADS=2 "$tmp/sod_shock" --nx 8 --t-end 0.03 --out "$tmp/plain" > "$tm
 OMP_NUM_THREADS=2 "$tmp/sod_shock" --nx 8 --t-end 0.03 --out "$tmp/prof" --profile > "$tmp/prof.txt" 2>&1 ||
     fail "sod_shock --nx 8 --t-end 0.03 --profile: $(cat "$tmp/prof.txt")"
 cmp -s "$tmp/plain/sod_nx8.csv" "$tmp/prof/sod_nx8.csv" || fail "--profile changed the run: sod_nx8.csv differs"
+if [ -n "$OPENMP" ]; then # the same run on one thread: every loop of the step is the same for any thread count
+    mkdir -p "$tmp/one"
+    "$tmp/sod_shock" --nx 8 --t-end 0.03 --threads 1 --out "$tmp/one" > "$tmp/one.txt" 2>&1 ||
+        fail "sod_shock --threads 1: $(cat "$tmp/one.txt")"
+    cmp -s "$tmp/plain/sod_nx8.csv" "$tmp/one/sod_nx8.csv" || fail "1 and 2 threads differ: sod_nx8.csv"
+fi
 awk '
     /^nx / { steps = $6 }
     /^profile: / { psteps = $2 }
@@ -58,4 +64,4 @@ rows=$(awk -F'|' '$3 == " 8 " && $7 + 0 > 0 && $8 + 0 > 0 && $9 + 0 > 0 && $10 +
     $15 + 0 > 0 && $16 + 0 > 0 { ++n } END { print n + 0 }' "$tmp/step.md")
 want=$([ -n "$OPENMP" ] && echo 4 || echo 2)
 [ "$rows" = "$want" ] || fail "bench/bench_step.sh: $rows complete table rows instead of $want: $(cat "$tmp/step.md")"
-echo "tests/check_sod_profile.sh: --profile leaves the run unchanged, its counts agree, --skin 0.3 = --skin 0.6, bench/bench_step.sh writes its $rows rows"
+echo "tests/check_sod_profile.sh: --profile and the thread count leave the run unchanged, its counts agree, --skin 0.3 = --skin 0.6, bench/bench_step.sh writes its $rows rows"

@@ -73,19 +73,22 @@ static int sk_differ(const sk_list *a, const sph_off *offset, const sph_idx *ind
 
 /* A periodic cloud, h varying by a factor 2, lists at 1.25 h; then steps of random moves (some particles moving
  * towards each other) and h changes: while sph_nsearch_skin reports no stale particle, the kept list pruned at h is
- * the fresh search at h, pair for pair, in both modes; large moves are reported stale. */
-static void sk_kept_case(int mode)
+ * the fresh search at h, pair for pair, in both modes; large moves are reported stale. W: the period across (1, or
+ * 0.45: a tube whose cross-section is just over twice the largest radius, pairs up to 0.47 periods apart). */
+static void sk_kept_case(int mode, double W)
 {
     static sph_real x0[3 * SK_N], x[3 * SK_N], hl[SK_N], h[SK_N], keep[SK_N];
     static sph_idx index[60 * SK_N];
     static sph_off offset[SK_N + 1];
     sph_box box = {{0, 0, 0}, {1, 1, 1}, {1, 1, 1}};
     sk_list kept, fresh;
+    box.length[1] = box.length[2] = (sph_real)W;
     const sph_real h0 = (sph_real)0.06;
     int i, a, step, kept_steps = 0, stale_seen = 0;
-    th_begin("sph_nsearch_skin + prune = fresh search, %s, %s", mode ? "symmetric" : "gather", TH_PRECISION);
+    th_begin("sph_nsearch_skin + prune = fresh search, %s, period %g across, %s", mode ? "symmetric" : "gather", W,
+             TH_PRECISION);
     for (i = 0; i < SK_N; ++i) {
-        for (a = 0; a < 3; ++a) x0[3 * i + a] = x[3 * i + a] = (sph_real)sk_uniform();
+        for (a = 0; a < 3; ++a) x0[3 * i + a] = x[3 * i + a] = (sph_real)(sk_uniform() * (a ? W : 1));
         h[i] = h0 * (sph_real)(0.7 + 0.7 * sk_uniform());
         hl[i] = (sph_real)1.25 * h[i];
     }
@@ -100,7 +103,7 @@ static void sk_kept_case(int mode)
             for (a = 0; a < 3; ++a) { /* even particles move along +x, odd ones along -x: pairs close at 2 d */
                 const double d = a == 0 ? (i % 2 ? -move : move) : move * (sk_uniform() - 0.5) * 0.2;
                 x[3 * i + a] = (sph_real)(x0[3 * i + a] + d);
-                x[3 * i + a] -= (sph_real)floor((double)x[3 * i + a]); /* wrapped, as a drift does */
+                x[3 * i + a] -= (sph_real)((a ? W : 1) * floor((double)x[3 * i + a] / (a ? W : 1))); /* wrapped */
             }
             h[i] *= (sph_real)(1 + 0.01 * (sk_uniform() - 0.3));
         }
@@ -175,6 +178,7 @@ static void sk_errors_case(void)
     sk_list L;
     sph_off pairs = -1, bad_off;
     sph_idx stale, bad_idx;
+    sph_real x5;
     int i, a, st;
     th_begin("sph_nsearch_skin / prune refusals, %s", TH_PRECISION);
     for (i = 0; i < SK_N; ++i) {
@@ -200,11 +204,11 @@ static void sk_errors_case(void)
     TH_CHECK(SK_SKIN(&L.list, NULL, 3, sk_kappa, th_in1(h), th_out1(keep), &stale) == SPH_EH, "h -1");
     TH_CHECK(SK_PRUNE(&L.list, NULL, sk_kappa, th_in1(h), SPH_NSEARCH_GATHER, offset, 60 * SK_N) == SPH_EH, "prune h -1");
     h[7] = (sph_real)0.05;
-    x[5] = (sph_real)NAN;
+    x5 = x[5], x[5] = (sph_real)NAN;
     TH_CHECK(SK_SKIN(&L.list, NULL, 3, sk_kappa, th_in1(h), th_out1(keep), &stale) == SPH_ENONFINITE, "x NaN");
     TH_CHECK(SK_PRUNE(&L.list, NULL, sk_kappa, th_in1(h), SPH_NSEARCH_GATHER, offset, 60 * SK_N) == SPH_ENONFINITE,
              "prune x NaN");
-    x[5] = (sph_real)0.5;
+    x[5] = x5; /* the searched position again */
     TH_CHECK(SK_PRUNE(&L.list, NULL, sk_kappa, th_in1(h), 7, offset, 60 * SK_N) == SPH_EOPTION, "mode 7");
     TH_CHECK(SK_PRUNE(&L.list, NULL, -1, th_in1(h), SPH_NSEARCH_GATHER, offset, 60 * SK_N) == SPH_ERANGE, "kappa -1");
     TH_CHECK(SK_PRUNE(&L.list, &other, sk_kappa, th_in1(h), SPH_NSEARCH_GATHER, offset, 60 * SK_N) == SPH_EBOX,
@@ -234,7 +238,8 @@ static void sk_errors_case(void)
     th_end();
 }
 
-/* The prune is the same for 1 and 2 threads: 5000 particles, so that 2 threads take its parallel two-pass form. */
+/* The prune and the skin radii are the same for 1 and 2 threads: 5000 particles, so that 2 threads take their
+ * parallel forms. */
 static void sk_threads_case(void)
 {
     enum { NT = 5000 };
@@ -263,6 +268,20 @@ static void sk_threads_case(void)
                  "%d %d, pairs %ld %ld of %ld", st1, st2, (long)p1, (long)p2, (long)L.offset[NT]);
         TH_CHECK(memcmp(o1, o2, (NT + 1) * sizeof(sph_off)) == 0 && memcmp(i1, i2, (size_t)p1 * sizeof(sph_idx)) == 0,
                  "lists differ");
+        { /* the skin radii: x moved (x0 = x + a wave), hs the h, h the list's radii; h_keep into the spare index */
+            sph_real *x0 = (sph_real *)(void *)i1, *k1 = (sph_real *)(void *)i2, *k2 = k1 + NT;
+            sph_idx n1 = -1, n2 = -2;
+            for (i = 0; i < 3 * NT; ++i) x0[i] = x[i] + (sph_real)(0.004 * sin(0.37 * i));
+            th_set_threads(1);
+            st1 = sph_nsearch_skin(&L.list, NULL, 3, sph_view_interleaved(x, 3), sph_view_interleaved(x0, 3), th_in1(h),
+                                   sk_kappa, th_in1(hs), th_out1(k1), &n1);
+            th_set_threads(2);
+            st2 = sph_nsearch_skin(&L.list, NULL, 3, sph_view_interleaved(x, 3), sph_view_interleaved(x0, 3), th_in1(h),
+                                   sk_kappa, th_in1(hs), th_out1(k2), &n2);
+            TH_CHECK(st1 == SPH_OK && st2 == SPH_OK && n1 == n2 && n1 > 0 && n1 < NT, "skin %d %d, stale %ld %ld", st1,
+                     st2, (long)n1, (long)n2);
+            TH_CHECK(memcmp(k1, k2, NT * sizeof(sph_real)) == 0, "skin radii differ between 1 and 2 threads");
+        }
     } else
         TH_CHECK(0, "out of memory");
     sk_free(&L);
@@ -272,8 +291,10 @@ static void sk_threads_case(void)
 
 int main(void)
 {
-    sk_kept_case(SPH_NSEARCH_GATHER);
-    sk_kept_case(SPH_NSEARCH_SYMMETRIC);
+    sk_kept_case(SPH_NSEARCH_GATHER, 1);
+    sk_kept_case(SPH_NSEARCH_SYMMETRIC, 1);
+    sk_kept_case(SPH_NSEARCH_GATHER, 0.45);
+    sk_kept_case(SPH_NSEARCH_SYMMETRIC, 0.45);
     sk_radii_case();
     sk_errors_case();
     sk_threads_case();
