@@ -16,10 +16,10 @@
  * forms: one pair at a time with the scalar pair terms (sph_kernel_f,
  * sph_pair_gradh_*, sph_pair_av_signal, sph_pair_av_apply, as sd_pair
  * writes it), and as a caller's loop over the lanes of sph_batch_fill
- * (docs/smoothing_length.md, "Pair batches"); both then reduced by
- * sph_pairs_reduce, and the largest difference of the two results printed.
- * Build also with -O3 -march=native (the lane loops then use the widest
- * vectors) and -fno-math-errno (sqrt in a lane loop vectorises only then).
+ * (docs/smoothing_length.md, "Pair batches"; F alone, sph_batch_select);
+ * both then reduced by sph_pairs_reduce, and the largest difference of the
+ * two results printed; then the fill alone, F alone and W and F. Build also
+ * with -O3 -march=native (the lane loops then use the widest vectors).
  *
  * 3-D perturbed lattice in a periodic unit box, h solved by sph_h_solve
  * (eta 1.2, cubic spline: about 58 neighbours), one symmetric list at
@@ -107,8 +107,11 @@ static void scalar_pair(const fields *f, sph_idx i, sph_idx j, sph_real *ti, sph
     *vs = s > *vs ? s : *vs;
 }
 
-/* The same equations on batches: the arithmetic of each lane in one plain
- * loop over the lanes (it vectorises), then the stores to the two buffers. */
+/* The same equations on batches, in three plain loops over all SPH_BATCH
+ * lanes (padding lanes compute harmless zeros): the partner's fields
+ * gathered into lane arrays, then the arithmetic (it vectorises: no
+ * gathers, branches or scalar sqrt inside), then the stores to the two
+ * buffers, to_i[k] contiguous, to_j[t_slot[k]] scattered. */
 static sph_real batch_rows(const fields *f, const sph_batch_src *S, const sph_pairs *pr, sph_real *to_i,
                            sph_real *to_j)
 {
@@ -123,30 +126,47 @@ static sph_real batch_rows(const fields *f, const sph_batch_src *S, const sph_pa
         sph_batch b;
         sph_off next = 0;
         while (sph_batch_fill(S, i, &next, &b) > 0) {
+            sph_real mj[SPH_BATCH], Aj[SPH_BATCH], rhoj[SPH_BATCH], cj[SPH_BATCH], uj[SPH_BATCH], pj[SPH_BATCH];
+            sph_real aj[SPH_BATCH], vj[3][SPH_BATCH], vu[SPH_BATCH], rhob[SPH_BATCH], r1[SPH_BATCH];
             sph_real gi[SPH_BATCH], gj[SPH_BATCH], ei[SPH_BATCH], ej[SPH_BATCH], di[SPH_BATCH], dj[SPH_BATCH], vs[SPH_BATCH];
+            sph_real *ti = to_i + 5 * b.k[0];
             int l, c;
-            for (l = 0; l < b.n; ++l) {
+            for (l = 0; l < SPH_BATCH; ++l) {
                 const sph_idx j = b.j[l];
-                const sph_real mj = m[j], dx0 = b.dx[0][l], dx1 = b.dx[1][l], dx2 = b.dx[2][l], r = b.r[l];
-                const sph_real e = (vi0 - v[3 * j]) * dx0 + (vi1 - v[3 * j + 1]) * dx1 + (vi2 - v[3 * j + 2]) * dx2;
-                const sph_real Fi = b.F_i[l], Fj = b.F_j[l], Fb = (Fi + Fj) / 2, rhob = (rhoi + rho[j]) / 2;
-                const sph_real w = (e < 0 ? e : 0) / (r > 0 ? r : 1), cj = cs[j]; /* no division under a condition: */
-                const sph_real vsig = ci + cj - beta * w;
-                const sph_real Pi = -((ai + al[j]) / 2 / 2) * vsig * w / rhob; /* the vectoriser would need masks */
-                const sph_real cf = Ai * Fi + A[j] * Fj + Pi * Fb;
-                const sph_real cond = alpha_u * sqrt(fabs(pi - p[j]) / rhob) * (ui - u[j]) * Fb * r / rhob;
-                gi[l] = mj * cf, gj[l] = mi * cf; /* dv_i/dt = -g_i x_ij, dv_j/dt = g_j x_ij */
-                ei[l] = mj * (Ai * Fi * e + Pi * Fb * e / 2 + cond);
-                ej[l] = mi * (A[j] * Fj * e + Pi * Fb * e / 2 - cond);
-                di[l] = mj * e * Fi, dj[l] = mi * e * Fj;
+                mj[l] = m[j], Aj[l] = A[j], rhoj[l] = rho[j], cj[l] = cs[j], uj[l] = u[j], pj[l] = p[j], aj[l] = al[j];
+                vj[0][l] = v[3 * j], vj[1][l] = v[3 * j + 1], vj[2][l] = v[3 * j + 2];
+            }
+            for (l = 0; l < SPH_BATCH; ++l) {
+                rhob[l] = (rhoi + rhoj[l]) / 2;
+                vu[l] = fabs(pi - pj[l]) / rhob[l];
+                r1[l] = b.r[l] > 0 ? b.r[l] : 1; /* here: a division by a select stays scalar (gcc -O2) */
+            }
+            sph_batch_sqrt(vu); /* sqrt(|p_i - p_j| / rho_ij) */
+            for (l = 0; l < SPH_BATCH; ++l) {
+                const sph_real dx0 = b.dx[0][l], dx1 = b.dx[1][l], dx2 = b.dx[2][l], r = b.r[l];
+                const sph_real e = (vi0 - vj[0][l]) * dx0 + (vi1 - vj[1][l]) * dx1 + (vi2 - vj[2][l]) * dx2;
+                const sph_real Fi = b.F_i[l], Fj = b.F_j[l], Fb = (Fi + Fj) / 2;
+                const sph_real w = (e < 0 ? e : 0) / r1[l]; /* no division under a condition: */
+                const sph_real vsig = ci + cj[l] - beta * w;
+                const sph_real Pi = -((ai + aj[l]) / 2 / 2) * vsig * w / rhob[l]; /* the vectoriser would need masks */
+                const sph_real cf = Ai * Fi + Aj[l] * Fj + Pi * Fb;
+                const sph_real cond = alpha_u * vu[l] * (ui - uj[l]) * Fb * r / rhob[l];
+                gi[l] = mj[l] * cf, gj[l] = mi * cf; /* dv_i/dt = -g_i x_ij, dv_j/dt = g_j x_ij */
+                ei[l] = mj[l] * (Ai * Fi * e + Pi * Fb * e / 2 + cond);
+                ej[l] = mi * (Aj[l] * Fj * e + Pi * Fb * e / 2 - cond);
+                di[l] = mj[l] * e * Fi, dj[l] = mi * e * Fj;
                 vs[l] = vsig; /* the largest after the loop: a max reduction here stops the vectoriser */
             }
-            for (l = 0; l < b.n; ++l) {
-                sph_real *ti = to_i + 5 * b.k[l], *tj = to_j + 5 * pr->t_slot[b.k[l]];
-                for (c = 0; c < 3; ++c) ti[c] = -gi[l] * b.dx[c][l], tj[c] = gj[l] * b.dx[c][l];
-                ti[3] = ei[l], tj[3] = ej[l], ti[4] = di[l], tj[4] = dj[l];
-                vmax = vs[l] > vmax ? vs[l] : vmax;
+            for (l = 0; l < b.n; ++l) { /* to_i[k]: the batch's pairs are consecutive in the half list */
+                for (c = 0; c < 3; ++c) ti[5 * l + c] = -gi[l] * b.dx[c][l];
+                ti[5 * l + 3] = ei[l], ti[5 * l + 4] = di[l];
             }
+            for (l = 0; l < b.n; ++l) {
+                sph_real *tj = to_j + 5 * pr->t_slot[b.k[l]];
+                for (c = 0; c < 3; ++c) tj[c] = gj[l] * b.dx[c][l];
+                tj[3] = ej[l], tj[4] = dj[l];
+            }
+            for (l = 0; l < b.n; ++l) vmax = vs[l] > vmax ? vs[l] : vmax;
         }
     }
     return vmax;
@@ -166,9 +186,9 @@ int main(int argc, char **argv)
     sph_hctx c;
     sph_hreport rep;
     tp_rng g = {7};
-    double *t[7], med[7], tb, diff = 0, fmax = 0, sink = 0;
+    double *t[8], med[8], tb, diff = 0, fmax = 0, sink = 0;
     sph_real vs[2] = {0, 0};
-    sph_batch_src bs;
+    sph_batch_src bs, bw;
     fields fl;
     int i, r, st;
     if (side < 8 || side > 400 || reps < 1 || reps > 1000) {
@@ -185,10 +205,10 @@ int main(int argc, char **argv)
     u = malloc(sizeof(sph_real) * (size_t)n), cs = malloc(sizeof(sph_real) * (size_t)n);
     al = malloc(sizeof(sph_real) * (size_t)n);
     f5[0] = malloc(sizeof(sph_real) * 5 * (size_t)n), f5[1] = malloc(sizeof(sph_real) * 5 * (size_t)n);
-    for (i = 0; i < 7; ++i) t[i] = malloc(sizeof(double) * (size_t)reps);
+    for (i = 0; i < 8; ++i) t[i] = malloc(sizeof(double) * (size_t)reps);
     if (!u || !cs || !al || !f5[0] || !f5[1]) return 1;
     if (!x || !v || !m || !h || !hl || !rho || !om || !p || !A || !P || !V || !dv || !du) return 1;
-    for (i = 0; i < 7; ++i)
+    for (i = 0; i < 8; ++i)
         if (!t[i]) return 1;
     tp_lattice(3, side, dx, x);
     tp_perturb(3, n, 0.2 * dx, &g, x);
@@ -233,6 +253,9 @@ int main(int argc, char **argv)
     tb = tm_now() - tb;
     if (st != SPH_OK) return fprintf(stderr, "pairs: %s\n", sph_strerror(st)), 1;
     st = sph_batch_source(&bs, SPH_KERNEL_CUBIC, 3, &pr.half, &box, sph_view_interleaved(x, 3), sph_view_soa(h, NULL, NULL));
+    if (st == SPH_OK) /* W and F (the default), for the time of the fill alone */
+        st = sph_batch_source(&bw, SPH_KERNEL_CUBIC, 3, &pr.half, &box, sph_view_interleaved(x, 3), sph_view_soa(h, NULL, NULL));
+    if (st == SPH_OK) st = sph_batch_select(&bs, SPH_BATCH_F); /* the pair loop reads F only */
     if (st != SPH_OK) return fprintf(stderr, "batch source: %s\n", sph_strerror(st)), 1;
     fl.x = x, fl.v = v, fl.m = m, fl.h = h, fl.rho = rho, fl.A = A, fl.u = u, fl.p = p, fl.cs = cs, fl.alpha = al;
     fl.box = &box, fl.beta = 3, fl.alpha_u = 1;
@@ -273,11 +296,18 @@ int main(int argc, char **argv)
         for (ii = 0; ii < n; ++ii) { /* sph_batch_fill alone: what every batch loop pays for its pairs */
             sph_batch bb;
             sph_off nx = 0;
-            while (sph_batch_fill(&bs, ii, &nx, &bb) > 0) sink += (double)bb.F_i[0] + (double)bb.W_j[bb.n - 1];
+            while (sph_batch_fill(&bs, ii, &nx, &bb) > 0) sink += (double)bb.F_i[0] + (double)bb.F_j[bb.n - 1];
         }
         t[6][r] = tm_now() - t5s;
+        t5s = tm_now();
+        for (ii = 0; ii < n; ++ii) {
+            sph_batch bb;
+            sph_off nx = 0;
+            while (sph_batch_fill(&bw, ii, &nx, &bb) > 0) sink += (double)bb.W_i[0] + (double)bb.F_j[bb.n - 1];
+        }
+        t[7][r] = tm_now() - t5s;
     }
-    for (i = 0; i < 7; ++i) med[i] = tm_median(t[i], reps);
+    for (i = 0; i < 8; ++i) med[i] = tm_median(t[i], reps);
     for (i = 0; i < 5 * n; ++i) fmax = fabs(f5[0][i]) > fmax ? fabs(f5[0][i]) : fmax;
     for (i = 0; i < 5 * n; ++i) diff = fabs(f5[1][i] - f5[0][i]) > diff ? fabs(f5[1][i] - f5[0][i]) : diff;
     printf("%d particles, %ld pairs (i < j), %.1f neighbours per particle, %s, median of %d\n", n, (long)pairs,
@@ -290,14 +320,15 @@ int main(int argc, char **argv)
     printf("    one pair at a time, scalar pair terms (sod_shock's sd_pair)  %7.2f ns/pair\n", 1e9 * med[4] / (double)pairs);
     printf("    lanes of sph_batch_fill, SPH_BATCH %2d                         %7.2f ns/pair (speed-up %.2f)\n", SPH_BATCH,
            1e9 * med[5] / (double)pairs, med[4] / med[5]);
-    printf("    of which sph_batch_fill alone (x_ij, r, W, F at h_i, h_j)   %7.2f ns/pair (checksum %.3g)\n",
-           1e9 * med[6] / (double)pairs, sink);
+    printf("    of which sph_batch_fill alone (x_ij, r, F at h_i, h_j)      %7.2f ns/pair\n", 1e9 * med[6] / (double)pairs);
+    printf("    sph_batch_fill alone with W too (x_ij, r, W, F)              %7.2f ns/pair (checksum %.3g)\n",
+           1e9 * med[7] / (double)pairs, sink);
     printf("    largest |batch - scalar| / largest |value| %.2g, signal velocity %.17g vs %.17g\n", diff / fmax,
            (double)vs[1], (double)vs[0]);
     printf("  sph_pairs_build once per list                             %7.2f ns/pair\n", 1e9 * tb / (double)pairs);
     free(x), free(v), free(m), free(h), free(hl), free(rho), free(om), free(p), free(A), free(P), free(V), free(dv);
     free(du), free(off), free(idx), free(hoff), free(toff), free(hidx), free(tpair), free(buf);
     free(u), free(cs), free(al), free(f5[0]), free(f5[1]), free(t5);
-    for (i = 0; i < 7; ++i) free(t[i]);
+    for (i = 0; i < 8; ++i) free(t[i]);
     return 0;
 }
