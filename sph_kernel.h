@@ -206,6 +206,7 @@
  *   sph_gradh_forces(c, v, h, A, dvdt, dudt)     (H5), (H6), gather form
  *   sph_pairs_build(full, offset, index, cap, t_offset, t_slot, &pairs, &P)  half list + transpose (H8)
  *   sph_pairs_reduce(&P, ncomp, to_i, to_j, out) per-particle sums of per-pair terms (H8)
+ *   sph_pairs_reduce_rows(&P, ncomp, to_j, out)  the same, out holding the rows' own sums on entry
  *   sph_pairs_buffer_len(ncomp, pairs)           reals of the two per-pair buffers of sph_pairs_reduce
  *   sph_gradh_pairs_buffer_len(dim, pairs)       reals of the buffer of sph_gradh_forces_pairs
  *   sph_gradh_forces_pairs(c, &P, v, h, A, buf, buf_len, dvdt, dudt)  (H5), (H6), pair-once
@@ -5662,17 +5663,43 @@ SPH_API sph_off sph_gradh_pairs_buffer_len(int dim, sph_off pairs)
 }
 
 /* (H8) for particle i: s[a] = the sum over the pairs k of row i of
- * to_i[ncomp k + a], then over the slots t of i of to_j[ncomp t + a]. */
+ * to_i[ncomp k + a], then over the slots t of i of to_j[ncomp t + a]; with
+ * to_i NULL, s[a] holds the row's sum on entry and the slots are added. */
 SPH__INLINE void sph__pairs_sum(const sph_pairs *P, int ncomp, const sph_real *to_i, const sph_real *to_j, sph_idx i,
                                 sph_real *s)
 {
     sph_off k, t;
     int a;
-    for (a = 0; a < ncomp; ++a) s[a] = 0;
-    for (k = P->half.offset[i]; k < P->half.offset[i + 1]; ++k)
+    if (to_i != NULL)
+        for (a = 0; a < ncomp; ++a) s[a] = 0;
+    for (k = P->half.offset[i]; to_i != NULL && k < P->half.offset[i + 1]; ++k)
         for (a = 0; a < ncomp; ++a) s[a] += to_i[(ptrdiff_t)ncomp * k + a];
     for (t = P->t_offset[i]; t < P->t_offset[i + 1]; ++t)
         for (a = 0; a < ncomp; ++a) s[a] += to_j[(ptrdiff_t)ncomp * t + a];
+}
+
+/* sph_pairs_reduce (rows 0) and sph_pairs_reduce_rows (rows 1: to_i not
+ * read, out holding the rows' sums on entry). */
+SPH__INLINE int sph__pairs_reduce(const sph_pairs *P, int ncomp, int rows, const sph_real *to_i, const sph_real *to_j,
+                                  sph_real *out)
+{
+    sph_idx i, n;
+    if (P == NULL || P->half.offset == NULL || P->t_offset == NULL) return SPH_ENULL;
+    if (ncomp < 1 || ncomp > 16) return SPH_ERANGE;
+    n = P->half.n_targets;
+    if (n > 0 && out == NULL) return SPH_ENULL;
+    if (P->half.offset[n] > 0 && ((!rows && to_i == NULL) || to_j == NULL)) return SPH_ENULL;
+#ifdef _OPENMP
+#pragma omp parallel for schedule(static) if (n >= 2048)
+#endif
+    for (i = 0; i < n; ++i) {
+        sph_real s[16];
+        int a;
+        for (a = 0; a < ncomp; ++a) s[a] = rows ? out[(ptrdiff_t)ncomp * i + a] : 0;
+        sph__pairs_sum(P, ncomp, rows ? NULL : to_i, to_j, i, s);
+        for (a = 0; a < ncomp; ++a) out[(ptrdiff_t)ncomp * i + a] = s[a];
+    }
+    return SPH_OK;
 }
 
 /* (H8) out[ncomp i + a] = sum over the pairs k of row i of to_i[ncomp k + a]
@@ -5685,22 +5712,19 @@ SPH__INLINE void sph__pairs_sum(const sph_pairs *P, int ncomp, const sph_real *t
  * Parallel over particles; bitwise the same for any thread count. */
 SPH_API int sph_pairs_reduce(const sph_pairs *P, int ncomp, const sph_real *to_i, const sph_real *to_j, sph_real *out)
 {
-    sph_idx i, n;
-    if (P == NULL || P->half.offset == NULL || P->t_offset == NULL) return SPH_ENULL;
-    if (ncomp < 1 || ncomp > 16) return SPH_ERANGE;
-    n = P->half.n_targets;
-    if (n > 0 && out == NULL) return SPH_ENULL;
-    if (P->half.offset[n] > 0 && (to_i == NULL || to_j == NULL)) return SPH_ENULL;
-#ifdef _OPENMP
-#pragma omp parallel for schedule(static) if (n >= 2048)
-#endif
-    for (i = 0; i < n; ++i) {
-        sph_real s[16];
-        int a;
-        sph__pairs_sum(P, ncomp, to_i, to_j, i, s);
-        for (a = 0; a < ncomp; ++a) out[(ptrdiff_t)ncomp * i + a] = s[a];
-    }
-    return SPH_OK;
+    return sph__pairs_reduce(P, ncomp, 0, to_i, to_j, out);
+}
+
+/* (H8) with the rows summed by the caller: out[ncomp i + a] holds on entry
+ * particle i's own share, the terms a pair loop would store at to_i[k] for
+ * the pairs k of row i added in row order from 0 (the loop adds them as it
+ * goes, in registers); to_j's slots of i are then added in order, so that
+ * out equals sph_pairs_reduce's bit for bit and the to_i buffer, half of a
+ * pair-once loop's memory traffic, is never written. Checks and
+ * parallelism as sph_pairs_reduce. */
+SPH_API int sph_pairs_reduce_rows(const sph_pairs *P, int ncomp, const sph_real *to_j, sph_real *out)
+{
+    return sph__pairs_reduce(P, ncomp, 1, NULL, to_j, out);
 }
 
 /* (H5), (H6) pair-once over the half list of sph_pairs_build (the views
