@@ -208,11 +208,14 @@
  *   sph_gradh_forces(c, v, h, A, dvdt, dudt)     (H5), (H6), gather form
  *   sph_pairs_build(full, offset, index, cap, t_offset, t_slot, &pairs, &P)  half list + transpose (H8)
  *   sph_pairs_reduce(&P, ncomp, to_i, to_j, out) per-particle sums of per-pair terms (H8)
+ *   sph_pairs_reduce_rows(&P, ncomp, to_j, out)  the same, out holding the rows' own sums on entry
  *   sph_pairs_buffer_len(ncomp, pairs)           reals of the two per-pair buffers of sph_pairs_reduce
  *   sph_gradh_pairs_buffer_len(dim, pairs)       reals of the buffer of sph_gradh_forces_pairs
  *   sph_gradh_forces_pairs(c, &P, v, h, A, buf, buf_len, dvdt, dudt)  (H5), (H6), pair-once
  *   sph_batch_source(&S, k, dim, list, box, x, h)  checks a list once for the batch fills
+ *   sph_batch_select(&S, what)                   SPH_BATCH_W, SPH_BATCH_F, both (default) or neither
  *   sph_batch_fill(&S, i, &next, &b)             next SPH_BATCH pairs of row i: j, k, dx, r, W, F at h_i, h_j
+ *   sph_batch_sqrt(v)                            v[l] = sqrt(v[l]) over the lanes, in vector registers
  *
  * ==== EQUATION LABELS (comments cite docs/ by these) ========================
  *   (K1)-(K8)   kernel quantities, docs/kernels.md section 1: W, F, dW/dr,
@@ -354,6 +357,87 @@ SPH_API sph_real sph__floor(sph_real x)
 /* 1 when x is finite (neither NaN nor +-Inf), without isfinite's double promotion. */
 SPH_API int sph__finite(sph_real x) { return x >= -SPH__REAL_MAX && x <= SPH__REAL_MAX; }
 
+/* r[0..n) = sqrt(r[0..n)), n a multiple of 8 (zero padded): IEEE square roots,
+ * bit for bit those of sph__sqrt, without the errno test that keeps compilers
+ * from vectorising sqrt() (the operators of section 6, sph_batch_fill).
+ * SPH_NO_INTRINSICS selects the portable loop. */
+SPH__INLINE void sph__sqrt_chunk(sph_real *r, int n)
+{
+    int k;
+#if SPH__SQRT_SIMD == 2
+    if (sizeof(sph_real) == sizeof(double)) {
+        for (k = 0; k < n; k += 4)
+            _mm256_storeu_pd((double *)r + k, _mm256_sqrt_pd(_mm256_loadu_pd((const double *)r + k)));
+    } else {
+        for (k = 0; k < n; k += 8)
+            _mm256_storeu_ps((float *)r + k, _mm256_sqrt_ps(_mm256_loadu_ps((const float *)r + k)));
+    }
+#elif SPH__SQRT_SIMD == 1
+    if (sizeof(sph_real) == sizeof(double)) {
+        for (k = 0; k < n; k += 2)
+            _mm_storeu_pd((double *)r + k, _mm_sqrt_pd(_mm_loadu_pd((const double *)r + k)));
+    } else {
+        for (k = 0; k < n; k += 4)
+            _mm_storeu_ps((float *)r + k, _mm_sqrt_ps(_mm_loadu_ps((const float *)r + k)));
+    }
+#else
+    for (k = 0; k < n; ++k) r[k] = sph__sqrt(r[k]);
+#endif
+}
+
+/* e[0..n) -= L floor(e[0..n) / L + 1/2) with 1/L given: sph__pair's minimum
+ * image, bit for bit, in vector registers (AVX: its vector floor; SSE2: by
+ * the int32 conversion) where the compilers leave floor() in a loop scalar
+ * (the operators of section 6, sph_batch_fill). */
+SPH__INLINE void sph__image_chunk(sph_real *e, int n, sph_real L, sph_real iL)
+{
+    int k = 0;
+#if SPH__SQRT_SIMD == 2
+    if (sizeof(sph_real) == sizeof(double)) {
+        const __m256d vL = _mm256_set1_pd((double)L), viL = _mm256_set1_pd((double)iL), h = _mm256_set1_pd(0.5);
+        for (; k + 4 <= n; k += 4) {
+            const __m256d v = _mm256_loadu_pd((const double *)e + k);
+            const __m256d f = _mm256_floor_pd(_mm256_add_pd(_mm256_mul_pd(v, viL), h));
+            _mm256_storeu_pd((double *)e + k, _mm256_sub_pd(v, _mm256_mul_pd(vL, f)));
+        }
+    } else {
+        const __m256 vL = _mm256_set1_ps((float)L), viL = _mm256_set1_ps((float)iL), h = _mm256_set1_ps(0.5f);
+        for (; k + 8 <= n; k += 8) {
+            const __m256 v = _mm256_loadu_ps((const float *)e + k);
+            const __m256 f = _mm256_floor_ps(_mm256_add_ps(_mm256_mul_ps(v, viL), h));
+            _mm256_storeu_ps((float *)e + k, _mm256_sub_ps(v, _mm256_mul_ps(vL, f)));
+        }
+    }
+#elif SPH__SQRT_SIMD == 1
+    /* SSE2 has no vector floor: floor(t) = trunc(t) - (trunc(t) > t), trunc by
+     * the conversion to int32, where |t| < 2^31 in every lane (t = -0 never
+     * occurs: t = x + 1/2); otherwise the scalar loop below */
+    if (sizeof(sph_real) == sizeof(double)) {
+        const __m128d vL = _mm_set1_pd((double)L), viL = _mm_set1_pd((double)iL), h = _mm_set1_pd(0.5);
+        const __m128d one = _mm_set1_pd(1.0), big = _mm_set1_pd(2147483648.0), sgn = _mm_set1_pd(-0.0);
+        for (; k + 2 <= n; k += 2) {
+            const __m128d v = _mm_loadu_pd((const double *)e + k), t = _mm_add_pd(_mm_mul_pd(v, viL), h);
+            __m128d f;
+            if (_mm_movemask_pd(_mm_cmpge_pd(_mm_andnot_pd(sgn, t), big)) != 0) break;
+            f = _mm_cvtepi32_pd(_mm_cvttpd_epi32(t));
+            f = _mm_sub_pd(f, _mm_and_pd(_mm_cmpgt_pd(f, t), one));
+            _mm_storeu_pd((double *)e + k, _mm_sub_pd(v, _mm_mul_pd(vL, f)));
+        }
+    } else {
+        const __m128 vL = _mm_set1_ps((float)L), viL = _mm_set1_ps((float)iL), h = _mm_set1_ps(0.5f);
+        const __m128 one = _mm_set1_ps(1.0f), big = _mm_set1_ps(2147483648.0f), sgn = _mm_set1_ps(-0.0f);
+        for (; k + 4 <= n; k += 4) {
+            const __m128 v = _mm_loadu_ps((const float *)e + k), t = _mm_add_ps(_mm_mul_ps(v, viL), h);
+            __m128 f;
+            if (_mm_movemask_ps(_mm_cmpge_ps(_mm_andnot_ps(sgn, t), big)) != 0) break;
+            f = _mm_cvtepi32_ps(_mm_cvttps_epi32(t));
+            f = _mm_sub_ps(f, _mm_and_ps(_mm_cmpgt_ps(f, t), one));
+            _mm_storeu_ps((float *)e + k, _mm_sub_ps(v, _mm_mul_ps(vL, f)));
+        }
+    }
+#endif
+    for (; k < n; ++k) e[k] -= L * sph__floor(e[k] * iL + (sph_real)0.5);
+}
 
 /* ======================================================================== */
 /* 2. Status codes                                                           */
@@ -749,14 +833,17 @@ SPH__INLINE void sph__pform_lanes(const sph__pform *f, const sph_real *q, sph_re
 
 /* (K1), (K2) over the lanes: w[l] = w(q[l]) and g[l] = w'(q[l]) / q[l] as
  * sph__nshape_w and sph__nshape_g give them, bit for bit: every piece
- * evaluated, the one holding q selected, 0 from kappa on; branch-free. */
+ * evaluated, the one holding q selected, 0 from kappa on; branch-free.
+ * w or g NULL: that one is not evaluated. */
 SPH__INLINE void sph__nshape_wg_lanes(const sph__nshape *s, const sph_real *q, sph_real *w, sph_real *g)
 {
     sph_real x[SPH_BATCH];
     const int np = s->npiece < SPH__PIECES ? s->npiece : SPH__PIECES;
+    const sph_real kappa = s->kappa;
     int G, p, l;
     for (G = 0; G < 2; ++G) {
         sph_real *v = G == 0 ? w : g;
+        if (v == NULL) continue;
         sph__pform_lanes(sph__nshape_form(s, 0, G), q, v);
         for (p = 1; p < np; ++p) {
             const sph_real lo = s->lo[p];
@@ -764,16 +851,15 @@ SPH__INLINE void sph__nshape_wg_lanes(const sph__nshape *s, const sph_real *q, s
             SPH__LANES
             for (l = 0; l < SPH_BATCH; ++l) v[l] = q[l] >= lo ? x[l] : v[l];
         }
-    }
-    if (np > 1) {
-        const sph_real lo = s->lo[1];
+        if (G == 1 && np > 1) {
+            const sph_real lo = s->lo[1];
+            SPH__LANES
+            for (l = 0; l < SPH_BATCH; ++l) x[l] = q[l] >= lo ? q[l] : 1;
+            SPH__LANES /* apart: a division under a select stays scalar (gcc -O2) */
+            for (l = 0; l < SPH_BATCH; ++l) v[l] /= x[l];
+        }
         SPH__LANES
-        for (l = 0; l < SPH_BATCH; ++l) g[l] /= q[l] >= lo ? q[l] : 1;
-    }
-    SPH__LANES
-    for (l = 0; l < SPH_BATCH; ++l) {
-        w[l] = q[l] < s->kappa ? w[l] : 0;
-        g[l] = q[l] < s->kappa ? g[l] : 0;
+        for (l = 0; l < SPH_BATCH; ++l) v[l] = q[l] < kappa ? v[l] : 0;
     }
 }
 
@@ -1940,59 +2026,6 @@ typedef struct {
     sph_real u[3][SPH__CHUNK];  /* scratch: v_j - v_i (divergence, curl) */
     sph_idx j[SPH__CHUNK];
 } sph__chunk;
-
-/* r[0..n) = sqrt(r[0..n)), n a multiple of 8 (zero padded): IEEE square roots,
- * bit for bit those of sph__sqrt, without the errno test that keeps compilers
- * from vectorising sqrt(). SPH_NO_INTRINSICS selects the portable loop. */
-SPH__INLINE void sph__sqrt_chunk(sph_real *r, int n)
-{
-    int k;
-#if SPH__SQRT_SIMD == 2
-    if (sizeof(sph_real) == sizeof(double)) {
-        for (k = 0; k < n; k += 4)
-            _mm256_storeu_pd((double *)r + k, _mm256_sqrt_pd(_mm256_loadu_pd((const double *)r + k)));
-    } else {
-        for (k = 0; k < n; k += 8)
-            _mm256_storeu_ps((float *)r + k, _mm256_sqrt_ps(_mm256_loadu_ps((const float *)r + k)));
-    }
-#elif SPH__SQRT_SIMD == 1
-    if (sizeof(sph_real) == sizeof(double)) {
-        for (k = 0; k < n; k += 2)
-            _mm_storeu_pd((double *)r + k, _mm_sqrt_pd(_mm_loadu_pd((const double *)r + k)));
-    } else {
-        for (k = 0; k < n; k += 4)
-            _mm_storeu_ps((float *)r + k, _mm_sqrt_ps(_mm_loadu_ps((const float *)r + k)));
-    }
-#else
-    for (k = 0; k < n; ++k) r[k] = sph__sqrt(r[k]);
-#endif
-}
-
-/* e[0..n) -= L floor(e[0..n) / L + 1/2) with 1/L given: sph__pair's minimum
- * image, bit for bit, in vector registers where AVX has a vector floor (the
- * compilers leave floor() in a loop scalar). */
-SPH__INLINE void sph__image_chunk(sph_real *e, int n, sph_real L, sph_real iL)
-{
-    int k = 0;
-#if SPH__SQRT_SIMD == 2
-    if (sizeof(sph_real) == sizeof(double)) {
-        const __m256d vL = _mm256_set1_pd((double)L), viL = _mm256_set1_pd((double)iL), h = _mm256_set1_pd(0.5);
-        for (; k + 4 <= n; k += 4) {
-            const __m256d v = _mm256_loadu_pd((const double *)e + k);
-            const __m256d f = _mm256_floor_pd(_mm256_add_pd(_mm256_mul_pd(v, viL), h));
-            _mm256_storeu_pd((double *)e + k, _mm256_sub_pd(v, _mm256_mul_pd(vL, f)));
-        }
-    } else {
-        const __m256 vL = _mm256_set1_ps((float)L), viL = _mm256_set1_ps((float)iL), h = _mm256_set1_ps(0.5f);
-        for (; k + 8 <= n; k += 8) {
-            const __m256 v = _mm256_loadu_ps((const float *)e + k);
-            const __m256 f = _mm256_floor_ps(_mm256_add_ps(_mm256_mul_ps(v, viL), h));
-            _mm256_storeu_ps((float *)e + k, _mm256_sub_ps(v, _mm256_mul_ps(vL, f)));
-        }
-    }
-#endif
-    for (; k < n; ++k) e[k] -= L * sph__floor(e[k] * iL + (sph_real)0.5);
-}
 
 /* One axis of a chunk: d[k] = x_i - x_j of the n sources j[k] (positions x,
  * stride s), with the minimum image where the axis has a period L, and
@@ -5813,17 +5846,43 @@ SPH_API sph_off sph_gradh_pairs_buffer_len(int dim, sph_off pairs)
 }
 
 /* (H8) for particle i: s[a] = the sum over the pairs k of row i of
- * to_i[ncomp k + a], then over the slots t of i of to_j[ncomp t + a]. */
+ * to_i[ncomp k + a], then over the slots t of i of to_j[ncomp t + a]; with
+ * to_i NULL, s[a] holds the row's sum on entry and the slots are added. */
 SPH__INLINE void sph__pairs_sum(const sph_pairs *P, int ncomp, const sph_real *to_i, const sph_real *to_j, sph_idx i,
                                 sph_real *s)
 {
     sph_off k, t;
     int a;
-    for (a = 0; a < ncomp; ++a) s[a] = 0;
-    for (k = P->half.offset[i]; k < P->half.offset[i + 1]; ++k)
+    if (to_i != NULL)
+        for (a = 0; a < ncomp; ++a) s[a] = 0;
+    for (k = P->half.offset[i]; to_i != NULL && k < P->half.offset[i + 1]; ++k)
         for (a = 0; a < ncomp; ++a) s[a] += to_i[(ptrdiff_t)ncomp * k + a];
     for (t = P->t_offset[i]; t < P->t_offset[i + 1]; ++t)
         for (a = 0; a < ncomp; ++a) s[a] += to_j[(ptrdiff_t)ncomp * t + a];
+}
+
+/* sph_pairs_reduce (rows 0) and sph_pairs_reduce_rows (rows 1: to_i not
+ * read, out holding the rows' sums on entry). */
+SPH__INLINE int sph__pairs_reduce(const sph_pairs *P, int ncomp, int rows, const sph_real *to_i, const sph_real *to_j,
+                                  sph_real *out)
+{
+    sph_idx i, n;
+    if (P == NULL || P->half.offset == NULL || P->t_offset == NULL) return SPH_ENULL;
+    if (ncomp < 1 || ncomp > 16) return SPH_ERANGE;
+    n = P->half.n_targets;
+    if (n > 0 && out == NULL) return SPH_ENULL;
+    if (P->half.offset[n] > 0 && ((!rows && to_i == NULL) || to_j == NULL)) return SPH_ENULL;
+#ifdef _OPENMP
+#pragma omp parallel for schedule(static) if (n >= 2048)
+#endif
+    for (i = 0; i < n; ++i) {
+        sph_real s[16];
+        int a;
+        for (a = 0; a < ncomp; ++a) s[a] = rows ? out[(ptrdiff_t)ncomp * i + a] : 0;
+        sph__pairs_sum(P, ncomp, rows ? NULL : to_i, to_j, i, s);
+        for (a = 0; a < ncomp; ++a) out[(ptrdiff_t)ncomp * i + a] = s[a];
+    }
+    return SPH_OK;
 }
 
 /* (H8) out[ncomp i + a] = sum over the pairs k of row i of to_i[ncomp k + a]
@@ -5836,22 +5895,19 @@ SPH__INLINE void sph__pairs_sum(const sph_pairs *P, int ncomp, const sph_real *t
  * Parallel over particles; bitwise the same for any thread count. */
 SPH_API int sph_pairs_reduce(const sph_pairs *P, int ncomp, const sph_real *to_i, const sph_real *to_j, sph_real *out)
 {
-    sph_idx i, n;
-    if (P == NULL || P->half.offset == NULL || P->t_offset == NULL) return SPH_ENULL;
-    if (ncomp < 1 || ncomp > 16) return SPH_ERANGE;
-    n = P->half.n_targets;
-    if (n > 0 && out == NULL) return SPH_ENULL;
-    if (P->half.offset[n] > 0 && (to_i == NULL || to_j == NULL)) return SPH_ENULL;
-#ifdef _OPENMP
-#pragma omp parallel for schedule(static) if (n >= 2048)
-#endif
-    for (i = 0; i < n; ++i) {
-        sph_real s[16];
-        int a;
-        sph__pairs_sum(P, ncomp, to_i, to_j, i, s);
-        for (a = 0; a < ncomp; ++a) out[(ptrdiff_t)ncomp * i + a] = s[a];
-    }
-    return SPH_OK;
+    return sph__pairs_reduce(P, ncomp, 0, to_i, to_j, out);
+}
+
+/* (H8) with the rows summed by the caller: out[ncomp i + a] holds on entry
+ * particle i's own share, the terms a pair loop would store at to_i[k] for
+ * the pairs k of row i added in row order from 0 (the loop adds them as it
+ * goes, in registers); to_j's slots of i are then added in order, so that
+ * out equals sph_pairs_reduce's bit for bit and the to_i buffer, half of a
+ * pair-once loop's memory traffic, is never written. Checks and
+ * parallelism as sph_pairs_reduce. */
+SPH_API int sph_pairs_reduce_rows(const sph_pairs *P, int ncomp, const sph_real *to_j, sph_real *out)
+{
+    return sph__pairs_reduce(P, ncomp, 1, NULL, to_j, out);
 }
 
 /* (H5), (H6) pair-once over the half list of sph_pairs_build (the views
@@ -5957,7 +6013,11 @@ typedef struct {
     sph_real alpha;          /* alpha_d */
     const sph__nshape *shape;
     sph__period P;           /* the box of sph_batch_source or the list's */
+    int what;                /* SPH_BATCH_W | SPH_BATCH_F: what the fills compute (sph_batch_select) */
 } sph_batch_src;
+
+/* What sph_batch_fill computes besides j, k, x_ij and r (sph_batch_select). */
+enum { SPH_BATCH_W = 1, SPH_BATCH_F = 2 };
 
 /* The source of sph_batch_fill for kernel k in dim dimensions over list
  * (targets = sources), positions x (dim components) and smoothing lengths h
@@ -6002,8 +6062,35 @@ SPH_API int sph_batch_source(sph_batch_src *b, sph_kernel k, int dim, const sph_
     b->alpha = sph__kdims[k][dim - 1].alpha;
     b->shape = &sph__nshapes[sph__kdims[k][dim - 1].shape];
     b->P = sph__period_of(box, list, dim);
+    b->what = SPH_BATCH_W | SPH_BATCH_F;
     b->list = list;
     return SPH_OK;
+}
+
+/* Which kernel values the fills of S compute: what = SPH_BATCH_W (W_i, W_j),
+ * SPH_BATCH_F (F_i, F_j), both (the default of sph_batch_source) or 0; the
+ * arrays not asked for are zero. A pair loop that needs F alone (forces,
+ * energy, div v) saves half the kernel evaluations. SPH_ENULL (S NULL),
+ * SPH_ERANGE (other bits set: S unchanged); else SPH_OK. */
+SPH_API int sph_batch_select(sph_batch_src *S, int what)
+{
+    if (S == NULL) return SPH_ENULL;
+    if ((what & ~(SPH_BATCH_W | SPH_BATCH_F)) != 0) return SPH_ERANGE;
+    S->what = what;
+    return SPH_OK;
+}
+
+/* v[l] = sqrt(v[l]) over the SPH_BATCH lanes of a caller's pair loop: IEEE
+ * square roots in vector registers, where sqrt() in a loop stays scalar
+ * unless errno is off (-fno-math-errno). */
+SPH_API void sph_batch_sqrt(sph_real *v)
+{
+    int l;
+    if (SPH_BATCH % 8 == 0) {
+        sph__sqrt_chunk(v, SPH_BATCH);
+    } else {
+        for (l = 0; l < SPH_BATCH; ++l) v[l] = sph__sqrt(v[l]);
+    }
 }
 
 /* (O0), (O1), (K1), (K2) for the next pairs of row i: fills *b with the
@@ -6017,15 +6104,15 @@ SPH_API int sph_batch_source(sph_batch_src *b, sph_kernel k, int dim, const sph_
  * include them. */
 SPH_API int sph_batch_fill(const sph_batch_src *S, sph_idx i, sph_off *next, sph_batch *b)
 {
-    sph_real xi[3], r2[SPH_BATCH], qi[SPH_BATCH], qj[SPH_BATCH], hjinv[SPH_BATCH], hiinv, alpha;
-    sph_real Wi[SPH_BATCH], Fi[SPH_BATCH], Wj[SPH_BATCH], Fj[SPH_BATCH], r[SPH_BATCH];
+    sph_real xi[3], r[SPH_BATCH], qi[SPH_BATCH], qj[SPH_BATCH], hjinv[SPH_BATCH], hiinv, alpha;
+    sph_real Wi[SPH_BATCH], Fi[SPH_BATCH], Wj[SPH_BATCH], Fj[SPH_BATCH];
     sph_real xj[3][SPH_BATCH], hj[SPH_BATCH]; /* x_j, h_j gathered into contiguous lanes */
     sph_idx J[SPH_BATCH];
     const sph_neighbours *L;
     const sph_real *hp;
     ptrdiff_t hs, xs;
     sph_off o0, left;
-    int n, l, a, d, D;
+    int n, l, a, d, D, wW, wF;
     if (b == NULL) return 0;
     b->n = 0;
     if (S == NULL || S->list == NULL || next == NULL || *next < 0 || i < 0 || i >= S->list->n_targets) return 0;
@@ -6036,6 +6123,7 @@ SPH_API int sph_batch_fill(const sph_batch_src *S, sph_idx i, sph_off *next, sph
     n = left < SPH_BATCH ? (int)left : SPH_BATCH;
     *next += n;
     D = S->dim;
+    wW = (S->what & SPH_BATCH_W) != 0, wF = (S->what & SPH_BATCH_F) != 0;
     hp = S->h.p[0], hs = S->h.stride, xs = S->x.stride;
     for (l = 0; l < n; ++l) J[l] = L->index[o0 + l];
     for (; l < SPH_BATCH; ++l) J[l] = i;
@@ -6044,7 +6132,7 @@ SPH_API int sph_batch_fill(const sph_batch_src *S, sph_idx i, sph_off *next, sph
         for (a = 0; a < D; ++a) xj[a][l] = S->x.p[a][(ptrdiff_t)J[l] * xs];
     }
     SPH__LANES
-    for (l = 0; l < SPH_BATCH; ++l) r2[l] = 0;
+    for (l = 0; l < SPH_BATCH; ++l) r[l] = 0;
     sph__h_xi(S->x, D, i, xi);
     for (a = 0; a < 3; ++a) {
         const sph_real *xa = xj[a], xia = xi[a], La = S->P.L[a], iLa = S->P.invL[a];
@@ -6054,16 +6142,15 @@ SPH_API int sph_batch_fill(const sph_batch_src *S, sph_idx i, sph_off *next, sph
             for (l = 0; l < SPH_BATCH; ++l) b->dx[a][l] = 0;
             continue;
         }
-        for (l = 0; l < SPH_BATCH; ++l) { /* unrolled (no SPH__LANES: faster so); the image of sph__h_dx,
-                                              La = iLa = 0 off the periodic axes leaves e */
-            const sph_real e = xia - xa[l];
-            dx[l] = e - La * sph__floor(e * iLa + (sph_real)0.5);
-            r2[l] += dx[l] * dx[l];
-        }
+        SPH__LANES
+        for (l = 0; l < SPH_BATCH; ++l) dx[l] = xia - xa[l];
+        if (La != 0) sph__image_chunk(dx, SPH_BATCH, La, iLa); /* the image of sph__h_dx */
+        SPH__LANES
+        for (l = 0; l < SPH_BATCH; ++l) r[l] += dx[l] * dx[l];
         SPH__LANES
         for (l = 0; l < SPH_BATCH; ++l) b->dx[a][l] = dx[l];
     }
-    for (l = 0; l < SPH_BATCH; ++l) r[l] = sph__sqrt(r2[l]); /* scalar where sqrt may set errno */
+    sph_batch_sqrt(r); /* r^2, then r */
     hiinv = 1 / hp[(ptrdiff_t)i * hs];
     SPH__LANES
     for (l = 0; l < SPH_BATCH; ++l) {
@@ -6071,29 +6158,45 @@ SPH_API int sph_batch_fill(const sph_batch_src *S, sph_idx i, sph_off *next, sph
         qi[l] = r[l] * hiinv;
         qj[l] = r[l] * hjinv[l];
     }
-    sph__nshape_wg_lanes(S->shape, qi, Wi, Fi);
-    sph__nshape_wg_lanes(S->shape, qj, Wj, Fj);
     alpha = S->alpha;
-    SPH__LANES
-    for (l = 0; l < SPH_BATCH; ++l) { /* sph__hpow(alpha w, 1/h, dim), sph__hpow(alpha g, 1/h, dim + 2) */
-        Wi[l] *= alpha, Fi[l] *= alpha, Wj[l] *= alpha, Fj[l] *= alpha;
-    }
-    for (d = 0; d < D; ++d) {
+    if (wW) { /* sph__hpow(alpha w, 1/h, dim) */
+        sph__nshape_wg_lanes(S->shape, qi, Wi, NULL);
+        sph__nshape_wg_lanes(S->shape, qj, Wj, NULL);
         SPH__LANES
-        for (l = 0; l < SPH_BATCH; ++l) Wi[l] *= hiinv, Wj[l] *= hjinv[l];
+        for (l = 0; l < SPH_BATCH; ++l) Wi[l] *= alpha, Wj[l] *= alpha;
+        for (d = 0; d < D; ++d) {
+            SPH__LANES
+            for (l = 0; l < SPH_BATCH; ++l) Wi[l] *= hiinv, Wj[l] *= hjinv[l];
+        }
     }
-    for (d = 0; d < D + 2; ++d) {
+    if (wF) { /* sph__hpow(alpha g, 1/h, dim + 2) */
+        sph__nshape_wg_lanes(S->shape, qi, NULL, Fi);
+        sph__nshape_wg_lanes(S->shape, qj, NULL, Fj);
         SPH__LANES
-        for (l = 0; l < SPH_BATCH; ++l) Fi[l] *= hiinv, Fj[l] *= hjinv[l];
+        for (l = 0; l < SPH_BATCH; ++l) Fi[l] *= alpha, Fj[l] *= alpha;
+        for (d = 0; d < D + 2; ++d) {
+            SPH__LANES
+            for (l = 0; l < SPH_BATCH; ++l) Fi[l] *= hiinv, Fj[l] *= hjinv[l];
+        }
+    }
+    if (!wW) {
+        SPH__LANES
+        for (l = 0; l < SPH_BATCH; ++l) Wi[l] = 0, Wj[l] = 0;
+    }
+    if (!wF) {
+        SPH__LANES
+        for (l = 0; l < SPH_BATCH; ++l) Fi[l] = 0, Fj[l] = 0;
     }
     SPH__LANES
     for (l = 0; l < SPH_BATCH; ++l) {
-        const int pad = l >= n;
         b->j[l] = J[l];
-        b->k[l] = pad ? -1 : o0 + l;
+        b->k[l] = o0 + l;
         b->r[l] = r[l];
-        b->W_i[l] = pad ? 0 : Wi[l], b->F_i[l] = pad ? 0 : Fi[l];
-        b->W_j[l] = pad ? 0 : Wj[l], b->F_j[l] = pad ? 0 : Fj[l];
+        b->W_i[l] = Wi[l], b->F_i[l] = Fi[l], b->W_j[l] = Wj[l], b->F_j[l] = Fj[l];
+    }
+    for (l = n; l < SPH_BATCH; ++l) { /* padding, apart: a select on l would keep the loop above scalar */
+        b->k[l] = -1;
+        b->W_i[l] = 0, b->F_i[l] = 0, b->W_j[l] = 0, b->F_j[l] = 0;
     }
     b->n = n;
     return n;

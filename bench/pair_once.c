@@ -16,10 +16,12 @@
  * forms: one pair at a time with the scalar pair terms (sph_kernel_f,
  * sph_pair_gradh_*, sph_pair_av_signal, sph_pair_av_apply, as sd_pair
  * writes it), and as a caller's loop over the lanes of sph_batch_fill
- * (docs/smoothing_length.md, "Pair batches"); both then reduced by
- * sph_pairs_reduce, and the largest difference of the two results printed.
- * Build also with -O3 -march=native (the lane loops then use the widest
- * vectors) and -fno-math-errno (sqrt in a lane loop vectorises only then).
+ * (docs/smoothing_length.md, "Pair batches"; F alone, sph_batch_select);
+ * both then reduced by sph_pairs_reduce, and the largest difference of the
+ * two results printed; the batch form again with i's share summed in the
+ * loop (sph_pairs_reduce_rows: no to_i buffer), which must equal it bit for
+ * bit; then the fill alone, F alone and W and F. Build also
+ * with -O3 -march=native (the lane loops then use the widest vectors).
  *
  * 3-D perturbed lattice in a periodic unit box, h solved by sph_h_solve
  * (eta 1.2, cubic spline: about 58 neighbours), one symmetric list at
@@ -107,10 +109,15 @@ static void scalar_pair(const fields *f, sph_idx i, sph_idx j, sph_real *ti, sph
     *vs = s > *vs ? s : *vs;
 }
 
-/* The same equations on batches: the arithmetic of each lane in one plain
- * loop over the lanes (it vectorises), then the stores to the two buffers. */
+/* The same equations on batches, in three plain loops over all SPH_BATCH
+ * lanes (padding lanes compute harmless zeros): the partner's fields
+ * gathered into lane arrays, then the arithmetic (it vectorises: no
+ * gathers, branches or scalar sqrt inside), then the stores, to_j[t_slot[k]]
+ * scattered and i's share either to to_i[k] (contiguous; sph_pairs_reduce
+ * then) or, with rows != NULL, added up in row order into rows[5 i ..]
+ * (sph_pairs_reduce_rows then; to_i unused). */
 static sph_real batch_rows(const fields *f, const sph_batch_src *S, const sph_pairs *pr, sph_real *to_i,
-                           sph_real *to_j)
+                           sph_real *to_j, sph_real *rows)
 {
     const sph_idx n = pr->half.n_targets;
     const sph_real *m = f->m, *A = f->A, *rho = f->rho, *cs = f->cs, *u = f->u, *p = f->p, *al = f->alpha, *v = f->v;
@@ -120,34 +127,62 @@ static sph_real batch_rows(const fields *f, const sph_batch_src *S, const sph_pa
     for (i = 0; i < n; ++i) {
         const sph_real mi = m[i], Ai = A[i], rhoi = rho[i], ci = cs[i], ui = u[i], pi = p[i];
         const sph_real ai = al[i], vi0 = v[3 * i], vi1 = v[3 * i + 1], vi2 = v[3 * i + 2];
+        int c;
+        sph_real si[5] = {0, 0, 0, 0, 0};
         sph_batch b;
         sph_off next = 0;
         while (sph_batch_fill(S, i, &next, &b) > 0) {
+            sph_real mj[SPH_BATCH], Aj[SPH_BATCH], rhoj[SPH_BATCH], cj[SPH_BATCH], uj[SPH_BATCH], pj[SPH_BATCH];
+            sph_real aj[SPH_BATCH], vj[3][SPH_BATCH], vu[SPH_BATCH], rhob[SPH_BATCH], r1[SPH_BATCH];
             sph_real gi[SPH_BATCH], gj[SPH_BATCH], ei[SPH_BATCH], ej[SPH_BATCH], di[SPH_BATCH], dj[SPH_BATCH], vs[SPH_BATCH];
-            int l, c;
-            for (l = 0; l < b.n; ++l) {
+            sph_real *ti = to_i + 5 * b.k[0]; /* (to_i unused with rows) */
+            int l;
+            for (l = 0; l < SPH_BATCH; ++l) {
                 const sph_idx j = b.j[l];
-                const sph_real mj = m[j], dx0 = b.dx[0][l], dx1 = b.dx[1][l], dx2 = b.dx[2][l], r = b.r[l];
-                const sph_real e = (vi0 - v[3 * j]) * dx0 + (vi1 - v[3 * j + 1]) * dx1 + (vi2 - v[3 * j + 2]) * dx2;
-                const sph_real Fi = b.F_i[l], Fj = b.F_j[l], Fb = (Fi + Fj) / 2, rhob = (rhoi + rho[j]) / 2;
-                const sph_real w = (e < 0 ? e : 0) / (r > 0 ? r : 1), cj = cs[j]; /* no division under a condition: */
-                const sph_real vsig = ci + cj - beta * w;
-                const sph_real Pi = -((ai + al[j]) / 2 / 2) * vsig * w / rhob; /* the vectoriser would need masks */
-                const sph_real cf = Ai * Fi + A[j] * Fj + Pi * Fb;
-                const sph_real cond = alpha_u * sqrt(fabs(pi - p[j]) / rhob) * (ui - u[j]) * Fb * r / rhob;
-                gi[l] = mj * cf, gj[l] = mi * cf; /* dv_i/dt = -g_i x_ij, dv_j/dt = g_j x_ij */
-                ei[l] = mj * (Ai * Fi * e + Pi * Fb * e / 2 + cond);
-                ej[l] = mi * (A[j] * Fj * e + Pi * Fb * e / 2 - cond);
-                di[l] = mj * e * Fi, dj[l] = mi * e * Fj;
+                mj[l] = m[j], Aj[l] = A[j], rhoj[l] = rho[j], cj[l] = cs[j], uj[l] = u[j], pj[l] = p[j], aj[l] = al[j];
+                vj[0][l] = v[3 * j], vj[1][l] = v[3 * j + 1], vj[2][l] = v[3 * j + 2];
+            }
+            for (l = 0; l < SPH_BATCH; ++l) {
+                rhob[l] = (rhoi + rhoj[l]) / 2;
+                vu[l] = fabs(pi - pj[l]) / rhob[l];
+                r1[l] = b.r[l] > 0 ? b.r[l] : 1; /* here: a division by a select stays scalar (gcc -O2) */
+            }
+            sph_batch_sqrt(vu); /* sqrt(|p_i - p_j| / rho_ij) */
+            for (l = 0; l < SPH_BATCH; ++l) {
+                const sph_real dx0 = b.dx[0][l], dx1 = b.dx[1][l], dx2 = b.dx[2][l], r = b.r[l];
+                const sph_real e = (vi0 - vj[0][l]) * dx0 + (vi1 - vj[1][l]) * dx1 + (vi2 - vj[2][l]) * dx2;
+                const sph_real Fi = b.F_i[l], Fj = b.F_j[l], Fb = (Fi + Fj) / 2;
+                const sph_real w = (e < 0 ? e : 0) / r1[l]; /* no division under a condition: */
+                const sph_real vsig = ci + cj[l] - beta * w;
+                const sph_real Pi = -((ai + aj[l]) / 2 / 2) * vsig * w / rhob[l]; /* the vectoriser would need masks */
+                const sph_real cf = Ai * Fi + Aj[l] * Fj + Pi * Fb;
+                const sph_real cond = alpha_u * vu[l] * (ui - uj[l]) * Fb * r / rhob[l];
+                gi[l] = mj[l] * cf, gj[l] = mi * cf; /* dv_i/dt = -g_i x_ij, dv_j/dt = g_j x_ij */
+                ei[l] = mj[l] * (Ai * Fi * e + Pi * Fb * e / 2 + cond);
+                ej[l] = mi * (Aj[l] * Fj * e + Pi * Fb * e / 2 - cond);
+                di[l] = mj[l] * e * Fi, dj[l] = mi * e * Fj;
                 vs[l] = vsig; /* the largest after the loop: a max reduction here stops the vectoriser */
             }
-            for (l = 0; l < b.n; ++l) {
-                sph_real *ti = to_i + 5 * b.k[l], *tj = to_j + 5 * pr->t_slot[b.k[l]];
-                for (c = 0; c < 3; ++c) ti[c] = -gi[l] * b.dx[c][l], tj[c] = gj[l] * b.dx[c][l];
-                ti[3] = ei[l], tj[3] = ej[l], ti[4] = di[l], tj[4] = dj[l];
-                vmax = vs[l] > vmax ? vs[l] : vmax;
+            if (rows != NULL) { /* i's share in registers, in the order sph_pairs_reduce adds to_i */
+                for (l = 0; l < b.n; ++l) {
+                    for (c = 0; c < 3; ++c) si[c] += -gi[l] * b.dx[c][l];
+                    si[3] += ei[l], si[4] += di[l];
+                }
+            } else {
+                for (l = 0; l < b.n; ++l) { /* to_i[k]: the batch's pairs are consecutive in the half list */
+                    for (c = 0; c < 3; ++c) ti[5 * l + c] = -gi[l] * b.dx[c][l];
+                    ti[5 * l + 3] = ei[l], ti[5 * l + 4] = di[l];
+                }
             }
+            for (l = 0; l < b.n; ++l) {
+                sph_real *tj = to_j + 5 * pr->t_slot[b.k[l]];
+                for (c = 0; c < 3; ++c) tj[c] = gj[l] * b.dx[c][l];
+                tj[3] = ej[l], tj[4] = dj[l];
+            }
+            for (l = 0; l < b.n; ++l) vmax = vs[l] > vmax ? vs[l] : vmax;
         }
+        if (rows != NULL)
+            for (c = 0; c < 5; ++c) rows[5 * i + c] = si[c];
     }
     return vmax;
 }
@@ -157,7 +192,7 @@ int main(int argc, char **argv)
     const int side = argc > 1 ? atoi(argv[1]) : 40, reps = argc > 2 ? atoi(argv[2]) : 9;
     const int n = side * side * side;
     const double dx = 1.0 / side;
-    sph_real *x, *v, *m, *h, *hl, *rho, *om, *p, *A, *P, *dv, *du, *buf, *V, *u, *cs, *al, *t5, *f5[2];
+    sph_real *x, *v, *m, *h, *hl, *rho, *om, *p, *A, *P, *dv, *du, *buf, *V, *u, *cs, *al, *t5, *f5[3];
     sph_off *off = NULL, *hoff, *toff, *tpair, pairs;
     sph_idx *idx = NULL, *hidx;
     sph_box box = {{0, 0, 0}, {1, 1, 1}, {1, 1, 1}};
@@ -166,9 +201,9 @@ int main(int argc, char **argv)
     sph_hctx c;
     sph_hreport rep;
     tp_rng g = {7};
-    double *t[7], med[7], tb, diff = 0, fmax = 0, sink = 0;
-    sph_real vs[2] = {0, 0};
-    sph_batch_src bs;
+    double *t[9], med[9], tb, diff = 0, diff2 = 0, fmax = 0, sink = 0;
+    sph_real vs[3] = {0, 0, 0};
+    sph_batch_src bs, bw;
     fields fl;
     int i, r, st;
     if (side < 8 || side > 400 || reps < 1 || reps > 1000) {
@@ -185,10 +220,11 @@ int main(int argc, char **argv)
     u = malloc(sizeof(sph_real) * (size_t)n), cs = malloc(sizeof(sph_real) * (size_t)n);
     al = malloc(sizeof(sph_real) * (size_t)n);
     f5[0] = malloc(sizeof(sph_real) * 5 * (size_t)n), f5[1] = malloc(sizeof(sph_real) * 5 * (size_t)n);
-    for (i = 0; i < 7; ++i) t[i] = malloc(sizeof(double) * (size_t)reps);
-    if (!u || !cs || !al || !f5[0] || !f5[1]) return 1;
+    f5[2] = malloc(sizeof(sph_real) * 5 * (size_t)n);
+    for (i = 0; i < 9; ++i) t[i] = malloc(sizeof(double) * (size_t)reps);
+    if (!u || !cs || !al || !f5[0] || !f5[1] || !f5[2]) return 1;
     if (!x || !v || !m || !h || !hl || !rho || !om || !p || !A || !P || !V || !dv || !du) return 1;
-    for (i = 0; i < 7; ++i)
+    for (i = 0; i < 9; ++i)
         if (!t[i]) return 1;
     tp_lattice(3, side, dx, x);
     tp_perturb(3, n, 0.2 * dx, &g, x);
@@ -233,6 +269,9 @@ int main(int argc, char **argv)
     tb = tm_now() - tb;
     if (st != SPH_OK) return fprintf(stderr, "pairs: %s\n", sph_strerror(st)), 1;
     st = sph_batch_source(&bs, SPH_KERNEL_CUBIC, 3, &pr.half, &box, sph_view_interleaved(x, 3), sph_view_soa(h, NULL, NULL));
+    if (st == SPH_OK) /* W and F (the default), for the time of the fill alone */
+        st = sph_batch_source(&bw, SPH_KERNEL_CUBIC, 3, &pr.half, &box, sph_view_interleaved(x, 3), sph_view_soa(h, NULL, NULL));
+    if (st == SPH_OK) st = sph_batch_select(&bs, SPH_BATCH_F); /* the pair loop reads F only */
     if (st != SPH_OK) return fprintf(stderr, "batch source: %s\n", sph_strerror(st)), 1;
     fl.x = x, fl.v = v, fl.m = m, fl.h = h, fl.rho = rho, fl.A = A, fl.u = u, fl.p = p, fl.cs = cs, fl.alpha = al;
     fl.box = &box, fl.beta = 3, fl.alpha_u = 1;
@@ -264,22 +303,35 @@ int main(int argc, char **argv)
         }
         st |= sph_pairs_reduce(&pr, 5, t5, t5 + 5 * pairs, f5[0]);
         t4 = tm_now();
-        vs[1] = batch_rows(&fl, &bs, &pr, t5, t5 + 5 * pairs);
+        vs[1] = batch_rows(&fl, &bs, &pr, t5, t5 + 5 * pairs, NULL);
         st |= sph_pairs_reduce(&pr, 5, t5, t5 + 5 * pairs, f5[1]);
+        t5s = tm_now();
+        t[5][r] = t5s - t4;
+        vs[2] = batch_rows(&fl, &bs, &pr, NULL, t5 + 5 * pairs, f5[2]);
+        st |= sph_pairs_reduce_rows(&pr, 5, t5 + 5 * pairs, f5[2]);
+        t[8][r] = tm_now() - t5s;
         t5s = tm_now();
         if (st != SPH_OK) return fprintf(stderr, "forces: %s\n", sph_strerror(st)), 1;
         t[0][r] = t1 - t0, t[1][r] = t2 - t1, t[2][r] = t3 - t2, t[3][r] = (t1 - t0) / (t2 - t1);
-        t[4][r] = t4 - t3, t[5][r] = t5s - t4;
+        t[4][r] = t4 - t3;
         for (ii = 0; ii < n; ++ii) { /* sph_batch_fill alone: what every batch loop pays for its pairs */
             sph_batch bb;
             sph_off nx = 0;
-            while (sph_batch_fill(&bs, ii, &nx, &bb) > 0) sink += (double)bb.F_i[0] + (double)bb.W_j[bb.n - 1];
+            while (sph_batch_fill(&bs, ii, &nx, &bb) > 0) sink += (double)bb.F_i[0] + (double)bb.F_j[bb.n - 1];
         }
         t[6][r] = tm_now() - t5s;
+        t5s = tm_now();
+        for (ii = 0; ii < n; ++ii) {
+            sph_batch bb;
+            sph_off nx = 0;
+            while (sph_batch_fill(&bw, ii, &nx, &bb) > 0) sink += (double)bb.W_i[0] + (double)bb.F_j[bb.n - 1];
+        }
+        t[7][r] = tm_now() - t5s;
     }
-    for (i = 0; i < 7; ++i) med[i] = tm_median(t[i], reps);
+    for (i = 0; i < 9; ++i) med[i] = tm_median(t[i], reps);
     for (i = 0; i < 5 * n; ++i) fmax = fabs(f5[0][i]) > fmax ? fabs(f5[0][i]) : fmax;
     for (i = 0; i < 5 * n; ++i) diff = fabs(f5[1][i] - f5[0][i]) > diff ? fabs(f5[1][i] - f5[0][i]) : diff;
+    for (i = 0; i < 5 * n; ++i) diff2 += f5[2][i] != f5[1][i]; /* the two reductions: bit for bit */
     printf("%d particles, %ld pairs (i < j), %.1f neighbours per particle, %s, median of %d\n", n, (long)pairs,
            (double)off[n] / n, sizeof(sph_real) == sizeof(float) ? "float" : "double", reps);
     printf("  grad-h force + du/dt, gather    (sph_gradh_forces)        %7.2f ns/pair\n", 1e9 * med[0] / (double)pairs);
@@ -290,14 +342,18 @@ int main(int argc, char **argv)
     printf("    one pair at a time, scalar pair terms (sod_shock's sd_pair)  %7.2f ns/pair\n", 1e9 * med[4] / (double)pairs);
     printf("    lanes of sph_batch_fill, SPH_BATCH %2d                         %7.2f ns/pair (speed-up %.2f)\n", SPH_BATCH,
            1e9 * med[5] / (double)pairs, med[4] / med[5]);
-    printf("    of which sph_batch_fill alone (x_ij, r, W, F at h_i, h_j)   %7.2f ns/pair (checksum %.3g)\n",
-           1e9 * med[6] / (double)pairs, sink);
+    printf("    the same, i's share summed in the loop (sph_pairs_reduce_rows) %7.2f ns/pair (speed-up %.2f)\n",
+           1e9 * med[8] / (double)pairs, med[4] / med[8]);
+    printf("    of which sph_batch_fill alone (x_ij, r, F at h_i, h_j)      %7.2f ns/pair\n", 1e9 * med[6] / (double)pairs);
+    printf("    sph_batch_fill alone with W too (x_ij, r, W, F)              %7.2f ns/pair (checksum %.3g)\n",
+           1e9 * med[7] / (double)pairs, sink);
     printf("    largest |batch - scalar| / largest |value| %.2g, signal velocity %.17g vs %.17g\n", diff / fmax,
            (double)vs[1], (double)vs[0]);
+    printf("    values where the two batch forms differ: %.0f of %d (signal velocity %.17g)\n", diff2, 5 * n, (double)vs[2]);
     printf("  sph_pairs_build once per list                             %7.2f ns/pair\n", 1e9 * tb / (double)pairs);
     free(x), free(v), free(m), free(h), free(hl), free(rho), free(om), free(p), free(A), free(P), free(V), free(dv);
     free(du), free(off), free(idx), free(hoff), free(toff), free(hidx), free(tpair), free(buf);
-    free(u), free(cs), free(al), free(f5[0]), free(f5[1]), free(t5);
-    for (i = 0; i < 7; ++i) free(t[i]);
+    free(u), free(cs), free(al), free(f5[0]), free(f5[1]), free(f5[2]), free(t5);
+    for (i = 0; i < 9; ++i) free(t[i]);
     return 0;
 }

@@ -43,7 +43,17 @@ static int cc_host_density(void)
                              sph_out_interleaved(g, 3)) != SPH_OK || !(g[0] > 0))
         return 1;
     sph_hctx hc = sph_hctx_init(SPH_KERNEL_CUBIC, 3, &list, xv, sph_view_soa(m, NULL, NULL), 1);
-    return sph_h_solve(&hc, sph_out_soa(h, NULL, NULL), sph_out_soa(rho, NULL, NULL), sph_out_soa(om, NULL, NULL), NULL,
-                       NULL, NULL) == SPH_OK && rho[0] > 0 ? 0 : 1;
+    if (sph_h_solve(&hc, sph_out_soa(h, NULL, NULL), sph_out_soa(rho, NULL, NULL), sph_out_soa(om, NULL, NULL), NULL,
+                    NULL, NULL) != SPH_OK || !(rho[0] > 0))
+        return 1;
+    /* a pair batch with F alone and a lane square root: the lane loops a caller instantiates */
+    sph_batch_src bs;
+    sph_batch b;
+    sph_off next = 0;
+    if (sph_batch_source(&bs, SPH_KERNEL_CUBIC, 3, &list, NULL, xv, sph_view_soa(h, NULL, NULL)) != SPH_OK ||
+        sph_batch_select(&bs, SPH_BATCH_F) != SPH_OK || sph_batch_fill(&bs, 0, &next, &b) != 2)
+        return 1;
+    sph_batch_sqrt(b.r);
+    return b.r[0] + b.r[1] > 0 ? 0 : 1;
 }
 #endif

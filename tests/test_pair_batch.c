@@ -21,9 +21,16 @@
  * caller's loop over batches of the half list (the loop the page shows)
  * equal sph_gradh_forces_pairs to 4 eps of the largest value.
  *
+ * Selection: with sph_batch_select (W alone, F alone, neither) every lane
+ * holds the default fill's values bit for bit and zeros in the arrays not
+ * asked for. sph_batch_sqrt: bit for bit sph__sqrt in every lane. Far
+ * positions: x_ij bit for bit sph__h_dx where x / L exceeds 2^31 (the vector
+ * image's fallback), in lanes beside near ones.
+ *
  * Bad input: sph_batch_source refuses a NULL list or source, an unknown
  * kernel or dimension, an index outside the particles, an h not usable and
- * a NaN position; sph_batch_fill gives an empty batch for a target outside
+ * a NaN position; sph_batch_select a NULL source and unknown bits;
+ * sph_batch_fill gives an empty batch for a target outside
  * the list, a negative cursor and a source that failed.
  */
 #include "harness.h"
@@ -255,6 +262,95 @@ static void pb_check_forces(void)
     th_end();
 }
 
+/* sph_batch_select: with W alone, F alone or neither, every lane holds what
+ * the default fill (both) holds, bit for bit, and zeros in the arrays not
+ * asked for. */
+static void pb_check_select(sph_kernel k, int dim)
+{
+    static const int what[3] = {SPH_BATCH_W, SPH_BATCH_F, 0};
+    pb_cloud c;
+    tp_rng g = {(uint64_t)(5 + 3 * k + dim)};
+    sph_batch_src S, T;
+    int i, w, st;
+    th_begin("batch select %s %dD %s", sph_kernel_name(k), dim, TH_PRECISION);
+    pb_make_cloud(&c, dim, &g);
+    st = sph_batch_source(&S, k, dim, &c.L, &c.box, sph_view_interleaved(c.x, 3), sph_view_soa(c.h, NULL, NULL));
+    TH_CHECK(st == SPH_OK, "sph_batch_source: %s", sph_strerror(st));
+    for (w = 0; w < 3 && st == SPH_OK; ++w) {
+        T = S;
+        TH_CHECK(sph_batch_select(&T, what[w]) == SPH_OK, "select %d refused", what[w]);
+        for (i = 0; i < NP; ++i) {
+            sph_batch a, b;
+            sph_off na = 0, nb = 0;
+            while (sph_batch_fill(&S, i, &na, &a) > 0) {
+                const int wW = (what[w] & SPH_BATCH_W) != 0, wF = (what[w] & SPH_BATCH_F) != 0;
+                int l, bad = 0;
+                TH_CHECK(sph_batch_fill(&T, i, &nb, &b) == a.n && nb == na, "row %d: %d pairs, default %d", i, b.n, a.n);
+                for (l = 0; l < SPH_BATCH; ++l) {
+                    bad += a.j[l] != b.j[l] || a.k[l] != b.k[l] || a.r[l] != b.r[l] || a.dx[0][l] != b.dx[0][l] ||
+                           a.dx[1][l] != b.dx[1][l] || a.dx[2][l] != b.dx[2][l];
+                    bad += b.W_i[l] != (wW ? a.W_i[l] : 0) || b.W_j[l] != (wW ? a.W_j[l] : 0);
+                    bad += b.F_i[l] != (wF ? a.F_i[l] : 0) || b.F_j[l] != (wF ? a.F_j[l] : 0);
+                }
+                TH_CHECK(bad == 0, "row %d, what %d: %d lanes differ from the default fill", i, what[w], bad);
+            }
+        }
+    }
+    th_end();
+}
+
+/* sph_batch_sqrt: each lane the square root of sph__sqrt, bit for bit
+ * (0, subnormal, exact squares, the largest finite value, random). */
+static void pb_check_sqrt(void)
+{
+    sph_real v[SPH_BATCH], ref[SPH_BATCH];
+    tp_rng g = {23};
+    int l, t, bad = 0;
+    th_begin("batch sqrt %s", TH_PRECISION);
+    for (t = 0; t < 50; ++t) {
+        for (l = 0; l < SPH_BATCH; ++l) v[l] = (sph_real)(tp_range(&g, 0, 10) * pow(10.0, (double)(l % 7) - 3));
+        if (t == 0) v[0] = 0, v[1] = SPH__REAL_MAX, v[2] = (sph_real)4, v[3] = (sph_real)(SPH__REAL_MAX * 0) + 1;
+        if (t == 1) v[0] = (sph_real)(sizeof(sph_real) == sizeof(float) ? 1e-42 : 1e-310);
+        for (l = 0; l < SPH_BATCH; ++l) ref[l] = sph__sqrt(v[l]);
+        sph_batch_sqrt(v);
+        for (l = 0; l < SPH_BATCH; ++l) bad += v[l] != ref[l];
+    }
+    TH_CHECK(bad == 0, "%d lanes differ from sph__sqrt", bad);
+    th_end();
+}
+
+/* Minimum image of positions far outside the box (x L^-1 beyond 2^31, where
+ * the vector image falls back to floor()), in lanes beside near ones: x_ij
+ * bit for bit sph__h_dx. */
+static void pb_check_far_image(void)
+{
+    sph_real x[3 * 3] = {(sph_real)0.3, (sph_real)0.2, (sph_real)0.1, (sph_real)0.35, (sph_real)0.25, (sph_real)0.05,
+                         (sph_real)3e10, (sph_real)-7e9, (sph_real)0.12};
+    sph_real h[3] = {(sph_real)0.2, (sph_real)0.2, (sph_real)0.2}, xi[3], dx[3];
+    sph_off off[4] = {0, SPH_BATCH, SPH_BATCH, SPH_BATCH};
+    sph_idx idx[SPH_BATCH];
+    sph_neighbours L = SPH_NEIGHBOURS_INIT(3, 3, off, idx);
+    sph_box box = {{0, 0, 0}, {1, 1, 1}, {1, 1, 1}};
+    const sph_view xv = sph_view_interleaved(x, 3);
+    sph__period P;
+    sph_batch_src S;
+    sph_batch b;
+    sph_off next = 0;
+    int l, a, bad = 0;
+    th_begin("batch image of far positions %s", TH_PRECISION);
+    for (l = 0; l < SPH_BATCH; ++l) idx[l] = (sph_idx)(1 + (l / 3) % 2);
+    TH_CHECK(sph_batch_source(&S, SPH_KERNEL_CUBIC, 3, &L, &box, xv, sph_view_soa(h, NULL, NULL)) == SPH_OK, "source");
+    P = sph__period_of(&box, &L, 3);
+    sph__h_xi(xv, 3, 0, xi);
+    TH_CHECK(sph_batch_fill(&S, 0, &next, &b) == SPH_BATCH, "%d pairs", b.n);
+    for (l = 0; l < SPH_BATCH; ++l) {
+        sph__h_dx(&P, 3, xi, xv, idx[l], dx);
+        for (a = 0; a < 3; ++a) bad += b.dx[a][l] != dx[a];
+    }
+    TH_CHECK(bad == 0, "%d components differ from sph__h_dx", bad);
+    th_end();
+}
+
 static void pb_check_bad_input(void)
 {
     sph_real x[6] = {0, 0, 0, (sph_real)0.1, 0, 0}, h[2] = {(sph_real)0.2, (sph_real)0.2};
@@ -286,6 +382,8 @@ static void pb_check_bad_input(void)
     next = 0;
     TH_CHECK(sph_batch_fill(&S, 0, &next, &b) == 2 && next == 2 && b.j[1] == 1 && b.r[1] == (sph_real)0.1,
              "row 0: %d pairs", b.n);
+    TH_CHECK(sph_batch_select(NULL, SPH_BATCH_F) == SPH_ENULL, "select: NULL source");
+    TH_CHECK(sph_batch_select(&S, 4) == SPH_ERANGE && S.what == (SPH_BATCH_W | SPH_BATCH_F), "select: bit 4 accepted");
     th_end();
 }
 
@@ -293,7 +391,9 @@ int main(void)
 {
     int k, dim;
     for (k = 0; k < SPH_KERNEL_COUNT; ++k)
-        for (dim = 1; dim <= 3; ++dim) pb_check_contents((sph_kernel)k, dim);
+        for (dim = 1; dim <= 3; ++dim) pb_check_contents((sph_kernel)k, dim), pb_check_select((sph_kernel)k, dim);
+    pb_check_sqrt();
+    pb_check_far_image();
     pb_check_forces();
     pb_check_bad_input();
     return th_summary();

@@ -5,7 +5,9 @@
  * both equal a reference summed here over every pair with the scalar kernel;
  * the pair-once form equals the gather form to round-off and is bitwise the
  * same for 1 and 2 OpenMP threads; sph_pairs_build refuses a list that is
- * not symmetric and reports the pair count when the arrays are short; a
+ * not symmetric and reports the pair count when the arrays are short;
+ * sph_pairs_reduce_rows on rows summed by the caller equals sph_pairs_reduce
+ * bit for bit; a
  * buffer shorter than sph_gradh_pairs_buffer_len is refused; both forms give
  * the same bits through structure-of-arrays, interleaved and array-of-structs
  * views.
@@ -274,6 +276,13 @@ static void build_errors_case(void)
     TH_CHECK(st == SPH_OK && out[0] == 1 + 2 && out[1] == 4 + 8 && out[2] == 16 + 32, "reduce %g %g %g", (double)out[0],
              (double)out[1], (double)out[2]);
     TH_CHECK(sph_pairs_reduce(&P, 0, to_i, to_j, out) == SPH_ERANGE, "ncomp 0");
+    out[0] = 1 + 2, out[1] = 4, out[2] = 0; /* the rows' own sums; then the slots: 0 none, 1 [0], 2 [1, 2] */
+    st = sph_pairs_reduce_rows(&P, 1, to_j, out);
+    TH_CHECK(st == SPH_OK && out[0] == 1 + 2 && out[1] == 4 + 8 && out[2] == 16 + 32, "reduce_rows %g %g %g",
+             (double)out[0], (double)out[1], (double)out[2]);
+    TH_CHECK(sph_pairs_reduce_rows(&P, 17, to_j, out) == SPH_ERANGE && sph_pairs_reduce_rows(&P, 1, NULL, out) == SPH_ENULL &&
+                 sph_pairs_reduce_rows(NULL, 1, to_j, out) == SPH_ENULL,
+             "reduce_rows: ncomp 17, NULL to_j or pairs accepted");
     { /* 4 particles, every pair: k = (0,1) (0,2) (0,3) (1,2) (1,3) (2,3); slots of 1: [0], of 2: [1, 2] for
          i = 0, 1, of 3: [3, 4, 5] for i = 0, 1, 2 */
         const sph_off o4[5] = {0, 4, 8, 12, 16};
@@ -287,6 +296,25 @@ static void build_errors_case(void)
         for (k = 0; k < 6; ++k) ok &= ts[k] == expect[k];
         TH_CHECK(st == SPH_OK && pairs == 6 && ok && to[4] == 6, "4 particles: slots %ld %ld %ld %ld %ld %ld",
                  (long)ts[0], (long)ts[1], (long)ts[2], (long)ts[3], (long)ts[4], (long)ts[5]);
+        { /* the rows summed by hand in row order, then sph_pairs_reduce_rows: sph_pairs_reduce bit for bit
+             (values of mixed magnitude, so that another order would round differently) */
+            sph_real ti[18], tj[18], o1[12], o2[12];
+            tp_rng g = {99};
+            int a, i, bad = 0;
+            for (k = 0; k < 18; ++k)
+                ti[k] = (sph_real)(tp_range(&g, -1, 1) * pow(10.0, (double)(k % 5) * 4 - 8)),
+                tj[k] = (sph_real)(tp_range(&g, -1, 1) * pow(10.0, (double)(k % 3) * 5 - 5));
+            tj[9] = 1, tj[12] = tj[15] = (sph_real)(0.4 * TH_EPS); /* particle 3's slots 3, 4, 5: 1 first absorbs both */
+            for (i = 0; i < 4; ++i)
+                for (a = 0; a < 3; ++a) {
+                    o2[3 * i + a] = 0;
+                    for (k = (int)ho[i]; k < (int)ho[i + 1]; ++k) o2[3 * i + a] += ti[3 * k + a];
+                }
+            st = sph_pairs_reduce(&P, 3, ti, tj, o1);
+            st |= sph_pairs_reduce_rows(&P, 3, tj, o2);
+            for (k = 0; k < 12; ++k) bad += o1[k] != o2[k];
+            TH_CHECK(st == SPH_OK && bad == 0, "reduce_rows: %d of 12 sums differ from sph_pairs_reduce", bad);
+        }
     }
     TH_CHECK(sph_pairs_build(NULL, offset, index, 3, t_offset, t_slot, &pairs, &P) == SPH_ENULL, "NULL list");
     th_end();
