@@ -514,7 +514,7 @@ static void sd_batch(const sd_sim *S, sph_idx i, const sph_batch *b, sph_real *v
         const sph_real pj = g1 * rhoj[l] * uj[l], rhob = (rhoi + rhoj[l]) / 2;
         vu[l] = fabs(pi - pj) / rhob;
     }
-    for (l = 0; l < SPH_BATCH; ++l) vu[l] = sqrt(vu[l]); /* v_u = sqrt(|P_i - P_j| / rho_ij) */
+    sph_batch_sqrt(vu); /* v_u = sqrt(|P_i - P_j| / rho_ij), in vector registers */
     for (l = 0; l < SPH_BATCH; ++l) {
         const sph_real dx = b->dx[0][l], dy = b->dx[1][l], dz = b->dx[2][l], r = b->r[l], Fi = b->F_i[l], Fj = b->F_j[l];
         const sph_real dvx = vi[0] - vj[0][l], dvy = vi[1] - vj[1][l], dvz = vi[2] - vj[2][l];
@@ -602,7 +602,7 @@ static int sd_forces(sd_sim *S)
         S->A[i] = sph_gradh_factor(p, S->rho[i], S->om[i]);
     }
     st = sph_batch_source(&B, S->k, 3, &S->pairs, NULL, sph_view_interleaved(S->x, 3), sph_view_soa(S->h, NULL, NULL));
-    if (st != SPH_OK) return st;
+    if (st != SPH_OK || (st = sph_batch_select(&B, SPH_BATCH_F)) != SPH_OK) return st; /* the loop needs F alone */
 #ifdef _OPENMP
 #pragma omp parallel for schedule(dynamic, 64) reduction(max : vmax)
 #endif
