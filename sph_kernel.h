@@ -3345,7 +3345,8 @@ typedef struct {
     sph_real kappa;
     sph_real R2;      /* R^2 when the same for every source (gather, or uniform h), else -1 */
     int symmetric;
-    int mark;         /* 1: gather, each source i stored as -1 - i where r_ij^2 >= (kappa h_i)^2 (SPH__NS_MARK) */
+    int mark;         /* 1: gather, each source i stored as -1 - i where r_ij^2 >= (kappa h_i)^2 (SPH__NS_MARK,
+                         a target whose h is above the smallest) */
     sph_idx *seg;     /* fill: the target's part of index[], else NULL */
     sph_off cap;      /* its length */
     sph_off found;    /* neighbours found so far */
@@ -4307,7 +4308,7 @@ SPH_API void sph__nsearch_probe(const sph_nsearch *g, sph_view xt, sph_view ht, 
     p->hu = h;
     p->kappa = kappa;
     p->symmetric = mode == SPH_NSEARCH_SYMMETRIC;
-    p->mark = mode == SPH__NS_MARK;
+    p->mark = mode == SPH__NS_MARK && p->hi > g->h_min; /* h_i >= h_min >= h_j: every source reaches i itself */
 }
 
 /* Runs the search for every target: counts into count[i + 1] (when count
@@ -4469,31 +4470,26 @@ SPH_API void sph__ns_merge(sph_idx *a, sph_off n1, sph_off n2)
  * segment offset[i] .. offset[i+1] - 1; at[i] = offset[i+1]. Each mark is
  * transposed into the back of its source's segment (at[i] moves down to
  * offset[i] + len[i]), rows taken in descending order so that every E_i
- * comes out ascending, found 16 entries at a time from a mask of their signs;
- * then each row undoes its marks and merges its two runs (parallel under
- * OpenMP). */
+ * comes out ascending, found 16 entries at a time from a mask of their signs
+ * and undone; then each row merges its two runs (parallel under OpenMP). */
 SPH_API void sph__nsearch_sym_finish(sph_idx n, const sph_off *offset, const sph_idx *len, sph_off *at, sph_idx *index)
 {
     sph_idx i, j;
     for (j = n - 1; j >= 0; --j) {
-        const sph_idx *row = index + offset[j];
-        sph_idx e;
+        sph_idx *row = index + offset[j], e;
         for (e = 0; e < len[j]; e += 16) {
             const int w = len[j] - e < 16 ? (int)(len[j] - e) : 16;
-            unsigned m = 0;
+            unsigned m = 0, t;
             int k;
             for (k = 0; k < w; ++k) m |= (unsigned)(row[e + k] < 0) << k;
-            for (; m != 0; m &= m - 1) index[--at[-1 - row[e + sph__ns_ctz(m)]]] = j;
+            for (t = m; t != 0; t &= t - 1) index[--at[-1 - row[e + sph__ns_ctz(t)]]] = j;
+            for (k = 0; m != 0 && k < w; ++k) row[e + k] = row[e + k] < 0 ? -1 - row[e + k] : row[e + k];
         }
     }
 #ifdef _OPENMP
 #pragma omp parallel for schedule(dynamic, 256) if (n >= 4096)
 #endif
-    for (i = 0; i < n; ++i) {
-        sph_idx *row = index + offset[i], e;
-        for (e = 0; e < len[i]; ++e) row[e] = row[e] < 0 ? -1 - row[e] : row[e];
-        sph__ns_merge(row, len[i], offset[i + 1] - offset[i] - len[i]);
-    }
+    for (i = 0; i < n; ++i) sph__ns_merge(index + offset[i], len[i], offset[i + 1] - offset[i] - len[i]);
 }
 
 /* sph_nsearch_fill in symmetric mode from the gather search (sph__nsearch_sym_ok
