@@ -3106,7 +3106,15 @@ SPH_API int sph_check_field(sph_view f, int ncomp, sph_idx n, sph_idx *first_bad
  * as the sources that may reach it (per-cell largest h, pushed over the
  * cells each reaches), and
  * of each row only the cells whose own reach covers it (SPH_NSEARCH_PLAIN:
- * one radius kappa max(h_i, h_max), cells of cell). Each run carries its periodic image offset, so the checks need no
+ * one radius kappa max(h_i, h_max), cells of cell). When the targets are
+ * the sources themselves (same count, positions and h) and kappa h_max is
+ * within a quarter period, lists and fill build the symmetric lists from
+ * one gather search instead: row i = gather row i + the sources j whose
+ * kappa h_j reaches i from beyond kappa h_i, marked in gather row j and
+ * transposed (O(pairs) more; same lists bit for bit; the workspace holds
+ * 12 bytes per source more for it, and one such search runs on a grid at a
+ * time); count, and lists with an index shorter than the gather pairs,
+ * search directly. Each run carries its periodic image offset, so the checks need no
  * minimum image. Runs are checked in branch-free blocks of 8
  * sources (16, two vectors, with AVX-512). Count, fill and lists run in
  * parallel over targets under OpenMP.
@@ -3141,6 +3149,7 @@ SPH_API int sph_check_field(sph_view f, int ncomp, sph_idx n, sph_idx *first_bad
  * so the total list length is bounded by memory alone. */
 
 enum { SPH_NSEARCH_GATHER = 0, SPH_NSEARCH_SYMMETRIC = 1 };
+enum { SPH__NS_MARK = 2 }; /* gather, the lists marked for the symmetric ones (sph__nsearch_sym_lists) */
 
 /* Hard limits (docs/neighbours.md, "Limits"): cells of a grid, per axis
  * and in all, so that every cell index stays in int (more: SPH_EGRID), and
@@ -3180,6 +3189,10 @@ typedef struct {
     sph_real kappa_b;     /* hreach holds for every kappa up to this one (the given cell as kappa h_max / 2) */
     sph_real h_far;       /* largest hcell of the cells reaching beyond SPH__NS_PUSH cells (0: none) */
     int plain;            /* 1: the plain reference search (SPH_NSEARCH_PLAIN) */
+    sph_idx *sym;         /* [n_padded] per source its gather row's length, and */
+    sph_off *sym_at;      /* [n_padded] the sources reaching it from beyond it: their count, then the
+                             next place for one (the symmetric lists from the gather ones,
+                             sph__nsearch_sym_lists); both NULL without hcell */
 } sph_nsearch;
 
 /* Candidates are checked in blocks of SPH__NS_BLOCK consecutive sorted
@@ -3368,6 +3381,8 @@ typedef struct {
     sph_real kappa;
     sph_real R2;      /* R^2 when the same for every source (gather, or uniform h), else -1 */
     int symmetric;
+    int mark;         /* 1: gather, each source i stored as -1 - i where r_ij^2 >= (kappa h_i)^2 (SPH__NS_MARK,
+                         a target whose h is above the smallest) */
     sph_idx *seg;     /* fill: the target's part of index[], else NULL */
     sph_off cap;      /* its length */
     sph_off found;    /* neighbours found so far */
@@ -3395,17 +3410,25 @@ SPH_API void sph__ns_offsets(const sph_nsearch *g, int code, sph_real *s)
     }
 }
 
+/* r_ij^2 of eq. (N3) from target position xt to sorted source k, summed in
+ * axis order: the one distance every decision of the search rests on. */
+SPH__INLINE sph_real sph__nsearch_r2(const sph_nsearch *g, const sph_real *xt, sph_idx k, const int dim)
+{
+    sph_real r2 = 0;
+    int a;
+    for (a = 0; a < dim; ++a) {
+        const sph_real d = sph__nsearch_delta(g, a, xt[a] - g->x[(ptrdiff_t)a * g->n_padded + k]);
+        r2 += d * d;
+    }
+    return r2;
+}
+
 /* 1 when sorted source k meets criterion (N1)/(N2) for the target of p:
  * r_ij^2 of eq. (N3), summed in axis order, against R^2 = (kappa h)^2. */
 SPH_API int sph__nsearch_in(const sph_nsearch *g, const sph__probe *p, sph_idx k, const int dim)
 {
-    sph_real r2 = 0, hj = g->h != NULL ? g->h[k] : p->hu, R;
-    int a;
-    for (a = 0; a < dim; ++a) {
-        sph_real d = sph__nsearch_delta(g, a, p->xt[a] - g->x[(ptrdiff_t)a * g->n_padded + k]);
-        r2 += d * d;
-    }
-    R = p->kappa * (p->symmetric && hj > p->hi ? hj : p->hi);
+    const sph_real r2 = sph__nsearch_r2(g, p->xt, k, dim), hj = g->h != NULL ? g->h[k] : p->hu;
+    const sph_real R = p->kappa * (p->symmetric && hj > p->hi ? hj : p->hi);
     return r2 < R * R;
 }
 
@@ -3421,11 +3444,11 @@ SPH_API int sph__nsearch_in(const sph_nsearch *g, const sph__probe *p, sph_idx k
  * by sph__nsearch_in. HV: R per source (symmetric with per-source h); dim,
  * HV, IMG constants once inlined. */
 SPH__INLINE unsigned sph__nsearch_mask(const sph_nsearch *g, sph__probe *p, sph_idx b, sph_idx k1,
-                                       const sph_real *s, const int dim, const int HV, const int IMG)
+                                       const sph_real *s, const int dim, const int HV, const int IMG, unsigned *mk)
 {
     const sph_real *x = g->x + b;
     const ptrdiff_t stride = g->n_padded;
-    unsigned mask = 0;
+    unsigned mask = 0, own = 0;
     int k, a, wide = 0;
     for (k = 0; k < SPH__NS_BLOCK; ++k) {
         sph_real r2 = 0, R2 = p->R2;
@@ -3434,17 +3457,27 @@ SPH__INLINE unsigned sph__nsearch_mask(const sph_nsearch *g, sph__probe *p, sph_
             r2 += d * d;
             wide |= ((d < 0 ? -d : d) > g->image_ok[a]) & (b + k < k1);
         }
-        if (HV) {
+        if (HV == 1) {
             const sph_real hj = g->h[b + k], R = p->kappa * (hj > p->hi ? hj : p->hi);
             R2 = R * R;
+        }
+        if (HV == 2) {
+            const sph_real Ri = p->kappa * g->h[b + k];
+            own |= (unsigned)(r2 < Ri * Ri) << k;
         }
         mask |= (unsigned)((r2 < R2) & (b + k < k1)) << k;
     }
     if (wide) {
         ++p->redone;
-        for (mask = 0, k = 0; k < SPH__NS_BLOCK && b + k < k1; ++k)
+        for (mask = own = 0, k = 0; k < SPH__NS_BLOCK && b + k < k1; ++k) {
             mask |= (unsigned)sph__nsearch_in(g, p, b + k, dim) << k;
+            if (HV == 2) {
+                const sph_real Ri = p->kappa * g->h[b + k];
+                own |= (unsigned)(sph__nsearch_r2(g, p->xt, b + k, dim) < Ri * Ri) << k;
+            }
+        }
     }
+    if (HV == 2) *mk = mask & ~own;
     return mask;
 }
 
@@ -3469,12 +3502,12 @@ SPH__INLINE __m512d sph__nsearch_round8(__m512d v)
  * |d_a| beyond image_ok_a is redone by the scalar mask, so the lists stay
  * those of the scalar criterion bit for bit. */
 SPH__INLINE unsigned sph__nsearch_mask16(const sph_nsearch *g, sph__probe *p, sph_idx b, sph_idx k1,
-                                         const sph_real *s, const int dim, const int HV, const int IMG)
+                                         const sph_real *s, const int dim, const int HV, const int IMG, unsigned *mk)
 {
     const double eps = 16 * (sizeof(sph_real) == sizeof(float) ? (double)FLT_EPSILON : DBL_EPSILON);
     const ptrdiff_t stride = g->n_padded;
     const unsigned live = k1 - b >= 16 ? 0xFFFFu : (1u << (k1 - b)) - 1u;
-    unsigned in = 0, near_edge = 0, wide = 0, mask;
+    unsigned in = 0, near_edge = 0, wide = 0, mask, own = 0, near_own = 0;
     int a, k, half;
     for (half = 0; half < 2; ++half) {
         const sph_real *x = g->x + b + 8 * half;
@@ -3489,7 +3522,15 @@ SPH__INLINE unsigned sph__nsearch_mask16(const sph_nsearch *g, sph__probe *p, sp
             r2 = _mm512_fmadd_pd(d, d, r2);
             wide |= _mm512_mask_cmp_pd_mask(lv, _mm512_abs_pd(d), _mm512_set1_pd((double)g->image_ok[a]), _CMP_GT_OQ);
         }
-        if (HV) {
+        if (HV == 2) { /* the source's own radius: r^2 < (kappa h_i)^2, decided as below */
+            const __m512d Ri = _mm512_mul_pd(_mm512_set1_pd((double)p->kappa), sph__load8(g->h + b + 8 * half));
+            const __m512d Ri2 = _mm512_mul_pd(Ri, Ri);
+            const __mmask8 own8 = _mm512_mask_cmp_pd_mask(lv, r2, _mm512_mul_pd(Ri2, _mm512_set1_pd(1 - eps)), _CMP_LT_OQ);
+            own |= (unsigned)own8 << (8 * half);
+            near_own |= (unsigned)(_mm512_mask_cmp_pd_mask(lv, r2, _mm512_mul_pd(Ri2, _mm512_set1_pd(1 + eps)), _CMP_LT_OQ) &
+                                   (__mmask8)~own8) << (8 * half);
+        }
+        if (HV == 1) {
             const __m512d R = _mm512_mul_pd(_mm512_set1_pd((double)p->kappa),
                                             _mm512_maskz_max_pd(SPH__ALL8, sph__load8(g->h + b + 8 * half),
                                                                 _mm512_set1_pd((double)p->hi)));
@@ -3500,16 +3541,52 @@ SPH__INLINE unsigned sph__nsearch_mask16(const sph_nsearch *g, sph__probe *p, sp
         near_edge |= (unsigned)(_mm512_mask_cmp_pd_mask(lv, r2, _mm512_mul_pd(R2, _mm512_set1_pd(1 + eps)), _CMP_LT_OQ) &
                                 (__mmask8)~in8) << (8 * half);
     }
-    if (wide) return sph__nsearch_mask(g, p, b, k1, s, dim, HV, IMG);
+    if (wide) return sph__nsearch_mask(g, p, b, k1, s, dim, HV, IMG, mk);
     mask = in;
     for (k = 0; near_edge != 0; ++k, near_edge >>= 1)
         if (near_edge & 1u) mask |= (unsigned)sph__nsearch_in(g, p, b + k, dim) << k;
+    if (HV == 2) {
+        for (k = 0; near_own != 0; ++k, near_own >>= 1)
+            if (near_own & 1u) {
+                const sph_real Ri = p->kappa * g->h[b + k];
+                own |= (unsigned)(sph__nsearch_r2(g, p->xt, b + k, dim) < Ri * Ri) << k;
+            }
+        *mk = mask & ~own;
+    }
     return mask;
 }
-#define SPH__NSEARCH_MASK(g, p, b, k1, s, dim, HV, IMG) sph__nsearch_mask16(g, p, b, k1, s, dim, HV, IMG)
+#define SPH__NSEARCH_MASK(g, p, b, k1, s, dim, HV, IMG, mk) sph__nsearch_mask16(g, p, b, k1, s, dim, HV, IMG, mk)
 #else
-#define SPH__NSEARCH_MASK(g, p, b, k1, s, dim, HV, IMG) sph__nsearch_mask(g, p, b, k1, s, dim, HV, IMG)
+#define SPH__NSEARCH_MASK(g, p, b, k1, s, dim, HV, IMG, mk) sph__nsearch_mask(g, p, b, k1, s, dim, HV, IMG, mk)
 #endif
+
+/* Lowest set bit of m != 0. */
+SPH_API int sph__ns_ctz(unsigned m)
+{
+#if defined(__GNUC__)
+    return __builtin_ctz(m);
+#else
+    int k = 0;
+    if (!(m & 0xFFFFu)) k += 16, m >>= 16;
+    if (!(m & 0xFFu)) k += 8, m >>= 8;
+    if (!(m & 0xFu)) k += 4, m >>= 4;
+    if (!(m & 3u)) k += 2, m >>= 2;
+    return k + !(m & 1u);
+#endif
+}
+
+/* One more source reaching sorted source b + k from beyond its own reach,
+ * for each bit k of mk (marks stored by sph__nsearch_run_blocks; atomic
+ * under OpenMP: targets are searched in parallel). */
+SPH_API void sph__nsearch_sym_tally(const sph_nsearch *g, sph_idx b, unsigned mk)
+{
+    for (; mk != 0; mk &= mk - 1) {
+#ifdef _OPENMP
+#pragma omp atomic
+#endif
+        ++g->sym_at[g->order[b + sph__ns_ctz(mk)]];
+    }
+}
 
 /* Counts (p->seg NULL) or appends to the target's segment (never past its
  * end) the sorted sources k0..k1-1 that meet the criterion; returns the new
@@ -3523,7 +3600,8 @@ SPH__INLINE sph_off sph__nsearch_run_blocks(const sph_nsearch *g, sph__probe *p,
     sph_idx b;
     int k;
     for (b = k0; b < k1; b += SPH__NS_BLOCK) {
-        const unsigned mask = SPH__NSEARCH_MASK(g, p, b, k1, s, dim, HV, IMG);
+        unsigned mk = 0; /* HV 2: the accepted sources to store marked */
+        const unsigned mask = SPH__NSEARCH_MASK(g, p, b, k1, s, dim, HV, IMG, &mk);
 #if SPH__NS_COMPRESS
         /* the accepted indices compressed into one register, stored whole
            where the segment has room for 16, else as many as were accepted
@@ -3534,13 +3612,15 @@ SPH__INLINE sph_off sph__nsearch_run_blocks(const sph_nsearch *g, sph__probe *p,
             continue;
         }
         if (m + got <= p->cap) {
-            const __m512i j = _mm512_maskz_compress_epi32((__mmask16)mask,
-                                                          _mm512_loadu_si512((const void *)(g->order + b)));
+            const __m512i o = _mm512_loadu_si512((const void *)(g->order + b));
+            const __m512i j = _mm512_maskz_compress_epi32(
+                (__mmask16)mask, HV == 2 ? _mm512_mask_xor_epi32(o, (__mmask16)mk, o, _mm512_set1_epi32(-1)) : o);
             if (m + SPH__NS_BLOCK <= p->cap)
                 _mm512_storeu_si512((void *)(p->seg + m), j);
             else
                 _mm512_mask_storeu_epi32((void *)(p->seg + m), (__mmask16)((1u << got) - 1u), j);
             m += got;
+            if (HV == 2) sph__nsearch_sym_tally(g, b, mk);
             continue;
         }
 #else
@@ -3550,15 +3630,17 @@ SPH__INLINE sph_off sph__nsearch_run_blocks(const sph_nsearch *g, sph__probe *p,
         }
         if (m + SPH__NS_BLOCK <= p->cap) {
             for (k = 0; k < SPH__NS_BLOCK; ++k) {
-                p->seg[m] = g->order[b + k];
+                p->seg[m] = g->order[b + k] ^ -(sph_idx)((mk >> k) & 1u);
                 m += (mask >> k) & 1u;
             }
+            if (HV == 2) sph__nsearch_sym_tally(g, b, mk);
             continue;
         }
 #endif
         for (k = 0; k < SPH__NS_BLOCK; ++k) /* past the segment's end: count, store what fits */
             if ((mask >> k) & 1u) {
-                if (m < p->cap) p->seg[m] = g->order[b + k];
+                if (m < p->cap) p->seg[m] = g->order[b + k] ^ -(sph_idx)((mk >> k) & 1u);
+                if (m < p->cap && HV == 2) sph__nsearch_sym_tally(g, b + k, (mk >> k) & 1u);
                 ++m;
             }
     }
@@ -3591,8 +3673,10 @@ SPH__INLINE void sph__nsearch_runs(const sph_nsearch *g, sph__probe *p, const in
 /* Checks the collected runs. */
 SPH_API void sph__nsearch_flush(const sph_nsearch *g, sph__probe *p)
 {
-    const int hv = p->R2 < 0;
-    if (g->dim == 3)
+    const int hv = p->R2 < 0 ? 1 : p->mark && p->seg != NULL ? 2 : 0;
+    if (hv == 2)
+        g->dim == 3 ? sph__nsearch_runs(g, p, 3, 2) : g->dim == 2 ? sph__nsearch_runs(g, p, 2, 2) : sph__nsearch_runs(g, p, 1, 2);
+    else if (g->dim == 3)
         hv ? sph__nsearch_runs(g, p, 3, 1) : sph__nsearch_runs(g, p, 3, 0);
     else if (g->dim == 2)
         hv ? sph__nsearch_runs(g, p, 2, 1) : sph__nsearch_runs(g, p, 2, 0);
@@ -3676,11 +3760,12 @@ SPH__INLINE int sph__nsearch_row(const sph_nsearch *g, sph__probe *p, int nr, in
 /* Sorts n distinct indices ascending: nothing to do for a sorted run (the
  * usual case on cell-sorted particles), else Shell sort with gaps
  * g' = floor(2.25 g) + 1 (Tokuda 1992). */
-SPH_API void sph__ns_sort(sph_idx *v, sph_off n)
+SPH__INLINE void sph__ns_sort_as(sph_idx *v, sph_off n, const int MK)
 {
+#define SPH__NS_KEY(x) (MK && (x) < 0 ? -1 - (x) : (x))
     sph_off gaps[64], i, j, gap = 1;
     int ng = 0, unsorted = 0;
-    for (i = 1; i < n; ++i) unsorted |= v[i - 1] >= v[i]; /* no early exit: a vector loop */
+    for (i = 1; i < n; ++i) unsorted |= SPH__NS_KEY(v[i - 1]) >= SPH__NS_KEY(v[i]); /* no early exit: a vector loop */
     if (!unsorted) return;
     while (gap < n && ng < 64) {
         gaps[ng++] = gap;
@@ -3689,11 +3774,18 @@ SPH_API void sph__ns_sort(sph_idx *v, sph_off n)
     while (ng-- > 0) {
         gap = gaps[ng];
         for (i = gap; i < n; ++i) {
-            sph_idx x = v[i];
-            for (j = i; j >= gap && v[j - gap] > x; j -= gap) v[j] = v[j - gap];
+            const sph_idx x = v[i], kx = SPH__NS_KEY(x);
+            for (j = i; j >= gap && SPH__NS_KEY(v[j - gap]) > kx; j -= gap) v[j] = v[j - gap];
             v[j] = x;
         }
     }
+#undef SPH__NS_KEY
+}
+
+/* Sorts a target's list ascending (MK 1: by source, a mark -1 - i as i). */
+SPH_API void sph__ns_sort(sph_idx *v, sph_off n, int MK)
+{
+    MK ? sph__ns_sort_as(v, n, 1) : sph__ns_sort_as(v, n, 0);
 }
 
 
@@ -3874,7 +3966,7 @@ SPH_API void sph__nsearch_target(const sph_nsearch *g, sph__probe *p)
     else
         sph__nsearch_general(g, p, Rm);
     sph__nsearch_flush(g, p);
-    if (p->seg != NULL && p->found <= p->cap) sph__ns_sort(p->seg, p->found);
+    if (p->seg != NULL && p->found <= p->cap) sph__ns_sort(p->seg, p->found, p->mark);
 }
 
 /* Cells per axis and their widths for a cell edge (eq. (N4)), from the
@@ -4026,6 +4118,7 @@ SPH_API double sph__nsearch_layout(sph_nsearch *g, int with_h, char *base)
     const double hcell = pyr ? sph__nsearch_line((double)sizeof(sph_real) * (double)g->n_cells) : 0;
     const double hreach = pyr ? sph__nsearch_line((double)sizeof(sph_real) * 2 * (double)g->n_cells) : 0;
     const double hs = (with_h != 0) * reals;
+    const double sym = pyr ? order : 0, sym_at = pyr ? sph__nsearch_line((double)sizeof(sph_off) * padded) : 0;
     if (base != NULL) {
         base += (64 - (size_t)((uintptr_t)base % 64)) % 64;
         g->cell_start = (sph_idx *)(void *)base;
@@ -4034,8 +4127,10 @@ SPH_API double sph__nsearch_layout(sph_nsearch *g, int with_h, char *base)
         g->h = with_h ? (sph_real *)(void *)(base + (size_t)(cells + order + xyz)) : NULL;
         g->hcell = pyr ? (sph_real *)(void *)(base + (size_t)(cells + order + xyz + hs)) : NULL;
         g->hreach = pyr ? (sph_real *)(void *)(base + (size_t)(cells + order + xyz + hs + hcell)) : NULL;
+        g->sym = pyr ? (sph_idx *)(void *)(base + (size_t)(cells + order + xyz + hs + hcell + hreach)) : NULL;
+        g->sym_at = pyr ? (sph_off *)(void *)(base + (size_t)(cells + order + xyz + hs + hcell + hreach + sym)) : NULL;
     }
-    return 63 + cells + order + xyz + hs + hcell + hreach;
+    return 63 + cells + order + xyz + hs + hcell + hreach + sym + sym_at;
 }
 
 /* Steps of the reach push (sph__nsearch_hbuild): cells whose reach spans
@@ -4249,6 +4344,7 @@ SPH_API void sph__nsearch_probe(const sph_nsearch *g, sph_view xt, sph_view ht, 
     p->hu = h;
     p->kappa = kappa;
     p->symmetric = mode == SPH_NSEARCH_SYMMETRIC;
+    p->mark = mode == SPH__NS_MARK && p->hi > g->h_min; /* h_i >= h_min >= h_j: every source reaches i itself */
 }
 
 /* Runs the search for every target: counts into count[i + 1] (when count
@@ -4303,6 +4399,167 @@ SPH_API int sph_nsearch_count(const sph_nsearch *g, sph_view xt, sph_idx n_targe
     return SPH_OK;
 }
 
+/* ---- Symmetric lists from the gather ones (docs/neighbours.md, "Varying
+ * h"). With r_ij^2 the same from either end, (N2) is the union of the two
+ * gather criteria: j in row i iff j is in gather row i (r_ij < kappa h_i)
+ * or i is in gather row j (r_ij < kappa h_j). So row i = G_i + E_i, G_i
+ * its gather row and E_i = {j : i in G_j, j not in G_i}: the sources whose
+ * larger h reaches i from beyond kappa h_i, found by transposing the
+ * entries of the gather rows that fail the criterion seen from their
+ * source. One gather search, O(pairs) more work, instead of searching
+ * every target out to kappa h_max near the largest h. ---- */
+
+/* 1 when the symmetric lists may be built from the gather ones: per-source
+ * h that vary (the grid's scratch sym), not the plain search, per-target h,
+ * the targets are the sources (same count, positions and h), and kappa h_max
+ * within a quarter period of every periodic axis, so that every pair within
+ * reach has |dx_a| <= L/4, where sph__nsearch_delta returns dx itself and
+ * r_ij^2 = r_ji^2 bit for bit (beyond it, sph_box_delta's rounding need not
+ * be odd in dx near L/2). O(N); the sources are compared in sorted order. */
+SPH_API int sph__nsearch_sym_ok(const sph_nsearch *g, sph_view xt, sph_idx nt, sph_view ht, sph_real kappa, int mode)
+{
+    sph_idx k;
+    int a, same = 1;
+    if (mode != SPH_NSEARCH_SYMMETRIC || g->sym == NULL || g->plain || ht.p[0] == NULL || nt != g->n_sources)
+        return 0;
+    for (a = 0; a < g->dim; ++a)
+        if (!(kappa * g->h_max <= g->quarter[a])) return 0;
+    for (k = 0; k < nt; ++k) {
+        const sph_idx i = g->order[k];
+        same &= g->h[k] == ht.p[0][(ptrdiff_t)i * ht.stride];
+        for (a = 0; a < g->dim; ++a) same &= g->x[(ptrdiff_t)a * g->n_padded + k] == sph__ns_at(xt, a, i);
+    }
+    return same;
+}
+
+/* Counts into ext[i] the marks -1 - i of a searched row (atomically under
+ * OpenMP: rows are counted in parallel). */
+SPH_API void sph__nsearch_sym_count(const sph_idx *row, sph_off n, sph_off *ext)
+{
+    sph_off e;
+    for (e = 0; e < n; ++e)
+        if (row[e] < 0) {
+#ifdef _OPENMP
+#pragma omp atomic
+#endif
+            ++ext[-1 - row[e]];
+        }
+}
+
+/* Merges the ascending runs a[0 .. n1-1] and a[n1 .. n1+n2-1] (no value in
+ * both) in place: through a buffer of 64 when one run fits it, else by a
+ * rotation at a cut point and the two halves merged alike (O(n log n)
+ * moves, depth O(log n)). */
+SPH_API void sph__ns_merge(sph_idx *a, sph_off n1, sph_off n2)
+{
+    enum { B = 64 };
+    sph_idx buf[B];
+    sph_off c1, c2, lo, hi, k;
+    if (n1 == 0 || n2 == 0) return;
+    if (n2 <= B) { /* the second run into buf; from its last value down, the values of the first run
+                      above it moved up, then it */
+        sph_off w = n1 + n2, p = n1, q;
+        for (k = 0; k < n2; ++k) buf[k] = a[n1 + k];
+        for (q = n2 - 1; q >= 0; --q) {
+            while (p > 0 && a[p - 1] > buf[q]) a[--w] = a[--p];
+            a[--w] = buf[q];
+        }
+        return;
+    }
+    if (n1 <= B) { /* the first run into buf, merged from the front */
+        sph_off w = 0, p = 0, q = n1;
+        for (k = 0; k < n1; ++k) buf[k] = a[k];
+        while (p < n1) a[w++] = q < n1 + n2 && a[q] < buf[p] ? a[q++] : buf[p++];
+        return;
+    }
+    if (n1 > n2) { /* cut the longer run in half, the other where its half's first value goes */
+        const sph_idx v = a[c1 = n1 / 2];
+        for (lo = n1, hi = n1 + n2; lo < hi;) {
+            const sph_off m = lo + (hi - lo) / 2;
+            if (a[m] < v) lo = m + 1; else hi = m;
+        }
+        c2 = lo - n1;
+    } else {
+        const sph_idx v = a[n1 + (c2 = n2 / 2)];
+        for (lo = 0, hi = n1; lo < hi;) {
+            const sph_off m = lo + (hi - lo) / 2;
+            if (a[m] < v) lo = m + 1; else hi = m;
+        }
+        c1 = lo;
+    }
+    { /* rotate a[c1 .. n1 + c2 - 1] so that a[n1 .. n1 + c2 - 1] comes first: three reversals */
+        sph_off r[3][2];
+        int t;
+        r[0][0] = c1, r[0][1] = n1, r[1][0] = n1, r[1][1] = n1 + c2, r[2][0] = c1, r[2][1] = n1 + c2;
+        for (t = 0; t < 3; ++t)
+            for (lo = r[t][0], hi = r[t][1] - 1; lo < hi; ++lo, --hi) {
+                const sph_idx s = a[lo];
+                a[lo] = a[hi], a[hi] = s;
+            }
+    }
+    sph__ns_merge(a, c1, c2);
+    sph__ns_merge(a + c1 + c2, n1 - c1, n2 - c2);
+}
+
+/* Completes the symmetric rows in place. Gather row i (len[i] entries, a
+ * source i marked -1 - i, in ascending source) is at the front of its final
+ * segment offset[i] .. offset[i+1] - 1; at[i] = offset[i+1]. Each mark is
+ * transposed into the back of its source's segment (at[i] moves down to
+ * offset[i] + len[i]), rows taken in descending order so that every E_i
+ * comes out ascending, found 16 entries at a time from a mask of their signs
+ * and undone; then each row merges its two runs (parallel under OpenMP). */
+SPH_API void sph__nsearch_sym_finish(sph_idx n, const sph_off *offset, const sph_idx *len, sph_off *at, sph_idx *index)
+{
+    sph_idx i, j;
+    for (j = n - 1; j >= 0; --j) {
+        sph_idx *row = index + offset[j], e;
+        for (e = 0; e < len[j]; e += 16) {
+            const int w = len[j] - e < 16 ? (int)(len[j] - e) : 16;
+            unsigned m = 0, t;
+            int k;
+            for (k = 0; k < w; ++k) m |= (unsigned)(row[e + k] < 0) << k;
+            for (t = m; t != 0; t &= t - 1) index[--at[-1 - row[e + sph__ns_ctz(t)]]] = j;
+            for (k = 0; m != 0 && k < w; ++k) row[e + k] = row[e + k] < 0 ? -1 - row[e + k] : row[e + k];
+        }
+    }
+#ifdef _OPENMP
+#pragma omp parallel for schedule(dynamic, 256) if (n >= 4096)
+#endif
+    for (i = 0; i < n; ++i) sph__ns_merge(index + offset[i], len[i], offset[i + 1] - offset[i] - len[i]);
+}
+
+/* sph_nsearch_fill in symmetric mode from the gather search (sph__nsearch_sym_ok
+ * holds; offset checked): each gather row searched into the front of its
+ * segment, marked, completed. SPH_EOFFSET when a row's lengths disagree
+ * with offset (index then unspecified). */
+SPH_API int sph__nsearch_sym_fill(const sph_nsearch *g, sph_view xt, sph_idx n, sph_view ht, sph_real h,
+                                  sph_real kappa, const sph_off *offset, sph_idx *index)
+{
+    sph_idx *len = g->sym, i;
+    sph_off *ext = g->sym_at;
+    int bad = 0;
+    for (i = 0; i < n; ++i) ext[i] = 0;
+#ifdef _OPENMP
+#pragma omp parallel for schedule(dynamic, 64) if (n >= 512) reduction(| : bad)
+#endif
+    for (i = 0; i < n; ++i) {
+        sph__probe p;
+        sph__nsearch_probe(g, xt, ht, h, kappa, SPH__NS_MARK, i, &p);
+        p.seg = index + offset[i];
+        p.cap = offset[i + 1] - offset[i];
+        sph__nsearch_target(g, &p);
+        bad |= p.found > p.cap;
+        len[i] = (sph_idx)(p.found < p.cap ? p.found : p.cap);
+    }
+    if (bad) return SPH_EOFFSET;
+    for (i = 0; i < n; ++i)
+        bad |= offset[i + 1] - offset[i] != len[i] + ext[i];
+    if (bad) return SPH_EOFFSET;
+    for (i = 0; i < n; ++i) ext[i] = offset[i + 1];
+    sph__nsearch_sym_finish(n, offset, len, ext, index);
+    return SPH_OK;
+}
+
 /* Fill pass: index[offset[i] .. offset[i+1]-1] = the neighbours of target i
  * (criterion (N1)/(N2)) in ascending source index. offset must come from
  * sph_nsearch_count with the same arguments; index holds capacity entries
@@ -4322,6 +4579,8 @@ SPH_API int sph_nsearch_fill(const sph_nsearch *g, sph_view xt, sph_idx n_target
     if (offset[n_targets] > capacity) return SPH_ESIZE;
     if (index == NULL && offset[n_targets] > 0) return SPH_ENULL;
     if (n_targets == 0 || index == NULL) return SPH_OK;
+    if (sph__nsearch_sym_ok(g, xt, n_targets, ht, kappa, mode))
+        return sph__nsearch_sym_fill(g, xt, n_targets, ht, h, kappa, offset, index);
     return sph__nsearch_run(g, xt, n_targets, ht, h, kappa, mode, NULL, offset, index, NULL);
 }
 
@@ -4358,14 +4617,14 @@ SPH_API sph_idx sph__nsearch_block(const sph_nsearch *g, sph_view xt, sph_view h
  * block that outgrows its share on, a second pass fills the lists (a
  * capacity ~20 % above the expected pairs avoids it). The result does not
  * depend on the thread count. */
-SPH_API int sph_nsearch_lists(const sph_nsearch *g, sph_view xt, sph_idx n_targets, sph_view ht, sph_real h,
-                              sph_real kappa, int mode, sph_off *offset, sph_idx *index, sph_off capacity,
-                              sph_off *pairs)
+SPH_API int sph__nsearch_lists_ref(const sph_nsearch *g, sph_view xt, sph_idx n_targets, sph_view ht, sph_real h,
+                                   sph_real kappa, int mode, sph_off *offset, sph_idx *index, sph_off capacity,
+                                   sph_off *pairs)
 {
     enum { MAX_BLOCKS = 64 };
     sph_idx lo[MAX_BLOCKS + 1], bad[MAX_BLOCKS];
     sph_off s0[MAX_BLOCKS + 1], k, end;
-    int nb, b, st = sph__nsearch_check(g, xt, n_targets, ht, h, kappa, mode);
+    int nb, b, st = sph__nsearch_check(g, xt, n_targets, ht, h, kappa, mode == SPH__NS_MARK ? SPH_NSEARCH_GATHER : mode);
     sph_idx i;
     if (st != SPH_OK) return st;
     if (offset == NULL || pairs == NULL || (index == NULL && capacity > 0)) return SPH_ENULL;
@@ -4398,10 +4657,65 @@ SPH_API int sph_nsearch_lists(const sph_nsearch *g, sph_view xt, sph_idx n_targe
         end = offset[lo[b + 1]] - offset[lo[b]];
         for (k = 0; s0[b] != offset[lo[b]] && k < end; ++k) index[offset[lo[b]] + k] = index[s0[b] + k];
     }
-    if (b < nb) /* from the first block that outgrew its share: a fill pass over the rest */
-        return sph__nsearch_run(g, sph__ns_tail(xt, g->dim, lo[b]), n_targets - lo[b], sph__ns_tail(ht, 1, lo[b]),
-                                h, kappa, mode, NULL, offset + lo[b], index, NULL);
+    if (b < nb) { /* from the first block that outgrew its share: a fill pass over the rest */
+        st = sph__nsearch_run(g, sph__ns_tail(xt, g->dim, lo[b]), n_targets - lo[b], sph__ns_tail(ht, 1, lo[b]), h,
+                              kappa, mode, NULL, offset + lo[b], index, NULL);
+        if (mode == SPH__NS_MARK) { /* rows of the first pass searched again: the marks counted afresh */
+            for (i = 0; i < n_targets; ++i) g->sym_at[i] = 0;
+            sph__nsearch_sym_count(index, offset[n_targets], g->sym_at);
+        }
+        return st;
+    }
     return SPH_OK;
+}
+
+/* sph_nsearch_lists in symmetric mode from the gather lists (sph__nsearch_sym_ok
+ * holds): the gather lists into index, marked, the final offsets from the
+ * row lengths, the gather rows moved up to their final segments (last row
+ * first: a row only moves up, over rows already moved), then completed.
+ * SPH_ESIZE, offsets complete, when index cannot hold the symmetric lists; when
+ * it cannot hold even the gather ones, the offsets come from the direct
+ * search (sph__nsearch_lists_ref). */
+SPH_API int sph__nsearch_sym_lists(const sph_nsearch *g, sph_view xt, sph_idx n, sph_view ht, sph_real h,
+                                   sph_real kappa, sph_off *offset, sph_idx *index, sph_off capacity, sph_off *pairs)
+{
+    sph_idx *len = g->sym, i, k;
+    sph_off src, *at = g->sym_at;
+    int st;
+    for (i = 0; i < n; ++i) at[i] = 0;
+    st = sph__nsearch_lists_ref(g, xt, n, ht, h, kappa, SPH__NS_MARK, offset, index, capacity, pairs);
+    if (st == SPH_ESIZE)
+        return sph__nsearch_lists_ref(g, xt, n, ht, h, kappa, SPH_NSEARCH_SYMMETRIC, offset, index, capacity, pairs);
+    if (st != SPH_OK) return st;
+    for (i = 0; i < n; ++i) len[i] = (sph_idx)(offset[i + 1] - offset[i]);
+    src = offset[n];
+    for (i = 0; i < n; ++i) offset[i + 1] = offset[i] + len[i] + at[i];
+    *pairs = offset[n];
+    if (offset[n] > capacity) return SPH_ESIZE;
+    for (i = n - 1; i >= 0; --i) {
+        src -= len[i];
+        for (k = len[i] - 1; src != offset[i] && k >= 0; --k) index[offset[i] + k] = index[src + k]; /* up: last first */
+        at[i] = offset[i + 1];
+    }
+    sph__nsearch_sym_finish(n, offset, len, at, index);
+    return SPH_OK;
+}
+
+/* Count and fill in one search per target (eq. (N1)/(N2)), as
+ * sph__nsearch_lists_ref describes; in symmetric mode with varying per-source
+ * h over the sources themselves, from the gather lists (sph__nsearch_sym_lists),
+ * the same lists. */
+SPH_API int sph_nsearch_lists(const sph_nsearch *g, sph_view xt, sph_idx n_targets, sph_view ht, sph_real h,
+                              sph_real kappa, int mode, sph_off *offset, sph_idx *index, sph_off capacity,
+                              sph_off *pairs)
+{
+    int st = sph__nsearch_check(g, xt, n_targets, ht, h, kappa, mode);
+    if (st != SPH_OK) return st;
+    if (offset == NULL || pairs == NULL || (index == NULL && capacity > 0)) return SPH_ENULL;
+    if (capacity < 0) return SPH_ECOUNT;
+    if (sph__nsearch_sym_ok(g, xt, n_targets, ht, kappa, mode))
+        return sph__nsearch_sym_lists(g, xt, n_targets, ht, h, kappa, offset, index, capacity, pairs);
+    return sph__nsearch_lists_ref(g, xt, n_targets, ht, h, kappa, mode, offset, index, capacity, pairs);
 }
 
 /* Statistics of one search without storing it (docs/neighbours.md,

@@ -1196,6 +1196,99 @@ static void test_push_reach(void)
         }
 }
 
+/* Symmetric lists with varying h over the sources themselves are built from
+ * the gather ones (row i = gather row i + the sources whose larger h
+ * reaches i, transposed): a Gaussian clump (contrast 1000 in 3-D) with
+ * coincident pairs of different h and one isolated source (a row of itself
+ * only), open and in a periodic box whose quarter holds kappa h_max (the
+ * transposed path), and one whose quarter does not (the direct search);
+ * each against the brute force and the plain search (nb_compare: count +
+ * fill, and lists with a roomy, an exact and a short index), then lists
+ * with an index between the gather and the symmetric pairs (SPH_ESIZE from
+ * the gather lists, offsets complete, then fill with them) and one short of
+ * the gather pairs (the direct search gives the offsets). The first half
+ * of the targets has larger h: under OpenMP (2 threads, a block each) the
+ * first block outgrows its share of an exact index, and the marks of the
+ * gather rows searched again are counted afresh. */
+static void test_sym_from_gather(void)
+{
+    const int n = 3000;
+    int box_kind;
+#ifdef _OPENMP
+    omp_set_num_threads(2);
+#endif
+    for (box_kind = 0; box_kind < 3; ++box_kind) {
+        sph_real *x = nb_alloc(n), *h = (sph_real *)malloc(sizeof(sph_real) * (size_t)n), hmax = 0;
+        sph_box box;
+        tp_rng rng = {(uint64_t)(4100 + box_kind)};
+        tp_list ref, got;
+        sph_nsearch g;
+        sph_off G = 0, cand = 0, S, pairs = -1, cap;
+        sph_idx *index;
+        sph_off *offset = (sph_off *)malloc(sizeof(sph_off) * (size_t)(n + 1));
+        void *work;
+        nb_problem p;
+        int i, st, fast;
+        tp_clump(3, n, 0.12, 1000, 0.5, 1.2, &rng, x, h);
+        for (i = 0; i < n / 2; ++i) h[i] *= (sph_real)1.6; /* the first half's gather rows 4 times as long */
+        for (i = 0; i < 40; ++i) { /* coincident with the next source, another h */
+            int a;
+            for (a = 0; a < 3; ++a) x[3 * (2 * i + 1) + a] = x[3 * (2 * i) + a];
+            h[2 * i + 1] = h[2 * i] * (sph_real)(i % 2 ? 3 : 0.5);
+        }
+        x[3 * (n - 1)] = (sph_real)2.5; /* isolated, small h: only itself */
+        h[n - 1] = h[0];
+        for (i = 0; i < n; ++i) hmax = h[i] > hmax ? h[i] : hmax;
+        box = nb_box(1, 1, 1, box_kind == 2 ? 6 * (double)hmax : 4.0); /* kind 2: kappa h_max = L / 3 */
+        p = nb_make(3, x, n, 0, 2, hmax);
+        p.hs = h;
+        p.ht = h;
+        p.mode = SPH_NSEARCH_SYMMETRIC;
+        p.box = box_kind > 0 ? &box : NULL;
+        th_begin("symmetric from the gather lists, varying h, %s: equals brute force and the plain search",
+                 box_kind == 0 ? "open" : box_kind == 1 ? "periodic, kappa h_max within L/4"
+                                                        : "periodic, kappa h_max beyond L/4 (direct search)");
+        nb_compare(&p);
+        st = nb_search(&p, &g, &work, &got);
+        TH_CHECK(st == SPH_OK, "search %d", st);
+        fast = sph__nsearch_sym_ok(&g, sph_view_interleaved(x, 3), n, sph_view_soa(h, NULL, NULL), 2,
+                                   SPH_NSEARCH_SYMMETRIC);
+        TH_CHECK(fast == (!SPH__NS_PLAIN && box_kind < 2), "transposed path taken: %d", fast);
+        TH_CHECK(tp_brute_list(3, x, n, x, n, 0, h, h, 2, SPH_NSEARCH_SYMMETRIC, p.box, &ref) == 0, "reference");
+        st = sph_nsearch_stats(&g, sph_view_interleaved(x, 3), n, sph_view_soa(h, NULL, NULL), 0, 2,
+                               SPH_NSEARCH_GATHER, &G, &cand, NULL);
+        S = ref.offset[n];
+        TH_CHECK(st == SPH_OK && G < S && S < 2 * G, "gather %ld, symmetric %ld pairs", (long)G, (long)S);
+        TH_CHECK(box_kind == 2 || (ref.offset[n] - ref.offset[n - 1] == 1 && ref.index[ref.offset[n - 1]] == n - 1),
+                 "isolated row");
+        index = (sph_idx *)malloc(sizeof(sph_idx) * (size_t)(S + 16));
+        for (cap = G - 1; cap <= G + (S - G) / 2; cap += (S - G) / 2 + 1) {
+            pairs = -1;
+            st = sph_nsearch_lists(&g, sph_view_interleaved(x, 3), n, sph_view_soa(h, NULL, NULL), 0, 2,
+                                   SPH_NSEARCH_SYMMETRIC, offset, index, cap, &pairs);
+            TH_CHECK(st == SPH_ESIZE && pairs == S, "lists, capacity %ld (gather %ld, symmetric %ld): status %d, %ld "
+                     "pairs", (long)cap, (long)G, (long)S, st, (long)pairs);
+            nb_same("offsets of a short index", &ref, n, offset, NULL);
+            st = sph_nsearch_fill(&g, sph_view_interleaved(x, 3), n, sph_view_soa(h, NULL, NULL), 0, 2,
+                                  SPH_NSEARCH_SYMMETRIC, offset, index, S);
+            TH_CHECK(st == SPH_OK, "fill after SPH_ESIZE: %d", st);
+            nb_same("fill after SPH_ESIZE", &ref, n, offset, index);
+        }
+        offset[n / 2] += 1; /* a wrong length: refused */
+        st = sph_nsearch_fill(&g, sph_view_interleaved(x, 3), n, sph_view_soa(h, NULL, NULL), 0, 2,
+                              SPH_NSEARCH_SYMMETRIC, offset, index, S);
+        TH_CHECK(st == SPH_EOFFSET, "fill with a wrong offset: %d", st);
+        th_end();
+        tp_free_list(&ref);
+        tp_free_list(&got);
+        free(index);
+        free(offset);
+        free(work);
+        free(x);
+        free(h);
+    }
+}
+
 int main(void)
 {
     test_clouds();
@@ -1217,5 +1310,6 @@ int main(void)
     test_lists_blocks();
     test_strong_h();
     test_push_reach();
+    test_sym_from_gather();
     return th_summary();
 }
