@@ -4861,8 +4861,10 @@ SPH__INLINE sph_off sph__prune_row(const sph_neighbours *list, const sph_box *bx
  * box. offset and index must not be the list's own arrays. box as
  * sph_nsearch_skin. Returns SPH_ENULL, SPH_EDIM, SPH_ECOUNT, SPH_ERANGE,
  * SPH_EOPTION (mode), SPH_EBOX, SPH_EBOXLEN, SPH_EOFFSET, SPH_EINDEX, SPH_EH,
- * SPH_ENONFINITE, SPH_ESIZE; else SPH_OK. With OpenMP and n >= 4096, a
- * counting pass and a filling pass run in parallel over rows; else one pass. */
+ * SPH_ENONFINITE, SPH_ESIZE; else SPH_OK. With OpenMP and n >= 4096, one
+ * pass over chunks of rows in parallel, each at its rows' own positions,
+ * then moved down (when cap holds the whole list; else a counting and a
+ * filling pass); on one thread one pass. The same for any thread count. */
 SPH_API int sph_nsearch_prune(const sph_neighbours *list, const sph_box *box, int dim, sph_view x, sph_view h,
                               sph_real kappa, int mode, sph_off *offset, sph_idx *index, sph_off cap, sph_off *pairs,
                               sph_neighbours *out)
@@ -4899,26 +4901,51 @@ SPH_API int sph_nsearch_prune(const sph_neighbours *list, const sph_box *box, in
     threads = n >= 4096 ? omp_get_max_threads() : 1;
 #endif
     offset[0] = 0;
-    if (threads == 1) { /* one pass: rows written while they fit */
+    if (threads > 1 && index != NULL && cap >= list->offset[n]) { /* chunks of rows in parallel, each written at
+        its rows' input positions (a pruned row is never longer), then moved down in order */
+        const int C = 4 * threads;
+        int c;
+#ifdef _OPENMP
+#pragma omp parallel for schedule(dynamic, 1)
+#endif
+        for (c = 0; c < C; ++c) {
+            const sph_idx lo = (sph_idx)((double)n * c / C), hi = (sph_idx)((double)n * (c + 1) / C);
+            sph_off k = list->offset[lo];
+            sph_idx r;
+            for (r = lo; r < hi; ++r) {
+                offset[r + 1] = sph__prune_row(list, bx, q, dim, x, h, kappa, mode, r, index + k);
+                k += offset[r + 1];
+            }
+        }
+        for (i = 0; i < n; ++i) offset[i + 1] += offset[i];
+        for (c = 1; c < C; ++c) { /* chunk 0 is in place; the others move down, front first (they may overlap) */
+            const sph_idx lo = (sph_idx)((double)n * c / C), hi = (sph_idx)((double)n * (c + 1) / C);
+            const sph_off from = list->offset[lo] - offset[lo];
+            sph_off o;
+            if (from > 0)
+                for (o = offset[lo]; o < offset[hi]; ++o) index[o] = index[o + from];
+        }
+        if (pairs != NULL) *pairs = offset[n];
+    } else if (threads == 1) { /* one pass: rows written while they fit */
         for (i = 0; i < n; ++i)
             offset[i + 1] = offset[i] + sph__prune_row(list, bx, q, dim, x, h, kappa, mode, i,
                                                       index != NULL && cap - offset[i] >= list->offset[i + 1] -
                                                       list->offset[i] ? index + offset[i] : NULL);
-    } else {
+        if (pairs != NULL) *pairs = offset[n];
+        if (cap < offset[n]) return SPH_ESIZE;
+        if (offset[n] > 0 && index == NULL) return SPH_ENULL;
+        for (i = 0; i < n; ++i) /* rows that might not have fitted were counted only: write them now */
+            if (!(cap - offset[i] >= list->offset[i + 1] - list->offset[i]))
+                sph__prune_row(list, bx, q, dim, x, h, kappa, mode, i, index + offset[i]);
+    } else { /* threads, an index shorter than the list: a counting pass, then a filling pass */
 #ifdef _OPENMP
 #pragma omp parallel for schedule(dynamic, 256)
 #endif
         for (i = 0; i < n; ++i) offset[i + 1] = sph__prune_row(list, bx, q, dim, x, h, kappa, mode, i, NULL);
         for (i = 0; i < n; ++i) offset[i + 1] += offset[i];
-    }
-    if (pairs != NULL) *pairs = offset[n];
-    if (cap < offset[n]) return SPH_ESIZE;
-    if (offset[n] > 0 && index == NULL) return SPH_ENULL;
-    if (threads == 1) { /* rows that might not have fitted were counted only: write them now */
-        for (i = 0; i < n; ++i)
-            if (!(cap - offset[i] >= list->offset[i + 1] - list->offset[i]))
-                sph__prune_row(list, bx, q, dim, x, h, kappa, mode, i, index + offset[i]);
-    } else {
+        if (pairs != NULL) *pairs = offset[n];
+        if (cap < offset[n]) return SPH_ESIZE;
+        if (offset[n] > 0 && index == NULL) return SPH_ENULL;
 #ifdef _OPENMP
 #pragma omp parallel for schedule(dynamic, 256)
 #endif

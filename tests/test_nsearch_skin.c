@@ -268,6 +268,12 @@ static void sk_threads_case(void)
                  "%d %d, pairs %ld %ld of %ld", st1, st2, (long)p1, (long)p2, (long)L.offset[NT]);
         TH_CHECK(memcmp(o1, o2, (NT + 1) * sizeof(sph_off)) == 0 && memcmp(i1, i2, (size_t)p1 * sizeof(sph_idx)) == 0,
                  "lists differ");
+        /* an index of exactly the pairs kept, shorter than the list: 2 threads take the counting and filling passes */
+        memset(i2, 0, (size_t)p1 * sizeof(sph_idx));
+        st2 = sph_nsearch_prune(&L.list, NULL, 3, sph_view_interleaved(x, 3), th_in1(hs), sk_kappa,
+                                SPH_NSEARCH_SYMMETRIC, o2, i2, p1, &p2, NULL);
+        TH_CHECK(st2 == SPH_OK && p2 == p1 && memcmp(i1, i2, (size_t)p1 * sizeof(sph_idx)) == 0,
+                 "cap = pairs: %d, %ld pairs, lists differ", st2, (long)p2);
         { /* the skin radii: x moved (x0 = x + a wave), hs the h, h the list's radii; h_keep into the spare index */
             sph_real *x0 = (sph_real *)(void *)i1, *k1 = (sph_real *)(void *)i2, *k2 = k1 + NT;
             sph_idx n1 = -1, n2 = -2;
