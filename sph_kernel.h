@@ -3169,6 +3169,7 @@ typedef struct {
     sph_real w[3];        /* cell width per axis */
     sph_real inv_w[3];    /* 1 / w */
     sph_real quarter[3];  /* L / 4 on periodic axes, the largest real elsewhere */
+    sph_real quarter2;    /* smallest quarter[a]^2 of the periodic axes, the largest real without */
     sph_real image_ok[3]; /* 0.49 L on periodic axes, the largest real elsewhere: an image offset that leaves |d_a|
                              below it gave the minimum image (eq. (N7)) */
     sph_real slack;       /* rounding allowance added to every search radius */
@@ -3432,6 +3433,24 @@ SPH_API int sph__nsearch_in(const sph_nsearch *g, const sph__probe *p, sph_idx k
     return r2 < R * R;
 }
 
+/* 1 when some source b + k of the block (k < SPH__NS_BLOCK, b + k < k1) has
+ * |d_a| = |(x_t - x_j) - s_a| beyond image_ok_a on some axis: there the
+ * run's image offset need not be the minimum image (eq. (N7)). Asked only
+ * of blocks with some r^2 beyond the smallest squared quarter period. */
+SPH__NOINLINE int sph__nsearch_far(const sph_nsearch *g, const sph__probe *p, sph_idx b, sph_idx k1, const sph_real *s,
+                                 const int dim, const int IMG)
+{
+    const sph_real *x = g->x + b;
+    const ptrdiff_t stride = g->n_padded;
+    int k, a;
+    for (k = 0; k < SPH__NS_BLOCK && b + k < k1; ++k)
+        for (a = 0; a < dim; ++a) {
+            const sph_real d = IMG ? (p->xt[a] - x[a * stride + k]) - s[a] : p->xt[a] - x[a * stride + k];
+            if ((d < 0 ? -d : d) > g->image_ok[a]) return 1;
+        }
+    return 0;
+}
+
 /* Bit k set when sorted source b + k (k < SPH__NS_BLOCK, b + k < k1) meets
  * the criterion, as sph__nsearch_in decides it. One loop without a branch
  * over a whole block (the padding beyond k1 is masked). The run's image
@@ -3441,8 +3460,10 @@ SPH_API int sph__nsearch_in(const sph_nsearch *g, const sph__probe *p, sph_idx k
  * image w_a (or 0 without one) with a margin far above the rounding, so
  * sph_box_delta subtracts the same w_a L_a. A block with some |d_a| beyond
  * it (a wrong image, or a box not much larger than the radius) is redone
- * by sph__nsearch_in. HV: R per source (symmetric with per-source h); dim,
- * HV, IMG constants once inlined. */
+ * by sph__nsearch_in; the loop itself only tests r^2 against the smallest
+ * squared quarter period (cheaper in it), and sph__nsearch_far looks at
+ * the axes of the blocks that pass it. HV: R per source (symmetric with
+ * per-source h); dim, HV, IMG constants once inlined. */
 SPH__INLINE unsigned sph__nsearch_mask(const sph_nsearch *g, sph__probe *p, sph_idx b, sph_idx k1,
                                        const sph_real *s, const int dim, const int HV, const int IMG, unsigned *mk)
 {
@@ -3455,8 +3476,8 @@ SPH__INLINE unsigned sph__nsearch_mask(const sph_nsearch *g, sph__probe *p, sph_
         for (a = 0; a < dim; ++a) {
             const sph_real d = IMG ? (p->xt[a] - x[a * stride + k]) - s[a] : p->xt[a] - x[a * stride + k];
             r2 += d * d;
-            wide |= ((d < 0 ? -d : d) > g->image_ok[a]) & (b + k < k1);
         }
+        wide |= (r2 > g->quarter2) & (b + k < k1);
         if (HV == 1) {
             const sph_real hj = g->h[b + k], R = p->kappa * (hj > p->hi ? hj : p->hi);
             R2 = R * R;
@@ -3467,6 +3488,7 @@ SPH__INLINE unsigned sph__nsearch_mask(const sph_nsearch *g, sph__probe *p, sph_
         }
         mask |= (unsigned)((r2 < R2) & (b + k < k1)) << k;
     }
+    if (wide) wide = sph__nsearch_far(g, p, b, k1, s, dim, IMG);
     if (wide) {
         ++p->redone;
         for (mask = own = 0, k = 0; k < SPH__NS_BLOCK && b + k < k1; ++k) {
@@ -4086,6 +4108,9 @@ SPH_API int sph__nsearch_geometry(sph_nsearch *g, int dim, sph_view xs, sph_idx 
         g->quarter[a] = per ? L[a] / 4 : SPH__REAL_MAX;
         g->image_ok[a] = per ? (sph_real)0.49 * L[a] : SPH__REAL_MAX;
     }
+    g->quarter2 = SPH__REAL_MAX;
+    for (a = 0; a < dim; ++a)
+        if (g->box.periodic[a] && g->quarter[a] * g->quarter[a] < g->quarter2) g->quarter2 = g->quarter[a] * g->quarter[a];
     if ((st = sph__nsearch_axes(g, dim, L, amax, cell)) != SPH_OK) return st;
     if (hs.p[0] != NULL && ns > 0 && !plain) /* finer cells for the h the sources have */
         for (j = sph__nsearch_pick(hs, ns, dim, g->h_max); j > 0; --j) {
