@@ -283,6 +283,15 @@ typedef SPH_REAL sph_real;
 #else
 #define SPH__INLINE static inline
 #endif
+/* Kept out of line (a rarely taken path, or one instance per kernel shape that
+ * the loops call), so that it does not weigh on its callers' code. */
+#if defined(__CUDACC__)
+#define SPH__NOINLINE static __noinline__ SPH_HOSTDEV
+#elif defined(__GNUC__) || defined(__clang__)
+#define SPH__NOINLINE static __attribute__((noinline, unused))
+#else
+#define SPH__NOINLINE static inline
+#endif
 
 /* Vector square roots for the operator loops (section 6): AVX (2), SSE2 (1),
  * none (0: portable loop). */
@@ -2007,14 +2016,6 @@ SPH_API sph_idx sph__run_reference(const sph__args *A)
 #define SPH__SIMD_SUM1
 #define SPH__SIMD_SUM2
 #define SPH__SIMD_KERNEL
-#endif
-
-#if defined(__CUDACC__)
-#define SPH__NOINLINE static __noinline__ SPH_HOSTDEV
-#elif defined(__GNUC__) || defined(__clang__)
-#define SPH__NOINLINE static __attribute__((noinline, unused))
-#else
-#define SPH__NOINLINE static inline
 #endif
 
 /* The pairs of one chunk (positions k = 0..n-1 of the target's list). */
