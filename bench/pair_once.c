@@ -10,12 +10,13 @@
  *   gcc -O3 -march=native -fno-math-errno -std=c99 -I. bench/pair_once.c -o build/pair_once_native -lm
  *   ./build/pair_once [side] [repeats]     (default 40: 40^3 particles, 9 repeats)
  *
- * Then the pair loop of examples/sod_shock.c (sd_pair: grad-h momentum
- * and energy (H5), (H6), signal-velocity viscosity (S3), (S4), thermal
+ * Then the shock tube's first pair loop (as examples/sod_shock.c had it
+ * before its SPHENIX switches and gather loop: grad-h momentum and energy
+ * (H5), (H6), signal-velocity viscosity (S3), (S4), Price's thermal
  * conductivity, div v and the largest signal velocity), pair-once, in two
  * forms: one pair at a time with the scalar pair terms (sph_kernel_f,
- * sph_pair_gradh_*, sph_pair_av_signal, sph_pair_av_apply, as sd_pair
- * writes it), and as a caller's loop over the lanes of sph_batch_fill
+ * sph_pair_gradh_*, sph_pair_av_signal, sph_pair_av_apply: scalar_pair),
+ * and as a caller's loop over the lanes of sph_batch_fill
  * (docs/smoothing_length.md, "Pair batches"; F alone, sph_batch_select);
  * both then reduced by sph_pairs_reduce, and the largest difference of the
  * two results printed; the batch form again with i's share summed in the
@@ -70,7 +71,7 @@ typedef struct {
     sph_real beta, alpha_u;
 } fields;
 
-/* sd_pair of examples/sod_shock.c for pair k = (i, j), one pair at a time
+/* The shock tube's first pair terms for pair k = (i, j), one pair at a time
  * with the scalar pair terms; masses m_j into i's terms, m_i into j's: to
  * t_i[0..4] (dv/dt, du/dt, m div v) and t_j[0..4]. */
 static void scalar_pair(const fields *f, sph_idx i, sph_idx j, sph_real *ti, sph_real *tj, sph_real *vs)
@@ -339,7 +340,7 @@ int main(int argc, char **argv)
            1e9 * med[1] / (double)pairs, med[3]);
     printf("  pressure gradient (O8), gather  (sph_gradient PRESSURE)   %7.2f ns/pair\n", 1e9 * med[2] / (double)pairs);
     printf("  shock-tube pair loop (H5, H6, S3, S4, conduction, div v), pair-once + sph_pairs_reduce:\n");
-    printf("    one pair at a time, scalar pair terms (sod_shock's sd_pair)  %7.2f ns/pair\n", 1e9 * med[4] / (double)pairs);
+    printf("    one pair at a time, scalar pair terms (scalar_pair)  %7.2f ns/pair\n", 1e9 * med[4] / (double)pairs);
     printf("    lanes of sph_batch_fill, SPH_BATCH %2d                         %7.2f ns/pair (speed-up %.2f)\n", SPH_BATCH,
            1e9 * med[5] / (double)pairs, med[4] / med[5]);
     printf("    the same, i's share summed in the loop (sph_pairs_reduce_rows) %7.2f ns/pair (speed-up %.2f)\n",
