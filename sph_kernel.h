@@ -3586,7 +3586,7 @@ SPH__INLINE unsigned sph__nsearch_mask16(const sph_nsearch *g, sph__probe *p, sp
 /* Lowest set bit of m != 0. */
 SPH_API int sph__ns_ctz(unsigned m)
 {
-#if defined(__GNUC__)
+#if defined(__GNUC__) && !defined(__CUDA_ARCH__) /* the builtin is host code under nvcc */
     return __builtin_ctz(m);
 #else
     int k = 0;
