@@ -127,6 +127,7 @@
  * 4. Particle data
  *   sph_box_delta(box, a, dx)                    minimum image of one component (O0)
  *   SPH_NEIGHBOURS_INIT(nt, ns, offset, index)   a CSR list of the caller's arrays, box unknown
+ *   sph_neighbours_check(list)                   validates a CSR list once
  *   sph_view_soa(x, y, z)                        read view of one array per component
  *   sph_view_aos(first, ncomp, stride_bytes)     read view into an array of structs
  *   sph_view_interleaved(x, ncomp)               read view of x[ncomp i + a]
@@ -154,7 +155,6 @@
  *   sph_view_none()                              an absent view
  *   sph_ctx_init(k, dim, h, list, x)             a context; set further fields as needed
  *                                                (ctx.box NULL: the list's box; another: SPH_EBOX)
- *   sph_neighbours_check(list)                   validates a CSR list once
  *   sph_density(c, rho)                          (O2)
  *   sph_interpolate(c, f, out)                   (O3)
  *   sph_interpolate_shepard(c, f, out, &n_empty) (O3) normalised
@@ -1244,6 +1244,42 @@ SPH_API int sph__box_of(const sph_box *box, const sph_neighbours *list, int dim,
     return SPH_OK;
 }
 
+/* SPH_OK when list is a well-formed CSR list: counts >= 0 (else SPH_ECOUNT),
+ * offset[0] = 0 and non-decreasing (else SPH_EOFFSET), every index in
+ * 0..n_sources-1 (else SPH_EINDEX), arrays present (else SPH_ENULL).
+ * Cost: one pass over offset and index. Run it once per list and set
+ * ctx.validate = SPH_VALIDATE_ARGS to skip it in the operators. */
+SPH_API int sph_neighbours_check(const sph_neighbours *list)
+{
+    sph_idx i;
+    sph_off o;
+    if (list == NULL || list->offset == NULL) return SPH_ENULL;
+    if (list->n_targets < 0 || list->n_sources < 0) return SPH_ECOUNT;
+    if (list->offset[0] != 0) return SPH_EOFFSET;
+    for (i = 0; i < list->n_targets; ++i)
+        if (list->offset[i + 1] < list->offset[i]) return SPH_EOFFSET;
+    if (list->offset[list->n_targets] > 0 && list->index == NULL) return SPH_ENULL;
+    for (o = 0; o < list->offset[list->n_targets]; ++o)
+        if (list->index[o] < 0 || list->index[o] >= list->n_sources) return SPH_EINDEX;
+    return SPH_OK;
+}
+
+/* SPH_ENONFINITE or SPH_EH for the first particle (in index order) of n
+ * whose position (dim components of x) is not finite or whose h (one
+ * component) is not usable (sph__h_ok; h before x at each particle); else
+ * SPH_OK. The views must be present. */
+SPH_API int sph__hx_check(sph_view x, sph_view h, sph_idx n, int dim)
+{
+    sph_idx i;
+    int a;
+    for (i = 0; i < n; ++i) {
+        if (!sph__h_ok(h.p[0][(ptrdiff_t)i * h.stride], dim)) return SPH_EH;
+        for (a = 0; a < dim; ++a)
+            if (!sph__finite(x.p[a][(ptrdiff_t)i * x.stride])) return SPH_ENONFINITE;
+    }
+    return SPH_OK;
+}
+
 /* View of a structure-of-arrays field (pass NULL for unused components). */
 SPH_API sph_view sph_view_soa(const sph_real *x, const sph_real *y, const sph_real *z)
 {
@@ -1638,27 +1674,6 @@ SPH_API sph_ctx sph_ctx_init(sph_kernel kernel, int dim, sph_real h, const sph_n
     c.loops = SPH_LOOPS_FAST;
     return c;
 }
-
-/* SPH_OK when list is a well-formed CSR list: counts >= 0 (else SPH_ECOUNT),
- * offset[0] = 0 and non-decreasing (else SPH_EOFFSET), every index in
- * 0..n_sources-1 (else SPH_EINDEX), arrays present (else SPH_ENULL).
- * Cost: one pass over offset and index. Run it once per list and set
- * ctx.validate = SPH_VALIDATE_ARGS to skip it in the operators. */
-SPH_API int sph_neighbours_check(const sph_neighbours *list)
-{
-    sph_idx i;
-    sph_off o;
-    if (list == NULL || list->offset == NULL) return SPH_ENULL;
-    if (list->n_targets < 0 || list->n_sources < 0) return SPH_ECOUNT;
-    if (list->offset[0] != 0) return SPH_EOFFSET;
-    for (i = 0; i < list->n_targets; ++i)
-        if (list->offset[i + 1] < list->offset[i]) return SPH_EOFFSET;
-    if (list->offset[list->n_targets] > 0 && list->index == NULL) return SPH_ENULL;
-    for (o = 0; o < list->offset[list->n_targets]; ++o)
-        if (list->index[o] < 0 || list->index[o] >= list->n_sources) return SPH_EINDEX;
-    return SPH_OK;
-}
-
 
 /* The operators and the family of loops that computes each: one list makes
  * the enum and the fast path's instances. */
@@ -4898,7 +4913,6 @@ SPH_API int sph_nsearch_prune(const sph_neighbours *list, const sph_box *box, in
     const sph_box *bx;
     sph_real q[3];
     sph_idx i, n;
-    sph_off o;
     int a, st, threads = 1;
     if (pairs != NULL) *pairs = 0;
     if (list == NULL || list->offset == NULL || offset == NULL) return SPH_ENULL;
@@ -4908,20 +4922,11 @@ SPH_API int sph_nsearch_prune(const sph_neighbours *list, const sph_box *box, in
     if (!(kappa > 0 && kappa <= SPH__REAL_MAX)) return SPH_ERANGE;
     if (mode != SPH_NSEARCH_GATHER && mode != SPH_NSEARCH_SYMMETRIC) return SPH_EOPTION;
     if ((st = sph__box_of(box, list, dim, &bx)) != SPH_OK) return st;
-    if (list->offset[0] != 0) return SPH_EOFFSET;
-    for (i = 0; i < n; ++i)
-        if (list->offset[i + 1] < list->offset[i]) return SPH_EOFFSET;
-    if (list->offset[n] > 0 && list->index == NULL) return SPH_ENULL;
-    for (o = 0; o < list->offset[n]; ++o)
-        if (list->index[o] < 0 || list->index[o] >= n) return SPH_EINDEX;
+    if ((st = sph_neighbours_check(list)) != SPH_OK) return st;
     if (n > 0 && h.p[0] == NULL) return SPH_ENULL;
     for (a = 0; a < dim; ++a)
         if (n > 0 && x.p[a] == NULL) return SPH_ENULL;
-    for (i = 0; i < n; ++i) {
-        if (!sph__h_ok(sph__ns_at(h, 0, i), dim)) return SPH_EH;
-        for (a = 0; a < dim; ++a)
-            if (!sph__finite(sph__ns_at(x, a, i))) return SPH_ENONFINITE;
-    }
+    if ((st = sph__hx_check(x, h, n, dim)) != SPH_OK) return st;
     for (a = 0; a < 3; ++a) q[a] = bx != NULL && bx->periodic[a] ? (sph_real)0.49 * bx->length[a] : SPH__REAL_MAX;
 #ifdef _OPENMP
     threads = n >= 4096 ? omp_get_max_threads() : 1;
@@ -6399,8 +6404,7 @@ SPH_API int sph_batch_source(sph_batch_src *b, sph_kernel k, int dim, const sph_
                              const sph_box *box, sph_view x, sph_view h)
 {
     const sph_box *bx;
-    sph_idx i, n;
-    sph_off o;
+    sph_idx n;
     int a, st;
     if (b == NULL) return SPH_ENULL;
     b->list = NULL;
@@ -6412,17 +6416,8 @@ SPH_API int sph_batch_source(sph_batch_src *b, sph_kernel k, int dim, const sph_
     for (a = 0; a < dim; ++a)
         if (n > 0 && x.p[a] == NULL) return SPH_ENULL;
     if ((st = sph__box_of(box, list, dim, &bx)) != SPH_OK) return st;
-    if (list->offset[0] != 0) return SPH_EOFFSET;
-    for (i = 0; i < n; ++i)
-        if (list->offset[i + 1] < list->offset[i]) return SPH_EOFFSET;
-    if (list->offset[n] > 0 && list->index == NULL) return SPH_ENULL;
-    for (o = 0; o < list->offset[n]; ++o)
-        if (list->index[o] < 0 || list->index[o] >= n) return SPH_EINDEX;
-    for (i = 0; i < n; ++i) {
-        if (!sph__h_ok(h.p[0][(ptrdiff_t)i * h.stride], dim)) return SPH_EH;
-        for (a = 0; a < dim; ++a)
-            if (!sph__finite(x.p[a][(ptrdiff_t)i * x.stride])) return SPH_ENONFINITE;
-    }
+    if ((st = sph_neighbours_check(list)) != SPH_OK) return st;
+    if ((st = sph__hx_check(x, h, n, dim)) != SPH_OK) return st;
     b->x = x;
     b->h = h;
     b->dim = dim;
