@@ -3613,19 +3613,6 @@ SPH_API int sph__ns_ctz(unsigned m)
 #endif
 }
 
-/* One more source reaching sorted source b + k from beyond its own reach,
- * for each bit k of mk (marks stored by sph__nsearch_run_blocks; atomic
- * under OpenMP: targets are searched in parallel). */
-SPH_API void sph__nsearch_sym_tally(const sph_nsearch *g, sph_idx b, unsigned mk)
-{
-    for (; mk != 0; mk &= mk - 1) {
-#ifdef _OPENMP
-#pragma omp atomic
-#endif
-        ++g->sym_at[g->order[b + sph__ns_ctz(mk)]];
-    }
-}
-
 /* Counts (p->seg NULL) or appends to the target's segment (never past its
  * end) the sorted sources k0..k1-1 that meet the criterion; returns the new
  * count. A block with room for all its sources in the segment stores them
@@ -3658,7 +3645,6 @@ SPH__INLINE sph_off sph__nsearch_run_blocks(const sph_nsearch *g, sph__probe *p,
             else
                 _mm512_mask_storeu_epi32((void *)(p->seg + m), (__mmask16)((1u << got) - 1u), j);
             m += got;
-            if (HV == 2) sph__nsearch_sym_tally(g, b, mk);
             continue;
         }
 #else
@@ -3671,14 +3657,12 @@ SPH__INLINE sph_off sph__nsearch_run_blocks(const sph_nsearch *g, sph__probe *p,
                 p->seg[m] = g->order[b + k] ^ -(sph_idx)((mk >> k) & 1u);
                 m += (mask >> k) & 1u;
             }
-            if (HV == 2) sph__nsearch_sym_tally(g, b, mk);
             continue;
         }
 #endif
         for (k = 0; k < SPH__NS_BLOCK; ++k) /* past the segment's end: count, store what fits */
             if ((mask >> k) & 1u) {
                 if (m < p->cap) p->seg[m] = g->order[b + k] ^ -(sph_idx)((mk >> k) & 1u);
-                if (m < p->cap && HV == 2) sph__nsearch_sym_tally(g, b + k, (mk >> k) & 1u);
                 ++m;
             }
     }
@@ -4473,18 +4457,44 @@ SPH_API int sph__nsearch_sym_ok(const sph_nsearch *g, sph_view xt, sph_idx nt, s
     return same;
 }
 
-/* Counts into ext[i] the marks -1 - i of a searched row (atomically under
- * OpenMP: rows are counted in parallel). */
+/* Bit k set when v[k] < 0 (a mark), k < w <= 32: one word per 32 list
+ * entries, so that the loops over marks branch per set bit of a word, not
+ * per entry. */
+SPH_API unsigned sph__ns_signs(const sph_idx *v, int w)
+{
+    unsigned m = 0;
+    int k;
+    if (w == 32)
+        for (k = 0; k < 32; ++k) m |= ((unsigned)v[k] >> 31) << k;
+    else
+        for (k = 0; k < w; ++k) m |= ((unsigned)v[k] >> 31) << k;
+    return m;
+}
+
+/* Counts into ext[i] the marks -1 - i of list entries row[0 .. n-1]
+ * (atomically under OpenMP: chunks are counted in parallel). The marks of
+ * up to 512 entries are gathered first, then counted in a loop of their
+ * own: its increments, scattered over ext, overlap one another instead of
+ * each waiting behind a mispredicted branch of the scan. */
 SPH_API void sph__nsearch_sym_count(const sph_idx *row, sph_off n, sph_off *ext)
 {
-    sph_off e;
-    for (e = 0; e < n; ++e)
-        if (row[e] < 0) {
+    enum { C = 512 };
+    sph_idx mark[C];
+    sph_off e, k;
+    for (e = 0; e < n; e += C) {
+        const sph_off w = n - e < (sph_off)C ? n - e : (sph_off)C;
+        int c = 0;
+        for (k = 0; k < w; k += 32) {
+            unsigned m = sph__ns_signs(row + e + k, w - k < 32 ? (int)(w - k) : 32);
+            for (; m != 0; m &= m - 1) mark[c++] = row[e + k + sph__ns_ctz(m)];
+        }
+        while (c > 0) {
 #ifdef _OPENMP
 #pragma omp atomic
 #endif
-            ++ext[-1 - row[e]];
+            ++ext[-1 - mark[--c]];
         }
+    }
 }
 
 /* Merges the ascending runs a[0 .. n1-1] and a[n1 .. n1+n2-1] (no value in
@@ -4547,20 +4557,22 @@ SPH_API void sph__ns_merge(sph_idx *a, sph_off n1, sph_off n2)
  * segment offset[i] .. offset[i+1] - 1; at[i] = offset[i+1]. Each mark is
  * transposed into the back of its source's segment (at[i] moves down to
  * offset[i] + len[i]), rows taken in descending order so that every E_i
- * comes out ascending, found 16 entries at a time from a mask of their signs
- * and undone; then each row merges its two runs (parallel under OpenMP). */
+ * comes out ascending, found 32 entries at a time from a word of their
+ * signs (sph__ns_signs) and undone; then each row merges its two runs
+ * (parallel under OpenMP). */
 SPH_API void sph__nsearch_sym_finish(sph_idx n, const sph_off *offset, const sph_idx *len, sph_off *at, sph_idx *index)
 {
     sph_idx i, j;
     for (j = n - 1; j >= 0; --j) {
         sph_idx *row = index + offset[j], e;
-        for (e = 0; e < len[j]; e += 16) {
-            const int w = len[j] - e < 16 ? (int)(len[j] - e) : 16;
-            unsigned m = 0, t;
-            int k;
-            for (k = 0; k < w; ++k) m |= (unsigned)(row[e + k] < 0) << k;
-            for (t = m; t != 0; t &= t - 1) index[--at[-1 - row[e + sph__ns_ctz(t)]]] = j;
-            for (k = 0; m != 0 && k < w; ++k) row[e + k] = row[e + k] < 0 ? -1 - row[e + k] : row[e + k];
+        for (e = 0; e < len[j]; e += 32) {
+            unsigned m = sph__ns_signs(row + e, len[j] - e < 32 ? (int)(len[j] - e) : 32);
+            for (; m != 0; m &= m - 1) {
+                const int k = sph__ns_ctz(m);
+                const sph_idx src = -1 - row[e + k];
+                row[e + k] = src;
+                index[--at[src]] = j;
+            }
         }
     }
 #ifdef _OPENMP
@@ -4593,6 +4605,10 @@ SPH_API int sph__nsearch_sym_fill(const sph_nsearch *g, sph_view xt, sph_idx n, 
         len[i] = (sph_idx)(p.found < p.cap ? p.found : p.cap);
     }
     if (bad) return SPH_EOFFSET;
+#ifdef _OPENMP
+#pragma omp parallel for schedule(dynamic, 256) if (n >= 4096)
+#endif
+    for (i = 0; i < n; ++i) sph__nsearch_sym_count(index + offset[i], len[i], ext);
     for (i = 0; i < n; ++i)
         bad |= offset[i + 1] - offset[i] != len[i] + ext[i];
     if (bad) return SPH_EOFFSET;
@@ -4699,20 +4715,15 @@ SPH_API int sph__nsearch_lists_ref(const sph_nsearch *g, sph_view xt, sph_idx n_
         for (k = 0; s0[b] != offset[lo[b]] && k < end; ++k) index[offset[lo[b]] + k] = index[s0[b] + k];
     }
     if (b < nb) { /* from the first block that outgrew its share: a fill pass over the rest */
-        st = sph__nsearch_run(g, sph__ns_tail(xt, g->dim, lo[b]), n_targets - lo[b], sph__ns_tail(ht, 1, lo[b]), h,
-                              kappa, mode, NULL, offset + lo[b], index, NULL);
-        if (mode == SPH__NS_MARK) { /* rows of the first pass searched again: the marks counted afresh */
-            for (i = 0; i < n_targets; ++i) g->sym_at[i] = 0;
-            sph__nsearch_sym_count(index, offset[n_targets], g->sym_at);
-        }
-        return st;
+        return sph__nsearch_run(g, sph__ns_tail(xt, g->dim, lo[b]), n_targets - lo[b], sph__ns_tail(ht, 1, lo[b]), h,
+                                kappa, mode, NULL, offset + lo[b], index, NULL);
     }
     return SPH_OK;
 }
 
 /* sph_nsearch_lists in symmetric mode from the gather lists (sph__nsearch_sym_ok
- * holds): the gather lists into index, marked, the final offsets from the
- * row lengths, the gather rows moved up to their final segments (last row
+ * holds): the gather lists into index, marked, their marks counted per
+ * source, the final offsets from the row lengths, the gather rows moved up to their final segments (last row
  * first: a row only moves up, over rows already moved), then completed.
  * SPH_ESIZE, offsets complete, when index cannot hold the symmetric lists; when
  * it cannot hold even the gather ones, the offsets come from the direct
@@ -4723,11 +4734,17 @@ SPH_API int sph__nsearch_sym_lists(const sph_nsearch *g, sph_view xt, sph_idx n,
     sph_idx *len = g->sym, i, k;
     sph_off src, *at = g->sym_at;
     int st;
-    for (i = 0; i < n; ++i) at[i] = 0;
     st = sph__nsearch_lists_ref(g, xt, n, ht, h, kappa, SPH__NS_MARK, offset, index, capacity, pairs);
     if (st == SPH_ESIZE)
         return sph__nsearch_lists_ref(g, xt, n, ht, h, kappa, SPH_NSEARCH_SYMMETRIC, offset, index, capacity, pairs);
     if (st != SPH_OK) return st;
+    for (i = 0; i < n; ++i) at[i] = 0;
+#ifdef _OPENMP
+#pragma omp parallel for schedule(static) if (offset[n] >= 65536)
+#endif
+    for (k = 0; k < (sph_idx)((offset[n] + 65535) / 65536); ++k) /* chunks of the gather lists */
+        sph__nsearch_sym_count(index + (sph_off)k * 65536,
+                               offset[n] - (sph_off)k * 65536 < 65536 ? offset[n] - (sph_off)k * 65536 : 65536, at);
     for (i = 0; i < n; ++i) len[i] = (sph_idx)(offset[i + 1] - offset[i]);
     src = offset[n];
     for (i = 0; i < n; ++i) offset[i + 1] = offset[i] + len[i] + at[i];
