@@ -2045,27 +2045,41 @@ typedef struct {
 
 /* One axis of a chunk: d[k] = x_i - x_j of the n sources j[k] (positions x,
  * stride s), with the minimum image where the axis has a period L, and
- * r[k] += d[k]^2: sph__pair's arithmetic, bit for bit. The image is tested
- * once per axis, outside the pair loops: inside, the vectoriser would
- * evaluate both sides per pair. */
+ * r[k] += d[k]^2 (the first axis: r[k] = d[k]^2, the same bits as 0 + d^2,
+ * so that no chunk array is cleared first): sph__pair's arithmetic, bit for
+ * bit. The image is tested once per axis, outside the pair loops: inside,
+ * the vectoriser would evaluate both sides per pair. */
 SPH__INLINE void sph__axis_chunk(const sph_real *x, ptrdiff_t s, const sph_idx *j, int n, sph_real xi, sph_real L,
-                                 sph_real iL, sph_real *d, sph_real *r)
+                                 sph_real iL, sph_real *d, sph_real *r, int first)
 {
     int k;
     if (L != 0) {
         SPH__SIMD
         for (k = 0; k < n; ++k) d[k] = xi - x[(ptrdiff_t)j[k] * s];
         sph__image_chunk(d, n, L, iL);
-        SPH__SIMD
-        for (k = 0; k < n; ++k) r[k] += d[k] * d[k];
     } else {
         SPH__SIMD
-        for (k = 0; k < n; ++k) {
-            const sph_real e = xi - x[(ptrdiff_t)j[k] * s];
-            d[k] = e;
-            r[k] += e * e;
-        }
+        for (k = 0; k < n; ++k) d[k] = xi - x[(ptrdiff_t)j[k] * s];
     }
+    if (first) {
+        SPH__SIMD
+        for (k = 0; k < n; ++k) r[k] = d[k] * d[k];
+    } else {
+        SPH__SIMD
+        for (k = 0; k < n; ++k) r[k] += d[k] * d[k];
+    }
+}
+
+/* r[k] = |x_ij| of the n sources j[k] of x_i in D >= 1 axes (x_ij on axis a
+ * into d[a]; one scratch array may serve every axis), zero padded to a
+ * multiple of 8 for the vector square roots. */
+SPH__INLINE void sph__r_chunk(sph_view x, int D, const sph_idx *j, int n, const sph_real *xi, const sph_real *L,
+                              const sph_real *iL, sph_real *const *d, sph_real *r)
+{
+    int a, k;
+    for (a = 0; a < D && a < 3; ++a) sph__axis_chunk(x.p[a], x.stride, j, n, xi[a], L[a], iL[a], d[a], r, a == 0);
+    for (k = n; (k & 7) != 0; ++k) r[k] = 0;
+    sph__sqrt_chunk(r, (n + 7) & ~7);
 }
 
 /* w(q) into w and g(q) = w'(q)/q into g (either may be NULL) for n values of
@@ -2111,15 +2125,10 @@ SPH__INLINE void sph__shape_chunk(int shape, const sph_real *q, sph_real *w, sph
 SPH__NOINLINE void sph__chunk_eval(const sph__args *A, const sph__tgt *t, sph_off o, int n, int want, sph__chunk *P)
 {
     const int D = SPH__DIM(A);
-    int k, a, m;
-    for (k = 0; k < n; ++k) {
-        P->j[k] = A->idx[o + k];
-        P->r[k] = 0;
-    }
-    for (a = 0; a < D; ++a)
-        sph__axis_chunk(A->x.p[a], A->x.stride, P->j, n, t->xi[a], A->L[a], A->invL[a], P->dx[a], P->r);
-    for (m = n; (m & 7) != 0; ++m) P->r[m] = 0;
-    sph__sqrt_chunk(P->r, m);
+    int k, a;
+    sph_real *const dx[3] = {P->dx[0], P->dx[1], P->dx[2]};
+    for (k = 0; k < n; ++k) P->j[k] = A->idx[o + k];
+    sph__r_chunk(A->x, D, P->j, n, t->xi, A->L, A->invL, dx, P->r);
     if ((want & SPH__WANT_W) || !A->hv)
         for (k = 0; k < n; ++k) P->q[k] = P->r[k] * t->hinv;
     if (want == (SPH__WANT_W | SPH__WANT_F) && !A->hv) {
@@ -2428,29 +2437,41 @@ SPH__SHAPE_IDS(SPH__X)
 #define SPH__SIMD_SUM4 /* clang: as SPH__SIMD_KERNEL */
 #endif
 /* (O2) rho = sum_j m_j W_ij (dens) and/or (O5) g = sum_j V_j (f_j - f_i) F_ij x_ij
- * (grad) of target t, a chunk at a time in two passes: x_ij and r (axis by
- * axis, then the square roots), then the kernel and every sum in one vector
- * loop, the shape's pieces constants of the instance. The reference loop's
- * arithmetic pair by pair; without OpenMP its sums in list order too. */
+ * (grad) of target t, a chunk at a time: x_ij and r (axis by axis, then the
+ * square roots); with per-particle h, 1/h_ij = 2 / (h_i + h_j), q_ij and
+ * alpha h_ij^-(d+2) in branch-free loops of their own (a gather and a
+ * division per pair the compilers vectorise); then the kernel and every sum
+ * in one loop, the shape's pieces constants of the instance. That loop
+ * stays scalar where the compiler branches on the pieces (gcc 12: products
+ * under a branch may trap, so it does not if-convert them), which is why
+ * nothing per pair that can be done apart is left in it. The reference
+ * loop's arithmetic pair by pair; without OpenMP its sums in list order too. */
 SPH__INLINE void sph__dgc_body(const sph__args *A, const sph__nshape *sh, const sph__tgt *t, sph_idx i, int dens,
                                int grad, const int hv, sph_real fi, sph_real *g, sph_real *rho)
 {
     const int D = SPH__DIM(A);
     const sph_real hinv = t->hinv, cW = t->cW, cF = t->cF, hi = t->hi, alpha = t->alpha;
-    sph_real s0 = 0, s1 = 0, s2 = 0, s3 = 0, d[3][SPH__CHUNK], r[SPH__CHUNK];
+    sph_real s0 = 0, s1 = 0, s2 = 0, s3 = 0, d[3][SPH__CHUNK], r[SPH__CHUNK], qF[SPH__CHUNK], cFj[SPH__CHUNK];
+    sph_real *const dp[3] = {d[0], d[1], d[2]};
     sph_off o;
     int n, k, a;
     for (o = A->off[i]; o < A->off[i + 1]; o += n) {
         const sph_idx *j = A->idx + o;
         n = (A->off[i + 1] - o) < SPH__CHUNK ? (int)(A->off[i + 1] - o) : SPH__CHUNK;
-        for (k = 0; k < SPH__CHUNK; ++k) r[k] = 0;
-        for (a = 0; a < 3; ++a) {
-            if (a < D)
-                sph__axis_chunk(A->x.p[a], A->x.stride, j, n, t->xi[a], A->L[a], A->invL[a], d[a], r);
-            else
-                for (k = 0; k < n; ++k) d[a][k] = 0;
+        sph__r_chunk(A->x, D, j, n, t->xi, A->L, A->invL, dp, r);
+        for (a = D; a < 3; ++a)
+            for (k = 0; k < n; ++k) d[a][k] = 0;
+        if (hv) { /* F at h_ij = (h_i + h_j) / 2: 1/h_ij, q = r / h_ij and alpha h_ij^-(d+2)
+                   * (multiplied as sph__hpow does) in vector loops of their own */
+            SPH__SIMD
+            for (k = 0; k < n; ++k) cFj[k] = 2 / (hi + SPH__AT(A->hs, 0, j[k]));
+            SPH__SIMD
+            for (k = 0; k < n; ++k) {
+                const sph_real hF = cFj[k], c3 = alpha * hF * hF * hF, c4 = D > 1 ? c3 * hF : c3;
+                qF[k] = r[k] * hF;
+                cFj[k] = D > 2 ? c4 * hF : c4;
+            }
         }
-        sph__sqrt_chunk(r, (n + 7) & ~7);
         if (dens && !grad) {
             SPH__SIMD_SUM4
             for (k = 0; k < n; ++k) s3 += sph_pair_density(SPH__AT(A->m, 0, j[k]), cW * sph__nshape_w(sh, r[k] * hinv));
@@ -2458,11 +2479,8 @@ SPH__INLINE void sph__dgc_body(const sph__args *A, const sph__nshape *sh, const 
             SPH__SIMD_SUM4
             for (k = 0; k < n; ++k) {
                 const sph_real q = r[k] * hinv;
-                /* per-particle h: F at h_ij = (h_i + h_j) / 2, alpha h_ij^-(d+2) as sph__hpow multiplies */
-                const sph_real hF = hv ? 2 / (hi + SPH__AT(A->hs, 0, j[k])) : hinv;
-                const sph_real c3 = alpha * hF * hF * hF, c4 = D > 1 ? c3 * hF : c3, c5 = D > 2 ? c4 * hF : c4;
                 const sph_real c = SPH__AT(A->V, 0, j[k]) * (SPH__AT(A->f, 0, j[k]) - fi) *
-                                   ((hv ? c5 : cF) * sph__nshape_g(sh, hv ? r[k] * hF : q));
+                                   ((hv ? cFj[k] : cF) * sph__nshape_g(sh, hv ? qF[k] : q));
                 if (dens) s3 += sph_pair_density(SPH__AT(A->m, 0, j[k]), cW * sph__nshape_w(sh, q));
                 s0 += c * d[0][k];
                 s1 += c * d[1][k];
@@ -5839,10 +5857,12 @@ SPH_API void sph__h_sums_ref(const sph_hctx *c, const sph__nshape *s, const sph_
 #define SPH__SIMD_HSUM /* clang: as SPH__SIMD_KERNEL */
 #endif
 /* sph__h_sums_ref's sums with the operators' fast loops (section 6): a chunk
- * of the list at a time, x_ij and r^2 axis by axis, the vector square
- * roots, then w, g and both sums in one vector loop, the shape's pieces
- * constants of the instance. The reference arithmetic pair by pair; without
- * OpenMP the sums in list order too (bitwise), with it SIMD reductions. */
+ * of the list at a time, x_ij and r axis by axis (sph__r_chunk: no chunk
+ * array cleared), the vector square roots, then w, g, m_j and both sums in
+ * one loop over the chunk's pairs alone, the shape's pieces constants of the
+ * instance (a scalar loop where the compiler branches on the pieces, as in
+ * sph__dgc_body). The reference arithmetic pair by pair; without OpenMP the
+ * sums in list order too (bitwise), with it SIMD reductions where vectorised. */
 SPH__INLINE void sph__h_sums_body(const sph_hctx *c, const sph__nshape *s, const sph__period *P, sph_idx i,
                                   sph_real hinv, sph_real *sw, sph_real *sd)
 #if SPH__OP_AVX512
@@ -5865,25 +5885,21 @@ SPH__INLINE void sph__h_sums_body(const sph_hctx *c, const sph__nshape *s, const
     const sph_real dd = (sph_real)c->dim, *const pm = c->m.p[0];
     const ptrdiff_t sm = c->m.stride;
     const sph_off end = c->list->offset[i + 1];
-    sph_real xi[3], d[SPH__CHUNK], r[SPH__CHUNK], mj[SPH__CHUNK], s0 = 0, s1 = 0;
+    sph_real xi[3], d[SPH__CHUNK], r[SPH__CHUNK], s0 = 0, s1 = 0;
+    sph_real *const dp[3] = {d, d, d}; /* x_ij is not kept */
     sph_off o;
-    int n, k, a;
+    int n, k;
     sph__h_xi(c->x, c->dim, i, xi);
     for (o = c->list->offset[i]; o < end; o += n) {
         const sph_idx *j = c->list->index + o;
         n = end - o < SPH__CHUNK ? (int)(end - o) : SPH__CHUNK;
-        for (k = 0; k < SPH__CHUNK; ++k) r[k] = 0, mj[k] = 0;
-        for (a = 0; a < c->dim && a < 3; ++a)
-            sph__axis_chunk(c->x.p[a], c->x.stride, j, n, xi[a], P->L[a], P->invL[a], d, r);
-        for (k = 0; k < n; ++k) mj[k] = pm[(ptrdiff_t)j[k] * sm];
-        sph__sqrt_chunk(r, (n + 7) & ~7);
-        /* over a multiple of 8 (no scalar remainder): the padding has r = 0 and m_j = 0, adding +0 */
+        sph__r_chunk(c->x, c->dim, j, n, xi, P->L, P->invL, dp, r);
         SPH__SIMD_HSUM
-        for (k = 0; k < ((n + 7) & ~7); ++k) {
-            const sph_real q = r[k] * hinv;
+        for (k = 0; k < n; ++k) {
+            const sph_real q = r[k] * hinv, mj = pm[(ptrdiff_t)j[k] * sm];
             const sph_real w = sph__nshape_w(s, q), g = sph__nshape_g(s, q);
-            s0 += mj[k] * w;
-            s1 += mj[k] * (dd * w + q * q * g);
+            s0 += mj * w;
+            s1 += mj * (dd * w + q * q * g);
         }
     }
     *sw = s0;

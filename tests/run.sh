@@ -48,8 +48,8 @@ gcc-double       | gcc   | double | -O1 +san                     |              
 gcc-native       | gcc   | double | -O2 +native                  |                   | test_op_*                  | test_op_fused
 gcc-float        | gcc   | float  | -O1 +san                     |                   | test_*                     | -
 gcc-float-native | gcc   | float  | -O2 +native                  |                   | test_op_* test_neighbours  | -
-gcc-avx2         | gcc   | double | -O2 +avx2 +omp               | OMP_NUM_THREADS=2 | test_op_*                  | -
-gcc-float-avx2   | gcc   | float  | -O2 +avx2                    |                   | test_op_*                  | -
+gcc-avx2         | gcc   | double | -O2 +avx2 +omp               | OMP_NUM_THREADS=2 | test_op_* test_smoothing_length | -
+gcc-float-avx2   | gcc   | float  | -O2 +avx2                    |                   | test_op_* test_smoothing_length | -
 gcc-omp          | gcc   | double | -O1 +omp -DSPH_NO_INTRINSICS | OMP_NUM_THREADS=2 | test_*                     | -
 clang-double     | clang | double | -O0 +san +native             |                   | test_* test_neighbours:-O1 | test_* !test_op_fused test_neighbours:-O1
 clang-float      | clang | float  | -O0 +san                     |                   | test_* test_neighbours:-O1 | -
@@ -68,9 +68,11 @@ gcc-nsearch-plain| gcc   | double | -O2 -DSPH_NSEARCH_PLAIN      |              
 #   gcc-float-native  float's AVX-512 loops (float read, double arithmetic) and the
 #                     neighbour check widening float positions
 #   gcc-avx2          -march=x86-64-v3 (AVX2, what most users' CPUs have; make bench
-#                     times it too): the two-pass density and difference gradient and
-#                     the vector minimum image, with OpenMP's simd reductions, 2 threads
-#   gcc-float-avx2    the same paths in float, without OpenMP (sums in list order)
+#                     times it too): the chunked density and difference gradient, the
+#                     chunked h-solve density sums and the vector minimum image, with
+#                     OpenMP's simd reductions, 2 threads
+#   gcc-float-avx2    the same paths in float, without OpenMP (sums in list order, and
+#                     so the h-solve sums bitwise the reference loop's)
 #   gcc-omp           OpenMP with 2 threads, and the portable path (SPH_NO_INTRINSICS)
 #   clang-double      the second compiler, sanitised, for the host CPU: the AVX-512
 #                     paths under the sanitizers
