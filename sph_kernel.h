@@ -58,7 +58,8 @@
  *               also selects at run time.
  *   SPH_NO_INTRINSICS  use only portable C: no SSE/AVX square-root helper in
  *               the operator loops, no AVX-512 one-pass loop for the density
- *               and difference gradient (results within 1e-13 of the pair
+ *               and difference gradient, no AVX-512 or AVX2 one for
+ *               sph_h_solve's density sums (results within 1e-13 of the pair
  *               sum either way, tested; the order of the sum over j
  *               differs) and no AVX-512 compress in the neighbour fill
  *               (same lists); slower.
@@ -324,6 +325,14 @@ typedef SPH_REAL sph_real;
 #define SPH__OP_AVX512 1
 #else
 #define SPH__OP_AVX512 0
+#endif
+/* sph_h_solve's density sums (section 9) in AVX2 + FMA registers, 4 pairs
+ * per step in double as the AVX-512 loop's 8, where the build has AVX2 and
+ * FMA but not AVX-512 (1); else the AVX-512 loop or the chunked one (0). */
+#if SPH__SQRT_SIMD == 2 && !SPH__OP_AVX512 && defined(__AVX2__) && defined(__FMA__)
+#define SPH__OP_AVX2 1
+#else
+#define SPH__OP_AVX2 0
 #endif
 
 /* Every lane of 8. The AVX-512 code calls the maskz_ form, with SPH__ALL8,
@@ -2194,62 +2203,117 @@ SPH__INLINE void sph__chunk_correction(const sph__args *A, const int D, sph__chu
         for (b = 0; b < D; ++b) sph__chunk_axpy(P, n, a, b, M + 3 * a + b);
 }
 
-/* ---- AVX-512: density and difference gradient in one pass (SPH__OP_AVX512) ---- */
+/* ---- vector registers: AVX-512 (8 doubles, SPH__OP_AVX512) or AVX2 + FMA (4, SPH__OP_AVX2) ---- */
+#if SPH__OP_AVX512 || SPH__OP_AVX2
+/* The operations the register loops take of each width: SPH__V(op) names the
+ * intrinsic both spell alike (_mm512_op_pd, _mm256_op_pd); a lane mask is a
+ * __mmask8, or with AVX2 a vector of all-ones and all-zeros lanes. */
 #if SPH__OP_AVX512
-/* sph__pform_eval and sph__nshape_pick on 8 values of q. */
-SPH__INLINE __m512d sph__pform_eval8(const sph__pform *f, __m512d q)
+#define SPH__VW 8
+#define SPH__V(op) _mm512_##op##_pd
+typedef __m512d sph__vd;
+typedef __mmask8 sph__vm;
+SPH__INLINE sph__vd sph__vsqrt(sph__vd a) { return _mm512_maskz_sqrt_pd(SPH__ALL8, a); }
+SPH__INLINE sph__vd sph__vfloor(sph__vd a)
 {
-    const __m512d t = _mm512_sub_pd(_mm512_set1_pd((double)f->b), q), u = _mm512_sub_pd(q, _mm512_set1_pd((double)f->e));
-    __m512d p = _mm512_set1_pd((double)f->c[f->degree]), tm = _mm512_set1_pd(1);
-    int i;
-    SPH__UNROLL
-    for (i = f->degree - 1; i >= 0; --i) p = _mm512_fmadd_pd(p, u, _mm512_set1_pd((double)f->c[i]));
-    SPH__UNROLL
-    for (i = 0; i < f->m; ++i) tm = _mm512_mul_pd(tm, t);
-    return _mm512_mul_pd(tm, p);
+    return _mm512_maskz_roundscale_pd(SPH__ALL8, a, _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC);
 }
-
-SPH__INLINE __m512d sph__nshape_pick8(const sph__nshape *s, const int G, __m512d q)
+SPH__INLINE sph__vm sph__vge(sph__vd a, sph__vd b) { return _mm512_cmp_pd_mask(a, b, _CMP_GE_OQ); }
+SPH__INLINE sph__vm sph__vlt(sph__vd a, sph__vd b) { return _mm512_cmp_pd_mask(a, b, _CMP_LT_OQ); }
+SPH__INLINE sph__vm sph__vand(sph__vm a, sph__vm b) { return (sph__vm)(a & b); }
+/* k ? a : b lane by lane */
+SPH__INLINE sph__vd sph__vsel(sph__vm k, sph__vd a, sph__vd b) { return _mm512_mask_mov_pd(b, k, a); }
+/* p[o[l]] for the lanes l in k, src elsewhere: scalar loads (the gather
+ * instruction is slower on AMD Zen 4, docs/operators.md). */
+SPH__INLINE sph__vd sph__vat(sph__vd src, sph__vm k, const sph_real *p, const ptrdiff_t *o)
 {
-    __m512d v = sph__pform_eval8(G ? &s->piece[0].g : &s->piece[0].w, q);
-    int p;
-    SPH__UNROLL
-    for (p = 1; p < s->npiece; ++p) {
-        const __m512d x = sph__pform_eval8(G ? &s->piece[p].g : &s->piece[p].w, q);
-        v = _mm512_mask_mov_pd(v, _mm512_cmp_pd_mask(q, _mm512_set1_pd((double)s->lo[p]), _CMP_GE_OQ), x);
-    }
-    return v;
-}
-
-/* p[o[k]] for the 8 lanes in km, src elsewhere: eight scalar loads (the
- * gather instruction is slower on AMD Zen 4, docs/operators.md). */
-SPH__INLINE __m512d sph__at8(__m512d src, __mmask8 km, const sph_real *p, const ptrdiff_t *o)
-{
-    return _mm512_mask_mov_pd(src, km,
+    return _mm512_mask_mov_pd(src, k,
                               _mm512_set_pd((double)p[o[7]], (double)p[o[6]], (double)p[o[5]], (double)p[o[4]],
                                             (double)p[o[3]], (double)p[o[2]], (double)p[o[1]], (double)p[o[0]]));
 }
-
-/* x_i - x_j on one axis for 8 lanes (positions p, x_i in xi), minus L times
- * the image floor(x_ij / L + 1/2): with L = 1/L = 0 on an axis without a
- * period that is x_ij exactly, so the loop has no branch per axis. */
-SPH__INLINE __m512d sph__dx8(__m512d xi, const sph_real *p, __m512d L, __m512d iL, __mmask8 km, const ptrdiff_t *ox)
-{
-    const __m512d d = _mm512_sub_pd(xi, sph__at8(xi, km, p, ox));
-    const __m512d img = _mm512_maskz_roundscale_pd(SPH__ALL8, _mm512_fmadd_pd(d, iL, _mm512_set1_pd(0.5)),
-                                                   _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC);
-    return _mm512_fnmadd_pd(L, img, d);
-}
-
-/* The sum of the 8 lanes in the order of _mm512_reduce_add_pd (halves, then
+/* The sum of the lanes in the order of _mm512_reduce_add_pd (halves, then
  * quarters, then the last two), through the maskz_ extract (SPH__ALL8). */
-SPH__INLINE double sph__sum8(__m512d v)
+SPH__INLINE double sph__vsum(sph__vd v)
 {
     const __m256d s4 = _mm256_add_pd(_mm512_maskz_extractf64x4_pd(SPH__ALL8, v, 1),
                                      _mm512_maskz_extractf64x4_pd(SPH__ALL8, v, 0));
     const __m128d s2 = _mm_add_pd(_mm256_extractf128_pd(s4, 1), _mm256_castpd256_pd128(s4));
     return _mm_cvtsd_f64(s2) + _mm_cvtsd_f64(_mm_unpackhi_pd(s2, s2));
 }
+/* The next lanes' sources j from the list (0 past its end, left entries
+ * left) and the mask of the lanes in the list. */
+SPH__INLINE sph__vm sph__vidx(const sph_idx *idx, sph_off left, sph_idx *j)
+{
+    const __mmask8 km = (__mmask8)(left >= 8 ? 0xff : (1u << left) - 1);
+    _mm256_storeu_si256((__m256i *)j, _mm256_maskz_loadu_epi32(km, idx));
+    return km;
+}
+#else
+#define SPH__VW 4
+#define SPH__V(op) _mm256_##op##_pd
+typedef __m256d sph__vd;
+typedef __m256d sph__vm;
+SPH__INLINE sph__vd sph__vsqrt(sph__vd a) { return _mm256_sqrt_pd(a); }
+SPH__INLINE sph__vd sph__vfloor(sph__vd a) { return _mm256_floor_pd(a); }
+SPH__INLINE sph__vm sph__vge(sph__vd a, sph__vd b) { return _mm256_cmp_pd(a, b, _CMP_GE_OQ); }
+SPH__INLINE sph__vm sph__vlt(sph__vd a, sph__vd b) { return _mm256_cmp_pd(a, b, _CMP_LT_OQ); }
+SPH__INLINE sph__vm sph__vand(sph__vm a, sph__vm b) { return _mm256_and_pd(a, b); }
+SPH__INLINE sph__vd sph__vsel(sph__vm k, sph__vd a, sph__vd b) { return _mm256_blendv_pd(b, a, k); }
+SPH__INLINE sph__vd sph__vat(sph__vd src, sph__vm k, const sph_real *p, const ptrdiff_t *o)
+{
+    return _mm256_blendv_pd(src, _mm256_set_pd((double)p[o[3]], (double)p[o[2]], (double)p[o[1]], (double)p[o[0]]), k);
+}
+/* halves, then the last two, as the AVX-512 sum's last steps */
+SPH__INLINE double sph__vsum(sph__vd v)
+{
+    const __m128d s2 = _mm_add_pd(_mm256_extractf128_pd(v, 1), _mm256_castpd256_pd128(v));
+    return _mm_cvtsd_f64(s2) + _mm_cvtsd_f64(_mm_unpackhi_pd(s2, s2));
+}
+SPH__INLINE sph__vm sph__vidx(const sph_idx *idx, sph_off left, sph_idx *j)
+{
+    const __m128i km = _mm_cmpgt_epi32(_mm_set1_epi32(left >= 4 ? 4 : (int)left), _mm_setr_epi32(0, 1, 2, 3));
+    _mm_storeu_si128((__m128i *)j, _mm_maskload_epi32(idx, km));
+    return _mm256_castsi256_pd(_mm256_cvtepi32_epi64(km));
+}
+#endif
+
+/* sph__pform_eval and sph__nshape_pick on the lanes' values of q. */
+SPH__INLINE sph__vd sph__pform_vec(const sph__pform *f, sph__vd q)
+{
+    const sph__vd t = SPH__V(sub)(SPH__V(set1)((double)f->b), q), u = SPH__V(sub)(q, SPH__V(set1)((double)f->e));
+    sph__vd p = SPH__V(set1)((double)f->c[f->degree]), tm = SPH__V(set1)(1);
+    int i;
+    SPH__UNROLL
+    for (i = f->degree - 1; i >= 0; --i) p = SPH__V(fmadd)(p, u, SPH__V(set1)((double)f->c[i]));
+    SPH__UNROLL
+    for (i = 0; i < f->m; ++i) tm = SPH__V(mul)(tm, t);
+    return SPH__V(mul)(tm, p);
+}
+
+SPH__INLINE sph__vd sph__nshape_vpick(const sph__nshape *s, const int G, sph__vd q)
+{
+    sph__vd v = sph__pform_vec(G ? &s->piece[0].g : &s->piece[0].w, q);
+    int p;
+    SPH__UNROLL
+    for (p = 1; p < s->npiece; ++p) {
+        const sph__vd x = sph__pform_vec(G ? &s->piece[p].g : &s->piece[p].w, q);
+        v = sph__vsel(sph__vge(q, SPH__V(set1)((double)s->lo[p])), x, v);
+    }
+    return v;
+}
+
+/* x_i - x_j on one axis for the lanes (positions p, x_i in xi), minus L times
+ * the image floor(x_ij / L + 1/2): with L = 1/L = 0 on an axis without a
+ * period that is x_ij exactly, so the loop has no branch per axis. */
+SPH__INLINE sph__vd sph__vdx(sph__vd xi, const sph_real *p, sph__vd L, sph__vd iL, sph__vm km, const ptrdiff_t *ox)
+{
+    const sph__vd d = SPH__V(sub)(xi, sph__vat(xi, km, p, ox));
+    return SPH__V(fnmadd)(L, sph__vfloor(SPH__V(fmadd)(d, iL, SPH__V(set1)(0.5))), d);
+}
+#endif /* SPH__OP_AVX512 || SPH__OP_AVX2 */
+
+/* ---- AVX-512: density and difference gradient in one pass (SPH__OP_AVX512) ---- */
+#if SPH__OP_AVX512
 
 /* (O2) rho = sum_j m_j W_ij (dens) and/or (O5) g = sum_j V_j (f_j - f_i) F_ij x_ij
  * (grad) of target t, 8 pairs per step: the chunked loops' arithmetic (IEEE
@@ -2282,28 +2346,26 @@ SPH__INLINE void sph__dg8_body(const sph__args *A, const sph__nshape *sh, const 
         iL[a] = _mm512_set1_pd(in ? (double)A->invL[a] : 0);
     }
     for (o = A->off[i]; o < end; o += 8) {
-        const sph_off left = end - o;
-        const __mmask8 km = (__mmask8)(left >= 8 ? 0xff : (1u << left) - 1);
         sph_idx j[8];
+        const __mmask8 km = sph__vidx(idx + o, end - o, j);
         ptrdiff_t ox[8], om[8], oV[8], of[8], oh[8];
         __m512d d0, d1 = zero, d2 = zero, r2, r, q;
         __mmask8 in;
-        _mm256_storeu_si256((__m256i *)j, _mm256_maskz_loadu_epi32(km, idx + o));
         for (k = 0; k < 8; ++k) ox[k] = (ptrdiff_t)j[k] * sx;
         if (!one)
             for (k = 0; k < 8; ++k) om[k] = (ptrdiff_t)j[k] * sm, oV[k] = (ptrdiff_t)j[k] * sV, of[k] = (ptrdiff_t)j[k] * sf;
         if (!one && hv)
             for (k = 0; k < 8; ++k) oh[k] = (ptrdiff_t)j[k] * sh_;
-        d0 = sph__dx8(xi[0], px[0], L[0], iL[0], km, ox);
+        d0 = sph__vdx(xi[0], px[0], L[0], iL[0], km, ox);
         r2 = _mm512_mul_pd(d0, d0);
-        if (D > 1) d1 = sph__dx8(xi[1], px[1], L[1], iL[1], km, ox), r2 = _mm512_fmadd_pd(d1, d1, r2);
-        if (D > 2) d2 = sph__dx8(xi[2], px[2], L[2], iL[2], km, ox), r2 = _mm512_fmadd_pd(d2, d2, r2);
+        if (D > 1) d1 = sph__vdx(xi[1], px[1], L[1], iL[1], km, ox), r2 = _mm512_fmadd_pd(d1, d1, r2);
+        if (D > 2) d2 = sph__vdx(xi[2], px[2], L[2], iL[2], km, ox), r2 = _mm512_fmadd_pd(d2, d2, r2);
         r = _mm512_maskz_sqrt_pd(SPH__ALL8, r2);
         q = _mm512_mul_pd(r, hinv);
         in = _mm512_cmp_pd_mask(q, kap, _CMP_LT_OQ) & km;
         if (dens) {
-            const __m512d W = _mm512_maskz_mul_pd(in, cW, sph__nshape_pick8(sh, 0, q));
-            sr = _mm512_fmadd_pd(sph__at8(zero, in, pm, one ? ox : om), W, sr);
+            const __m512d W = _mm512_maskz_mul_pd(in, cW, sph__nshape_vpick(sh, 0, q));
+            sr = _mm512_fmadd_pd(sph__vat(zero, in, pm, one ? ox : om), W, sr);
         }
         if (grad) {
             /* F at h_ij = (h_i + h_j) / 2 with per-particle h: 1/h_ij, q and
@@ -2311,16 +2373,16 @@ SPH__INLINE void sph__dg8_body(const sph__args *A, const sph__nshape *sh, const 
             __m512d qF = q, cFj = cF, gq, c;
             __mmask8 inF = in;
             if (hv) {
-                const __m512d hinvF = _mm512_div_pd(two, _mm512_add_pd(hi8, sph__at8(hi8, km, ph, one ? ox : oh)));
+                const __m512d hinvF = _mm512_div_pd(two, _mm512_add_pd(hi8, sph__vat(hi8, km, ph, one ? ox : oh)));
                 qF = _mm512_mul_pd(r, hinvF);
                 inF = _mm512_cmp_pd_mask(qF, kap, _CMP_LT_OQ) & km;
                 cFj = alpha;
                 SPH__UNROLL
                 for (a = 0; a < D + 2; ++a) cFj = _mm512_mul_pd(cFj, hinvF);
             }
-            gq = sph__nshape_pick8(sh, 1, qF);
+            gq = sph__nshape_vpick(sh, 1, qF);
             if (sh->npiece > 1) gq = _mm512_div_pd(gq, _mm512_mask_mov_pd(one8, _mm512_cmp_pd_mask(qF, lo1, _CMP_GE_OQ), qF));
-            c = _mm512_mul_pd(sph__at8(zero, inF, pV, one ? ox : oV), _mm512_sub_pd(sph__at8(vfi, inF, pf, one ? ox : of), vfi));
+            c = _mm512_mul_pd(sph__vat(zero, inF, pV, one ? ox : oV), _mm512_sub_pd(sph__vat(vfi, inF, pf, one ? ox : of), vfi));
             c = _mm512_mul_pd(c, _mm512_maskz_mul_pd(inF, cFj, gq));
             s0 = _mm512_fmadd_pd(c, d0, s0);
             if (D > 1) s1 = _mm512_fmadd_pd(c, d1, s1);
@@ -2328,11 +2390,11 @@ SPH__INLINE void sph__dg8_body(const sph__args *A, const sph__nshape *sh, const 
         }
     }
     if (grad) {
-        g[0] = (sph_real)sph__sum8(s0);
-        g[1] = D > 1 ? (sph_real)sph__sum8(s1) : 0;
-        g[2] = D > 2 ? (sph_real)sph__sum8(s2) : 0;
+        g[0] = (sph_real)sph__vsum(s0);
+        g[1] = D > 1 ? (sph_real)sph__vsum(s1) : 0;
+        g[2] = D > 2 ? (sph_real)sph__vsum(s2) : 0;
     }
-    if (dens) *rho = (sph_real)sph__sum8(sr);
+    if (dens) *rho = (sph_real)sph__vsum(sr);
 }
 
 /* One instance per shape, holding each use (density, gradient, both) in
@@ -2365,69 +2427,71 @@ SPH__SHAPE_IDS(SPH__X)
 #undef SPH__DG8_USES
 #undef SPH__DG8_ONE
 
-/* (H2), (K7) the sums of sph_h_solve's density for one particle, 8 pairs
- * per step as sph__dg8_body: sw = sum_j m_j w(q), sd = sum_j m_j (d w + q^2 g),
+#endif /* SPH__OP_AVX512 */
+
+/* ---- sph_h_solve's density sums in registers (SPH__OP_AVX512 or SPH__OP_AVX2) ---- */
+#if SPH__OP_AVX512 || SPH__OP_AVX2
+/* (H2), (K7) the sums of sph_h_solve's density for one particle, SPH__VW
+ * pairs per step as sph__dg8_body: sw = sum_j m_j w(q), sd = sum_j m_j (d w + q^2 g),
  * q = r_ij hinv, over list positions o..end-1 (positions x, masses m; L, iL
  * the periods and their inverses, 0 where not periodic). */
-SPH__INLINE void sph__hs8_body(const sph__nshape *sh, const int D, sph_view x, sph_view m, const sph_idx *idx, sph_off o,
+SPH__INLINE void sph__hsv_body(const sph__nshape *sh, const int D, sph_view x, sph_view m, const sph_idx *idx, sph_off o,
                                sph_off end, const sph_real *xi_, const sph_real *L_, const sph_real *iL_, sph_real hinv_,
                                sph_real *sw, sph_real *sd)
 {
     const ptrdiff_t sx = x.stride, sm = m.stride;
     const sph_real *const pm = m.p[0];
-    const __m512d hinv = _mm512_set1_pd((double)hinv_), kap = _mm512_set1_pd((double)sh->kappa);
-    const __m512d lo1 = _mm512_set1_pd((double)sh->lo[sh->npiece > 1 ? 1 : 0]), one8 = _mm512_set1_pd(1);
-    const __m512d zero = _mm512_setzero_pd(), dd = _mm512_set1_pd((double)D);
-    __m512d xi[3], L[3], iL[3], s0 = zero, s1 = zero;
+    const sph__vd hinv = SPH__V(set1)((double)hinv_), kap = SPH__V(set1)((double)sh->kappa);
+    const sph__vd lo1 = SPH__V(set1)((double)sh->lo[sh->npiece > 1 ? 1 : 0]), one = SPH__V(set1)(1);
+    const sph__vd zero = SPH__V(setzero)(), dd = SPH__V(set1)((double)D);
+    sph__vd xi[3], L[3], iL[3], s0 = zero, s1 = zero;
     const sph_real *px[3];
     int k, a;
     for (a = 0; a < 3; ++a) {
         const int in = a < D;
         px[a] = in ? x.p[a] : NULL;
-        xi[a] = _mm512_set1_pd(in ? (double)xi_[a] : 0);
-        L[a] = _mm512_set1_pd(in ? (double)L_[a] : 0);
-        iL[a] = _mm512_set1_pd(in ? (double)iL_[a] : 0);
+        xi[a] = SPH__V(set1)(in ? (double)xi_[a] : 0);
+        L[a] = SPH__V(set1)(in ? (double)L_[a] : 0);
+        iL[a] = SPH__V(set1)(in ? (double)iL_[a] : 0);
     }
-    for (; o < end; o += 8) {
-        const sph_off left = end - o;
-        const __mmask8 km = (__mmask8)(left >= 8 ? 0xff : (1u << left) - 1);
-        sph_idx j[8];
-        ptrdiff_t ox[8], om[8];
-        __m512d d, r2, q, w, g, mj;
-        __mmask8 in;
-        _mm256_storeu_si256((__m256i *)j, _mm256_maskz_loadu_epi32(km, idx + o));
-        for (k = 0; k < 8; ++k) ox[k] = (ptrdiff_t)j[k] * sx, om[k] = (ptrdiff_t)j[k] * sm;
-        d = sph__dx8(xi[0], px[0], L[0], iL[0], km, ox);
-        r2 = _mm512_mul_pd(d, d);
-        if (D > 1) d = sph__dx8(xi[1], px[1], L[1], iL[1], km, ox), r2 = _mm512_fmadd_pd(d, d, r2);
-        if (D > 2) d = sph__dx8(xi[2], px[2], L[2], iL[2], km, ox), r2 = _mm512_fmadd_pd(d, d, r2);
-        q = _mm512_mul_pd(_mm512_maskz_sqrt_pd(SPH__ALL8, r2), hinv);
-        in = _mm512_cmp_pd_mask(q, kap, _CMP_LT_OQ) & km;
-        w = _mm512_maskz_mov_pd(in, sph__nshape_pick8(sh, 0, q));
-        g = sph__nshape_pick8(sh, 1, q);
-        if (sh->npiece > 1) g = _mm512_div_pd(g, _mm512_mask_mov_pd(one8, _mm512_cmp_pd_mask(q, lo1, _CMP_GE_OQ), q));
-        g = _mm512_maskz_mov_pd(in, g);
-        mj = sph__at8(zero, in, pm, om);
-        s0 = _mm512_fmadd_pd(mj, w, s0);
-        s1 = _mm512_fmadd_pd(mj, _mm512_fmadd_pd(dd, w, _mm512_mul_pd(_mm512_mul_pd(q, q), g)), s1);
+    for (; o < end; o += SPH__VW) {
+        sph_idx j[SPH__VW];
+        const sph__vm km = sph__vidx(idx + o, end - o, j);
+        ptrdiff_t ox[SPH__VW], om[SPH__VW];
+        sph__vd d, r2, q, w, g, mj;
+        sph__vm in;
+        for (k = 0; k < SPH__VW; ++k) ox[k] = (ptrdiff_t)j[k] * sx, om[k] = (ptrdiff_t)j[k] * sm;
+        d = sph__vdx(xi[0], px[0], L[0], iL[0], km, ox);
+        r2 = SPH__V(mul)(d, d);
+        if (D > 1) d = sph__vdx(xi[1], px[1], L[1], iL[1], km, ox), r2 = SPH__V(fmadd)(d, d, r2);
+        if (D > 2) d = sph__vdx(xi[2], px[2], L[2], iL[2], km, ox), r2 = SPH__V(fmadd)(d, d, r2);
+        q = SPH__V(mul)(sph__vsqrt(r2), hinv);
+        in = sph__vand(sph__vlt(q, kap), km);
+        w = sph__vsel(in, sph__nshape_vpick(sh, 0, q), zero);
+        g = sph__nshape_vpick(sh, 1, q);
+        if (sh->npiece > 1) g = SPH__V(div)(g, sph__vsel(sph__vge(q, lo1), q, one));
+        g = sph__vsel(in, g, zero);
+        mj = sph__vat(zero, in, pm, om);
+        s0 = SPH__V(fmadd)(mj, w, s0);
+        s1 = SPH__V(fmadd)(mj, SPH__V(fmadd)(dd, w, SPH__V(mul)(SPH__V(mul)(q, q), g)), s1);
     }
-    *sw = (sph_real)sph__sum8(s0);
-    *sd = (sph_real)sph__sum8(s1);
+    *sw = (sph_real)sph__vsum(s0);
+    *sd = (sph_real)sph__vsum(s1);
 }
 
 /* One instance per shape, a loop per dimension. */
 #define SPH__X(S)                                                                                               \
-    SPH__NOINLINE void sph__hs8_##S(int D, sph_view x, sph_view m, const sph_idx *idx, sph_off o, sph_off end,  \
+    SPH__NOINLINE void sph__hsv_##S(int D, sph_view x, sph_view m, const sph_idx *idx, sph_off o, sph_off end,  \
                                     const sph_real *xi, const sph_real *L, const sph_real *iL, sph_real hinv,   \
                                     sph_real *sw, sph_real *sd)                                                 \
     {                                                                                                           \
-        if (D == 1) sph__hs8_body(&sph__nshapes[S], 1, x, m, idx, o, end, xi, L, iL, hinv, sw, sd);             \
-        else if (D == 2) sph__hs8_body(&sph__nshapes[S], 2, x, m, idx, o, end, xi, L, iL, hinv, sw, sd);        \
-        else sph__hs8_body(&sph__nshapes[S], 3, x, m, idx, o, end, xi, L, iL, hinv, sw, sd);                    \
+        if (D == 1) sph__hsv_body(&sph__nshapes[S], 1, x, m, idx, o, end, xi, L, iL, hinv, sw, sd);             \
+        else if (D == 2) sph__hsv_body(&sph__nshapes[S], 2, x, m, idx, o, end, xi, L, iL, hinv, sw, sd);        \
+        else sph__hsv_body(&sph__nshapes[S], 3, x, m, idx, o, end, xi, L, iL, hinv, sw, sd);                    \
     }
 SPH__SHAPE_IDS(SPH__X)
 #undef SPH__X
-#endif /* SPH__OP_AVX512 */
+#endif /* SPH__OP_AVX512 || SPH__OP_AVX2 */
 
 /* ---- without AVX-512: density and difference gradient in two passes ---- */
 #if !SPH__OP_AVX512
@@ -5856,8 +5920,9 @@ SPH_API void sph__h_sums_ref(const sph_hctx *c, const sph__nshape *s, const sph_
 #else
 #define SPH__SIMD_HSUM /* clang: as SPH__SIMD_KERNEL */
 #endif
-/* sph__h_sums_ref's sums with the operators' fast loops (section 6): a chunk
- * of the list at a time, x_ij and r axis by axis (sph__r_chunk: no chunk
+/* sph__h_sums_ref's sums with the operators' fast loops (section 6): one pass
+ * in AVX-512 or AVX2 registers (sph__hsv_body) where the build has them, else
+ * a chunk of the list at a time, x_ij and r axis by axis (sph__r_chunk: no chunk
  * array cleared), the vector square roots, then w, g, m_j and both sums in
  * one loop over the chunk's pairs alone, the shape's pieces constants of the
  * instance (a scalar loop where the compiler branches on the pieces, as in
@@ -5865,14 +5930,14 @@ SPH_API void sph__h_sums_ref(const sph_hctx *c, const sph__nshape *s, const sph_
  * sums in list order too (bitwise), with it SIMD reductions where vectorised. */
 SPH__INLINE void sph__h_sums_body(const sph_hctx *c, const sph__nshape *s, const sph__period *P, sph_idx i,
                                   sph_real hinv, sph_real *sw, sph_real *sd)
-#if SPH__OP_AVX512
+#if SPH__OP_AVX512 || SPH__OP_AVX2
 {
     sph_real xi[3];
     sph__h_xi(c->x, c->dim, i, xi);
-    switch ((int)(s - sph__nshapes)) { /* AVX-512: the one-pass loop of the shape */
+    switch ((int)(s - sph__nshapes)) { /* AVX-512 or AVX2: the one-pass loop of the shape */
 #define SPH__X(S)                                                                                                \
     case S:                                                                                                      \
-        sph__hs8_##S(c->dim, c->x, c->m, c->list->index, c->list->offset[i], c->list->offset[i + 1], xi, P->L, \
+        sph__hsv_##S(c->dim, c->x, c->m, c->list->index, c->list->offset[i], c->list->offset[i + 1], xi, P->L, \
                      P->invL, hinv, sw, sd);                                                                     \
         break;
         SPH__SHAPE_IDS(SPH__X)

@@ -69,10 +69,10 @@ gcc-nsearch-plain| gcc   | double | -O2 -DSPH_NSEARCH_PLAIN      |              
 #                     neighbour check widening float positions
 #   gcc-avx2          -march=x86-64-v3 (AVX2, what most users' CPUs have; make bench
 #                     times it too): the chunked density and difference gradient, the
-#                     chunked h-solve density sums and the vector minimum image, with
-#                     OpenMP's simd reductions, 2 threads
-#   gcc-float-avx2    the same paths in float, without OpenMP (sums in list order, and
-#                     so the h-solve sums bitwise the reference loop's)
+#                     AVX2 register loop of the h-solve density sums and the vector
+#                     minimum image, with OpenMP's simd reductions, 2 threads
+#   gcc-float-avx2    the same paths in float, without OpenMP (the chunked sums in
+#                     list order)
 #   gcc-omp           OpenMP with 2 threads, and the portable path (SPH_NO_INTRINSICS)
 #   clang-double      the second compiler, sanitised, for the host CPU: the AVX-512
 #                     paths under the sanitizers

@@ -297,13 +297,13 @@ static void sl_layout_case(void)
 }
 
 /* The density sums of sph_h_solve in the fast loops (the operators' loops of
- * section 6, one pass in AVX-512 registers where the build has them) against
- * the reference loop, one pair at a time: every kernel in 1-3 D, a perturbed
- * periodic lattice, masses and h varying per particle (0.7 to 1.4 dx), a
- * list longer than the support of most of them. Bitwise where the fast loops
- * promise it (no OpenMP, no AVX-512), else to round-off: rho relative, drho
- * relative to its scale d rho / h. */
-#if defined(_OPENMP) || SPH__OP_AVX512
+ * section 6, one pass in AVX-512 or AVX2 registers where the build has them)
+ * against the reference loop, one pair at a time: every kernel in 1-3 D, a
+ * perturbed periodic lattice, masses and h varying per particle (0.7 to 1.4
+ * dx), a list longer than the support of most of them. Bitwise where the fast
+ * loops promise it (no OpenMP, the chunked loop), else to round-off: rho
+ * relative, drho relative to its scale d rho / h. */
+#if defined(_OPENMP) || SPH__OP_AVX512 || SPH__OP_AVX2
 #define HS_BITWISE 0
 #else
 #define HS_BITWISE 1
