@@ -209,6 +209,7 @@
  *   sph_pairs_build(full, offset, index, cap, t_offset, t_slot, &pairs, &P)  half list + transpose (H8)
  *   sph_pairs_reduce(&P, ncomp, to_i, to_j, out) per-particle sums of per-pair terms (H8)
  *   sph_pairs_reduce_rows(&P, ncomp, to_j, out)  the same, out holding the rows' own sums on entry
+ *   sph_pairs_reduce_rows_k(&P, ncomp, to_j, out)  the same, to_j at the pair index k (not the slot)
  *   sph_pairs_buffer_len(ncomp, pairs)           reals of the two per-pair buffers of sph_pairs_reduce
  *   sph_gradh_pairs_buffer_len(dim, pairs)       reals of the buffer of sph_gradh_forces_pairs
  *   sph_gradh_forces_pairs(c, &P, v, h, A, buf, buf_len, dvdt, dudt)  (H5), (H6), pair-once
@@ -6280,6 +6281,65 @@ SPH_API int sph_pairs_reduce(const sph_pairs *P, int ncomp, const sph_real *to_i
 SPH_API int sph_pairs_reduce_rows(const sph_pairs *P, int ncomp, const sph_real *to_j, sph_real *out)
 {
     return sph__pairs_reduce(P, ncomp, 1, NULL, to_j, out);
+}
+
+/* The partners' shares of the rows i of P's half list with some j in
+ * [j0, j1) added to out[ncomp j ..] (sph_pairs_reduce_rows_k): for each j
+ * in ascending i, the order of j's slots. Rows ascending (sph_pairs_build). */
+SPH__INLINE void sph__pairs_add_k(const sph_pairs *P, int ncomp, const sph_real *to_j, sph_real *out, sph_idx j0,
+                                  sph_idx j1)
+{
+    const sph_off *off = P->half.offset;
+    const sph_idx *idx = P->half.index;
+    sph_idx i;
+    for (i = 0; i + 1 < j1; ++i) { /* rows i >= j1 - 1 hold no j < j1 */
+        sph_off k = off[i], k1 = off[i + 1];
+        if (k1 <= k || idx[k1 - 1] < j0) continue; /* row ends below the range */
+        for (; k < k1; ++k) {
+            const sph_idx j = idx[k];
+            const sph_real *s = to_j + (ptrdiff_t)ncomp * k;
+            sph_real *o = out + (ptrdiff_t)ncomp * j;
+            int a;
+            if (j < j0) continue;
+            if (j >= j1) break;
+            if (ncomp == 5) { /* the common width in registers: the adds are those of the loop below */
+                o[0] += s[0], o[1] += s[1], o[2] += s[2], o[3] += s[3], o[4] += s[4];
+            } else {
+                for (a = 0; a < ncomp; ++a) o[a] += s[a];
+            }
+        }
+    }
+}
+
+/* (H8) with the rows summed by the caller and each partner's share stored at
+ * its pair index: out[ncomp i + a] holds on entry i's own share (as for
+ * sph_pairs_reduce_rows), to_j[ncomp k + a] what pair k = (i, j) adds to j,
+ * at k rather than at t_slot[k], so that the pair loop's stores run in
+ * sequence (scattered stores to the slots cost the shock tube's pair loop
+ * more than its kernel evaluations, bench/pair_once.c); each j then gets its
+ * pairs added in ascending i, the order of its slots, and out equals
+ * sph_pairs_reduce_rows's bit for bit. t_offset and t_slot are not read.
+ * Checks as sph_pairs_reduce_rows; the half list's rows ascending, as
+ * sph_pairs_build gives them. With OpenMP each thread owns a range of j and
+ * scans the rows that reach it: bitwise the same for any thread count. */
+SPH_API int sph_pairs_reduce_rows_k(const sph_pairs *P, int ncomp, const sph_real *to_j, sph_real *out)
+{
+    sph_idx n;
+    if (P == NULL || P->half.offset == NULL) return SPH_ENULL;
+    if (ncomp < 1 || ncomp > 16) return SPH_ERANGE;
+    n = P->half.n_targets;
+    if (n > 0 && out == NULL) return SPH_ENULL;
+    if (P->half.offset[n] > 0 && (to_j == NULL || P->half.index == NULL)) return SPH_ENULL;
+#ifdef _OPENMP
+#pragma omp parallel if (n >= 2048)
+    {
+        const int T = omp_get_num_threads(), t = omp_get_thread_num();
+        sph__pairs_add_k(P, ncomp, to_j, out, (sph_idx)((double)n * t / T), (sph_idx)((double)n * (t + 1) / T));
+    }
+#else
+    sph__pairs_add_k(P, ncomp, to_j, out, 0, n);
+#endif
+    return SPH_OK;
 }
 
 /* (H5), (H6) pair-once over the half list of sph_pairs_build (the views

@@ -118,7 +118,7 @@ static void scalar_pair(const fields *f, sph_idx i, sph_idx j, sph_real *ti, sph
  * then) or, with rows != NULL, added up in row order into rows[5 i ..]
  * (sph_pairs_reduce_rows then; to_i unused). */
 static sph_real batch_rows(const fields *f, const sph_batch_src *S, const sph_pairs *pr, sph_real *to_i,
-                           sph_real *to_j, sph_real *rows)
+                           sph_real *to_j, sph_real *rows, int at_k)
 {
     const sph_idx n = pr->half.n_targets;
     const sph_real *m = f->m, *A = f->A, *rho = f->rho, *cs = f->cs, *u = f->u, *p = f->p, *al = f->alpha, *v = f->v;
@@ -175,10 +175,18 @@ static sph_real batch_rows(const fields *f, const sph_batch_src *S, const sph_pa
                     ti[5 * l + 3] = ei[l], ti[5 * l + 4] = di[l];
                 }
             }
-            for (l = 0; l < b.n; ++l) {
-                sph_real *tj = to_j + 5 * pr->t_slot[b.k[l]];
-                for (c = 0; c < 3; ++c) tj[c] = gj[l] * b.dx[c][l];
-                tj[3] = ej[l], tj[4] = dj[l];
+            if (at_k) { /* j's share at k: in sequence, like to_i (sph_pairs_reduce_rows_k then) */
+                sph_real *tk = to_j + 5 * b.k[0];
+                for (l = 0; l < b.n; ++l) {
+                    for (c = 0; c < 3; ++c) tk[5 * l + c] = gj[l] * b.dx[c][l];
+                    tk[5 * l + 3] = ej[l], tk[5 * l + 4] = dj[l];
+                }
+            } else {
+                for (l = 0; l < b.n; ++l) {
+                    sph_real *tj = to_j + 5 * pr->t_slot[b.k[l]];
+                    for (c = 0; c < 3; ++c) tj[c] = gj[l] * b.dx[c][l];
+                    tj[3] = ej[l], tj[4] = dj[l];
+                }
             }
             for (l = 0; l < b.n; ++l) vmax = vs[l] > vmax ? vs[l] : vmax;
         }
@@ -193,7 +201,7 @@ int main(int argc, char **argv)
     const int side = argc > 1 ? atoi(argv[1]) : 40, reps = argc > 2 ? atoi(argv[2]) : 9;
     const int n = side * side * side;
     const double dx = 1.0 / side;
-    sph_real *x, *v, *m, *h, *hl, *rho, *om, *p, *A, *P, *dv, *du, *buf, *V, *u, *cs, *al, *t5, *f5[3];
+    sph_real *x, *v, *m, *h, *hl, *rho, *om, *p, *A, *P, *dv, *du, *buf, *V, *u, *cs, *al, *t5, *f5[4];
     sph_off *off = NULL, *hoff, *toff, *tpair, pairs;
     sph_idx *idx = NULL, *hidx;
     sph_box box = {{0, 0, 0}, {1, 1, 1}, {1, 1, 1}};
@@ -202,8 +210,8 @@ int main(int argc, char **argv)
     sph_hctx c;
     sph_hreport rep;
     tp_rng g = {7};
-    double *t[9], med[9], tb, diff = 0, diff2 = 0, fmax = 0, sink = 0;
-    sph_real vs[3] = {0, 0, 0};
+    double *t[10], med[10], tb, diff = 0, diff2 = 0, fmax = 0, sink = 0;
+    sph_real vs[4] = {0, 0, 0, 0};
     sph_batch_src bs, bw;
     fields fl;
     int i, r, st;
@@ -221,11 +229,11 @@ int main(int argc, char **argv)
     u = malloc(sizeof(sph_real) * (size_t)n), cs = malloc(sizeof(sph_real) * (size_t)n);
     al = malloc(sizeof(sph_real) * (size_t)n);
     f5[0] = malloc(sizeof(sph_real) * 5 * (size_t)n), f5[1] = malloc(sizeof(sph_real) * 5 * (size_t)n);
-    f5[2] = malloc(sizeof(sph_real) * 5 * (size_t)n);
-    for (i = 0; i < 9; ++i) t[i] = malloc(sizeof(double) * (size_t)reps);
-    if (!u || !cs || !al || !f5[0] || !f5[1] || !f5[2]) return 1;
+    f5[2] = malloc(sizeof(sph_real) * 5 * (size_t)n), f5[3] = malloc(sizeof(sph_real) * 5 * (size_t)n);
+    for (i = 0; i < 10; ++i) t[i] = malloc(sizeof(double) * (size_t)reps);
+    if (!u || !cs || !al || !f5[0] || !f5[1] || !f5[2] || !f5[3]) return 1;
     if (!x || !v || !m || !h || !hl || !rho || !om || !p || !A || !P || !V || !dv || !du) return 1;
-    for (i = 0; i < 9; ++i)
+    for (i = 0; i < 10; ++i)
         if (!t[i]) return 1;
     tp_lattice(3, side, dx, x);
     tp_perturb(3, n, 0.2 * dx, &g, x);
@@ -304,13 +312,17 @@ int main(int argc, char **argv)
         }
         st |= sph_pairs_reduce(&pr, 5, t5, t5 + 5 * pairs, f5[0]);
         t4 = tm_now();
-        vs[1] = batch_rows(&fl, &bs, &pr, t5, t5 + 5 * pairs, NULL);
+        vs[1] = batch_rows(&fl, &bs, &pr, t5, t5 + 5 * pairs, NULL, 0);
         st |= sph_pairs_reduce(&pr, 5, t5, t5 + 5 * pairs, f5[1]);
         t5s = tm_now();
         t[5][r] = t5s - t4;
-        vs[2] = batch_rows(&fl, &bs, &pr, NULL, t5 + 5 * pairs, f5[2]);
+        vs[2] = batch_rows(&fl, &bs, &pr, NULL, t5 + 5 * pairs, f5[2], 0);
         st |= sph_pairs_reduce_rows(&pr, 5, t5 + 5 * pairs, f5[2]);
         t[8][r] = tm_now() - t5s;
+        t5s = tm_now();
+        vs[3] = batch_rows(&fl, &bs, &pr, NULL, t5 + 5 * pairs, f5[3], 1);
+        st |= sph_pairs_reduce_rows_k(&pr, 5, t5 + 5 * pairs, f5[3]);
+        t[9][r] = tm_now() - t5s;
         t5s = tm_now();
         if (st != SPH_OK) return fprintf(stderr, "forces: %s\n", sph_strerror(st)), 1;
         t[0][r] = t1 - t0, t[1][r] = t2 - t1, t[2][r] = t3 - t2, t[3][r] = (t1 - t0) / (t2 - t1);
@@ -329,10 +341,10 @@ int main(int argc, char **argv)
         }
         t[7][r] = tm_now() - t5s;
     }
-    for (i = 0; i < 9; ++i) med[i] = tm_median(t[i], reps);
+    for (i = 0; i < 10; ++i) med[i] = tm_median(t[i], reps);
     for (i = 0; i < 5 * n; ++i) fmax = fabs(f5[0][i]) > fmax ? fabs(f5[0][i]) : fmax;
     for (i = 0; i < 5 * n; ++i) diff = fabs(f5[1][i] - f5[0][i]) > diff ? fabs(f5[1][i] - f5[0][i]) : diff;
-    for (i = 0; i < 5 * n; ++i) diff2 += f5[2][i] != f5[1][i]; /* the two reductions: bit for bit */
+    for (i = 0; i < 5 * n; ++i) diff2 += (f5[2][i] != f5[1][i]) + (f5[3][i] != f5[1][i]); /* the reductions: bit for bit */
     printf("%d particles, %ld pairs (i < j), %.1f neighbours per particle, %s, median of %d\n", n, (long)pairs,
            (double)off[n] / n, sizeof(sph_real) == sizeof(float) ? "float" : "double", reps);
     printf("  grad-h force + du/dt, gather    (sph_gradh_forces)        %7.2f ns/pair\n", 1e9 * med[0] / (double)pairs);
@@ -345,16 +357,19 @@ int main(int argc, char **argv)
            1e9 * med[5] / (double)pairs, med[4] / med[5]);
     printf("    the same, i's share summed in the loop (sph_pairs_reduce_rows) %7.2f ns/pair (speed-up %.2f)\n",
            1e9 * med[8] / (double)pairs, med[4] / med[8]);
+    printf("    the same, j's share stored at k (sph_pairs_reduce_rows_k)      %7.2f ns/pair (speed-up %.2f)\n",
+           1e9 * med[9] / (double)pairs, med[4] / med[9]);
     printf("    of which sph_batch_fill alone (x_ij, r, F at h_i, h_j)      %7.2f ns/pair\n", 1e9 * med[6] / (double)pairs);
     printf("    sph_batch_fill alone with W too (x_ij, r, W, F)              %7.2f ns/pair (checksum %.3g)\n",
            1e9 * med[7] / (double)pairs, sink);
     printf("    largest |batch - scalar| / largest |value| %.2g, signal velocity %.17g vs %.17g\n", diff / fmax,
            (double)vs[1], (double)vs[0]);
-    printf("    values where the two batch forms differ: %.0f of %d (signal velocity %.17g)\n", diff2, 5 * n, (double)vs[2]);
+    printf("    values where the other two batch forms differ from the first: %.0f of %d (signal velocity %.17g, %.17g)\n",
+           diff2, 2 * 5 * n, (double)vs[2], (double)vs[3]);
     printf("  sph_pairs_build once per list                             %7.2f ns/pair\n", 1e9 * tb / (double)pairs);
     free(x), free(v), free(m), free(h), free(hl), free(rho), free(om), free(p), free(A), free(P), free(V), free(dv);
     free(du), free(off), free(idx), free(hoff), free(toff), free(hidx), free(tpair), free(buf);
-    free(u), free(cs), free(al), free(f5[0]), free(f5[1]), free(f5[2]), free(t5);
-    for (i = 0; i < 9; ++i) free(t[i]);
+    free(u), free(cs), free(al), free(f5[0]), free(f5[1]), free(f5[2]), free(f5[3]), free(t5);
+    for (i = 0; i < 10; ++i) free(t[i]);
     return 0;
 }
