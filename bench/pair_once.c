@@ -230,6 +230,32 @@ static sph_real batch_rows(const part *P, sph_real beta, sph_real alpha_u, const
     return vmax;
 }
 
+/* The memory traffic of the batch loop at k alone, for the floor of its
+ * time: each pair's partner fields read (the two cache lines of part), 5
+ * reals stored at k and 5 added to the row, no kernel and no pair
+ * arithmetic; sph_pairs_reduce_rows_k after it. */
+static sph_real traffic_only(const part *P, const sph_pairs *pr, sph_real *to_j, sph_real *rows)
+{
+    const sph_idx n = pr->half.n_targets;
+    sph_idx i;
+    sph_real s = 0;
+    for (i = 0; i < n; ++i) {
+        sph_real si[5] = {0, 0, 0, 0, 0};
+        sph_off k;
+        int c;
+        for (k = pr->half.offset[i]; k < pr->half.offset[i + 1]; ++k) {
+            const part *q = P + pr->half.index[k];
+            sph_real *t = to_j + 5 * k;
+            t[0] = q->x[0] + q->v[0], t[1] = q->x[1] + q->v[1], t[2] = q->x[2] + q->v[2];
+            t[3] = q->m + q->A + q->rho + q->h, t[4] = q->cs + q->u + q->p + q->alpha;
+            for (c = 0; c < 5; ++c) si[c] += t[c];
+        }
+        for (c = 0; c < 5; ++c) rows[5 * i + c] = si[c];
+        s += si[0];
+    }
+    return s;
+}
+
 int main(int argc, char **argv)
 {
     const int side = argc > 1 ? atoi(argv[1]) : 40, reps = argc > 2 ? atoi(argv[2]) : 9;
@@ -244,7 +270,7 @@ int main(int argc, char **argv)
     sph_hctx c;
     sph_hreport rep;
     tp_rng g = {7};
-    double *t[12], med[12], tb, diff = 0, diffg = 0, diff2 = 0, fmax = 0, sink = 0;
+    double *t[13], med[13], tb, diff = 0, diffg = 0, diff2 = 0, fmax = 0, sink = 0;
     sph_real vs[5] = {0, 0, 0, 0, 0};
     sph_batch_src bs, bw, bg;
     sph_view xv, hv5;
@@ -267,10 +293,10 @@ int main(int argc, char **argv)
     f5[0] = malloc(sizeof(sph_real) * 5 * (size_t)n), f5[1] = malloc(sizeof(sph_real) * 5 * (size_t)n);
     f5[2] = malloc(sizeof(sph_real) * 5 * (size_t)n), f5[3] = malloc(sizeof(sph_real) * 5 * (size_t)n);
     f5[4] = malloc(sizeof(sph_real) * 5 * (size_t)n);
-    for (i = 0; i < 12; ++i) t[i] = malloc(sizeof(double) * (size_t)reps);
+    for (i = 0; i < 13; ++i) t[i] = malloc(sizeof(double) * (size_t)reps);
     if (!u || !cs || !al || !f5[0] || !f5[1] || !f5[2] || !f5[3] || !f5[4]) return 1;
     if (!x || !v || !m || !h || !hl || !rho || !om || !p || !A || !P || !V || !dv || !du) return 1;
-    for (i = 0; i < 12; ++i)
+    for (i = 0; i < 13; ++i)
         if (!t[i]) return 1;
     tp_lattice(3, side, dx, x);
     tp_perturb(3, n, 0.2 * dx, &g, x);
@@ -374,6 +400,10 @@ int main(int argc, char **argv)
         vs[4] = batch_rows(P5, fl.beta, fl.alpha_u, &bg, &pr, GATHER, NULL, NULL, f5[4]);
         t[10][r] = tm_now() - t5s;
         t5s = tm_now();
+        sink += (double)traffic_only(P5, &pr, t5 + 5 * pairs, t5);
+        st |= sph_pairs_reduce_rows_k(&pr, 5, t5 + 5 * pairs, t5);
+        t[12][r] = tm_now() - t5s;
+        t5s = tm_now();
         if (st != SPH_OK) return fprintf(stderr, "forces: %s\n", sph_strerror(st)), 1;
         t[0][r] = t1 - t0, t[1][r] = t2 - t1, t[2][r] = t3 - t2, t[3][r] = (t1 - t0) / (t2 - t1);
         t[4][r] = t4 - t3;
@@ -391,7 +421,7 @@ int main(int argc, char **argv)
         }
         t[7][r] = tm_now() - t5s;
     }
-    for (i = 0; i < 12; ++i) med[i] = tm_median(t[i], reps);
+    for (i = 0; i < 13; ++i) med[i] = tm_median(t[i], reps);
     for (i = 0; i < 5 * n; ++i) fmax = fabs(f5[0][i]) > fmax ? fabs(f5[0][i]) : fmax;
     for (i = 0; i < 5 * n; ++i) diff = fabs(f5[1][i] - f5[0][i]) > diff ? fabs(f5[1][i] - f5[0][i]) : diff;
     for (i = 0; i < 5 * n; ++i) diff2 += (f5[2][i] != f5[1][i]) + (f5[3][i] != f5[1][i]); /* the reductions: bit for bit */
@@ -414,6 +444,9 @@ int main(int argc, char **argv)
     printf("    of which sph_batch_fill alone (x_ij, r, F at h_i, h_j)      %7.2f ns/pair\n", 1e9 * med[6] / (double)pairs);
     printf("    sph_batch_fill alone with W too (x_ij, r, W, F)              %7.2f ns/pair (checksum %.3g)\n",
            1e9 * med[7] / (double)pairs, sink);
+    printf("    the floor of the form at k: its memory traffic alone (partner's fields, to_j at k,\n"
+           "      sph_pairs_reduce_rows_k; no kernel, no arithmetic)          %7.2f ns/pair; + the fill alone %.2f\n",
+           1e9 * med[12] / (double)pairs, 1e9 * (med[12] + med[6]) / (double)pairs);
     printf("    largest |batch - scalar| / largest |value| %.2g, signal velocity %.17g vs %.17g\n", diff / fmax,
            (double)vs[1], (double)vs[0]);
     for (i = 0; i < 5 * n; ++i) diffg = fabs(f5[4][i] - f5[0][i]) > diffg ? fabs(f5[4][i] - f5[0][i]) : diffg;
@@ -425,6 +458,6 @@ int main(int argc, char **argv)
     free(x), free(v), free(m), free(h), free(hl), free(rho), free(om), free(p), free(A), free(P), free(V), free(dv);
     free(du), free(off), free(idx), free(hoff), free(toff), free(hidx), free(tpair), free(buf);
     free(u), free(cs), free(al), free(f5[0]), free(f5[1]), free(f5[2]), free(f5[3]), free(f5[4]), free(t5), free(pk);
-    for (i = 0; i < 12; ++i) free(t[i]);
+    for (i = 0; i < 13; ++i) free(t[i]);
     return 0;
 }
