@@ -6508,7 +6508,8 @@ SPH_API int sph_batch_select(sph_batch_src *S, int what)
  * to 512-bit loads, and a 512-bit load of lanes just written by two 256-bit
  * stores is not forwarded from the store buffer but waits for the cache
  * (bench/pair_once.c, -O3 -march=native on Zen 4: a sixth of the time of
- * sph_batch_fill). The same operations, so the same bits. */
+ * sph_batch_fill). The same operations, so the same bits; the maskz_ forms
+ * for g++ (SPH__ALL8). */
 #if SPH__OP_AVX512
 #define SPH__BATCH_AVX512 1
 #else
@@ -6524,12 +6525,12 @@ SPH_API void sph_batch_sqrt(sph_real *v)
 #if SPH__BATCH_AVX512
     if (sizeof(sph_real) == sizeof(double) && SPH_BATCH % 8 == 0) {
         for (l = 0; l < SPH_BATCH; l += 8)
-            _mm512_storeu_pd((double *)v + l, _mm512_sqrt_pd(_mm512_loadu_pd((const double *)v + l)));
+            _mm512_storeu_pd((double *)v + l, _mm512_maskz_sqrt_pd(SPH__ALL8, _mm512_loadu_pd((const double *)v + l)));
         return;
     }
     if (sizeof(sph_real) == sizeof(float) && SPH_BATCH % 16 == 0) {
         for (l = 0; l < SPH_BATCH; l += 16)
-            _mm512_storeu_ps((float *)v + l, _mm512_sqrt_ps(_mm512_loadu_ps((const float *)v + l)));
+            _mm512_storeu_ps((float *)v + l, _mm512_maskz_sqrt_ps((__mmask16)0xFFFF, _mm512_loadu_ps((const float *)v + l)));
         return;
     }
 #endif
@@ -6550,8 +6551,8 @@ SPH__INLINE void sph__batch_image(sph_real *e, sph_real L, sph_real iL)
         const __m512d vL = _mm512_set1_pd((double)L), viL = _mm512_set1_pd((double)iL), h = _mm512_set1_pd(0.5);
         for (l = 0; l < SPH_BATCH; l += 8) {
             const __m512d v = _mm512_loadu_pd((const double *)e + l);
-            const __m512d f = _mm512_roundscale_pd(_mm512_add_pd(_mm512_mul_pd(v, viL), h),
-                                                   _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC);
+            const __m512d f = _mm512_maskz_roundscale_pd(SPH__ALL8, _mm512_add_pd(_mm512_mul_pd(v, viL), h),
+                                                         _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC);
             _mm512_storeu_pd((double *)e + l, _mm512_sub_pd(v, _mm512_mul_pd(vL, f)));
         }
         return;
@@ -6560,14 +6561,36 @@ SPH__INLINE void sph__batch_image(sph_real *e, sph_real L, sph_real iL)
         const __m512 vL = _mm512_set1_ps((float)L), viL = _mm512_set1_ps((float)iL), h = _mm512_set1_ps(0.5f);
         for (l = 0; l < SPH_BATCH; l += 16) {
             const __m512 v = _mm512_loadu_ps((const float *)e + l);
-            const __m512 f = _mm512_roundscale_ps(_mm512_add_ps(_mm512_mul_ps(v, viL), h),
-                                                  _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC);
+            const __m512 f = _mm512_maskz_roundscale_ps((__mmask16)0xFFFF, _mm512_add_ps(_mm512_mul_ps(v, viL), h),
+                                                        _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC);
             _mm512_storeu_ps((float *)e + l, _mm512_sub_ps(v, _mm512_mul_ps(vL, f)));
         }
         return;
     }
 #endif
     sph__image_chunk(e, SPH_BATCH, L, iL);
+}
+
+/* v[l] = p[J[l] s] over the lanes. With SPH__BATCH_AVX512 (double) each 8
+ * lanes are built in a register from scalar loads and stored at once: the
+ * lane loops' 512-bit loads of v are then forwarded from the store, which
+ * eight scalar stores are not (bench/pair_once.c: an eighth of the time of
+ * sph_batch_fill). */
+SPH__INLINE void sph__batch_gather(const sph_real *p, ptrdiff_t s, const sph_idx *J, sph_real *v)
+{
+    int l;
+#if SPH__BATCH_AVX512
+    if (sizeof(sph_real) == sizeof(double) && SPH_BATCH % 8 == 0) {
+        const double *q = (const double *)p;
+        for (l = 0; l < SPH_BATCH; l += 8) {
+            const sph_idx *o = J + l;
+            _mm512_storeu_pd((double *)v + l, _mm512_set_pd(q[o[7] * s], q[o[6] * s], q[o[5] * s], q[o[4] * s],
+                                                            q[o[3] * s], q[o[2] * s], q[o[1] * s], q[o[0] * s]));
+        }
+        return;
+    }
+#endif
+    for (l = 0; l < SPH_BATCH; ++l) v[l] = p[(ptrdiff_t)J[l] * s];
 }
 
 /* (O0), (O1), (K1), (K2) for the next pairs of row i: fills *b with the
@@ -6604,10 +6627,8 @@ SPH_API int sph_batch_fill(const sph_batch_src *S, sph_idx i, sph_off *next, sph
     hp = S->h.p[0], hs = S->h.stride, xs = S->x.stride;
     for (l = 0; l < n; ++l) J[l] = L->index[o0 + l];
     for (; l < SPH_BATCH; ++l) J[l] = i;
-    for (l = 0; l < SPH_BATCH; ++l) { /* the gathers, on their own: the loops below read contiguous lanes */
-        hj[l] = hp[(ptrdiff_t)J[l] * hs];
-        for (a = 0; a < D; ++a) xj[a][l] = S->x.p[a][(ptrdiff_t)J[l] * xs];
-    }
+    sph__batch_gather(hp, hs, J, hj); /* the gathers, on their own: the loops below read contiguous lanes */
+    for (a = 0; a < D; ++a) sph__batch_gather(S->x.p[a], xs, J, xj[a]);
     SPH__LANES
     for (l = 0; l < SPH_BATCH; ++l) r[l] = 0;
     sph__h_xi(S->x, D, i, xi);
