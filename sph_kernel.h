@@ -210,6 +210,7 @@
  *   sph_pairs_build(full, offset, index, cap, t_offset, t_slot, &pairs, &P)  half list + transpose (H8)
  *   sph_pairs_reduce(&P, ncomp, to_i, to_j, out) per-particle sums of per-pair terms (H8)
  *   sph_pairs_reduce_rows(&P, ncomp, to_j, out)  the same, out holding the rows' own sums on entry
+ *   sph_pairs_reduce_rows_k(&P, ncomp, to_j, out)  the same, to_j at the pair index k (not the slot)
  *   sph_pairs_buffer_len(ncomp, pairs)           reals of the two per-pair buffers of sph_pairs_reduce
  *   sph_gradh_pairs_buffer_len(dim, pairs)       reals of the buffer of sph_gradh_forces_pairs
  *   sph_gradh_forces_pairs(c, &P, v, h, A, buf, buf_len, dvdt, dudt)  (H5), (H6), pair-once
@@ -6380,6 +6381,65 @@ SPH_API int sph_pairs_reduce_rows(const sph_pairs *P, int ncomp, const sph_real 
     return sph__pairs_reduce(P, ncomp, 1, NULL, to_j, out);
 }
 
+/* The partners' shares of the rows i of P's half list with some j in
+ * [j0, j1) added to out[ncomp j ..] (sph_pairs_reduce_rows_k): for each j
+ * in ascending i, the order of j's slots. Rows ascending (sph_pairs_build). */
+SPH__INLINE void sph__pairs_add_k(const sph_pairs *P, int ncomp, const sph_real *to_j, sph_real *out, sph_idx j0,
+                                  sph_idx j1)
+{
+    const sph_off *off = P->half.offset;
+    const sph_idx *idx = P->half.index;
+    sph_idx i;
+    for (i = 0; i + 1 < j1; ++i) { /* rows i >= j1 - 1 hold no j < j1 */
+        sph_off k = off[i], k1 = off[i + 1];
+        if (k1 <= k || idx[k1 - 1] < j0) continue; /* row ends below the range */
+        for (; k < k1; ++k) {
+            const sph_idx j = idx[k];
+            const sph_real *s = to_j + (ptrdiff_t)ncomp * k;
+            sph_real *o = out + (ptrdiff_t)ncomp * j;
+            int a;
+            if (j < j0) continue;
+            if (j >= j1) break;
+            if (ncomp == 5) { /* the common width in registers: the adds are those of the loop below */
+                o[0] += s[0], o[1] += s[1], o[2] += s[2], o[3] += s[3], o[4] += s[4];
+            } else {
+                for (a = 0; a < ncomp; ++a) o[a] += s[a];
+            }
+        }
+    }
+}
+
+/* (H8) with the rows summed by the caller and each partner's share stored at
+ * its pair index: out[ncomp i + a] holds on entry i's own share (as for
+ * sph_pairs_reduce_rows), to_j[ncomp k + a] what pair k = (i, j) adds to j,
+ * at k rather than at t_slot[k], so that the pair loop's stores run in
+ * sequence (scattered stores to the slots cost the shock tube's pair loop
+ * more than its kernel evaluations, bench/pair_once.c); each j then gets its
+ * pairs added in ascending i, the order of its slots, and out equals
+ * sph_pairs_reduce_rows's bit for bit. t_offset and t_slot are not read.
+ * Checks as sph_pairs_reduce_rows; the half list's rows ascending, as
+ * sph_pairs_build gives them. With OpenMP each thread owns a range of j and
+ * scans the rows that reach it: bitwise the same for any thread count. */
+SPH_API int sph_pairs_reduce_rows_k(const sph_pairs *P, int ncomp, const sph_real *to_j, sph_real *out)
+{
+    sph_idx n;
+    if (P == NULL || P->half.offset == NULL) return SPH_ENULL;
+    if (ncomp < 1 || ncomp > 16) return SPH_ERANGE;
+    n = P->half.n_targets;
+    if (n > 0 && out == NULL) return SPH_ENULL;
+    if (P->half.offset[n] > 0 && (to_j == NULL || P->half.index == NULL)) return SPH_ENULL;
+#ifdef _OPENMP
+#pragma omp parallel if (n >= 2048)
+    {
+        const int T = omp_get_num_threads(), t = omp_get_thread_num();
+        sph__pairs_add_k(P, ncomp, to_j, out, (sph_idx)((double)n * t / T), (sph_idx)((double)n * (t + 1) / T));
+    }
+#else
+    sph__pairs_add_k(P, ncomp, to_j, out, 0, n);
+#endif
+    return SPH_OK;
+}
+
 /* (H5), (H6) pair-once over the half list of sph_pairs_build (the views
  * and results of sph_gradh_forces, to round-off): each pair evaluated once
  * into buf, then summed per particle in the order of sph_pairs_reduce (H8).
@@ -6540,17 +6600,95 @@ SPH_API int sph_batch_select(sph_batch_src *S, int what)
     return SPH_OK;
 }
 
+/* The lanes' square roots and minimum image in 512-bit registers where the
+ * target has AVX-512 (1), else through sph__sqrt_chunk and sph__image_chunk
+ * (0; also with SPH_NO_INTRINSICS). The lane loops around them then compile
+ * to 512-bit loads, and a 512-bit load of lanes just written by two 256-bit
+ * stores is not forwarded from the store buffer but waits for the cache
+ * (bench/pair_once.c, -O3 -march=native on Zen 4: a sixth of the time of
+ * sph_batch_fill). The same operations, so the same bits; the maskz_ forms
+ * for g++ (SPH__ALL8). */
+#if SPH__OP_AVX512
+#define SPH__BATCH_AVX512 1
+#else
+#define SPH__BATCH_AVX512 0
+#endif
+
 /* v[l] = sqrt(v[l]) over the SPH_BATCH lanes of a caller's pair loop: IEEE
  * square roots in vector registers, where sqrt() in a loop stays scalar
  * unless errno is off (-fno-math-errno). */
 SPH_API void sph_batch_sqrt(sph_real *v)
 {
     int l;
+#if SPH__BATCH_AVX512
+    if (sizeof(sph_real) == sizeof(double) && SPH_BATCH % 8 == 0) {
+        for (l = 0; l < SPH_BATCH; l += 8)
+            _mm512_storeu_pd((double *)v + l, _mm512_maskz_sqrt_pd(SPH__ALL8, _mm512_loadu_pd((const double *)v + l)));
+        return;
+    }
+    if (sizeof(sph_real) == sizeof(float) && SPH_BATCH % 16 == 0) {
+        for (l = 0; l < SPH_BATCH; l += 16)
+            _mm512_storeu_ps((float *)v + l, _mm512_maskz_sqrt_ps((__mmask16)0xFFFF, _mm512_loadu_ps((const float *)v + l)));
+        return;
+    }
+#endif
     if (SPH_BATCH % 8 == 0) {
         sph__sqrt_chunk(v, SPH_BATCH);
     } else {
         for (l = 0; l < SPH_BATCH; ++l) v[l] = sph__sqrt(v[l]);
     }
+}
+
+/* e[l] -= L floor(e[l] / L + 1/2) over the lanes (1/L given): the minimum
+ * image of sph__image_chunk in the registers of SPH__BATCH_AVX512. */
+SPH__INLINE void sph__batch_image(sph_real *e, sph_real L, sph_real iL)
+{
+#if SPH__BATCH_AVX512
+    int l;
+    if (sizeof(sph_real) == sizeof(double) && SPH_BATCH % 8 == 0) {
+        const __m512d vL = _mm512_set1_pd((double)L), viL = _mm512_set1_pd((double)iL), h = _mm512_set1_pd(0.5);
+        for (l = 0; l < SPH_BATCH; l += 8) {
+            const __m512d v = _mm512_loadu_pd((const double *)e + l);
+            const __m512d f = _mm512_maskz_roundscale_pd(SPH__ALL8, _mm512_add_pd(_mm512_mul_pd(v, viL), h),
+                                                         _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC);
+            _mm512_storeu_pd((double *)e + l, _mm512_sub_pd(v, _mm512_mul_pd(vL, f)));
+        }
+        return;
+    }
+    if (sizeof(sph_real) == sizeof(float) && SPH_BATCH % 16 == 0) {
+        const __m512 vL = _mm512_set1_ps((float)L), viL = _mm512_set1_ps((float)iL), h = _mm512_set1_ps(0.5f);
+        for (l = 0; l < SPH_BATCH; l += 16) {
+            const __m512 v = _mm512_loadu_ps((const float *)e + l);
+            const __m512 f = _mm512_maskz_roundscale_ps((__mmask16)0xFFFF, _mm512_add_ps(_mm512_mul_ps(v, viL), h),
+                                                        _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC);
+            _mm512_storeu_ps((float *)e + l, _mm512_sub_ps(v, _mm512_mul_ps(vL, f)));
+        }
+        return;
+    }
+#endif
+    sph__image_chunk(e, SPH_BATCH, L, iL);
+}
+
+/* v[l] = p[J[l] s] over the lanes. With SPH__BATCH_AVX512 (double) each 8
+ * lanes are built in a register from scalar loads and stored at once: the
+ * lane loops' 512-bit loads of v are then forwarded from the store, which
+ * eight scalar stores are not (bench/pair_once.c: an eighth of the time of
+ * sph_batch_fill). */
+SPH__INLINE void sph__batch_gather(const sph_real *p, ptrdiff_t s, const sph_idx *J, sph_real *v)
+{
+    int l;
+#if SPH__BATCH_AVX512
+    if (sizeof(sph_real) == sizeof(double) && SPH_BATCH % 8 == 0) {
+        const double *q = (const double *)p;
+        for (l = 0; l < SPH_BATCH; l += 8) {
+            const sph_idx *o = J + l;
+            _mm512_storeu_pd((double *)v + l, _mm512_set_pd(q[o[7] * s], q[o[6] * s], q[o[5] * s], q[o[4] * s],
+                                                            q[o[3] * s], q[o[2] * s], q[o[1] * s], q[o[0] * s]));
+        }
+        return;
+    }
+#endif
+    for (l = 0; l < SPH_BATCH; ++l) v[l] = p[(ptrdiff_t)J[l] * s];
 }
 
 /* (O0), (O1), (K1), (K2) for the next pairs of row i: fills *b with the
@@ -6587,10 +6725,8 @@ SPH_API int sph_batch_fill(const sph_batch_src *S, sph_idx i, sph_off *next, sph
     hp = S->h.p[0], hs = S->h.stride, xs = S->x.stride;
     for (l = 0; l < n; ++l) J[l] = L->index[o0 + l];
     for (; l < SPH_BATCH; ++l) J[l] = i;
-    for (l = 0; l < SPH_BATCH; ++l) { /* the gathers, on their own: the loops below read contiguous lanes */
-        hj[l] = hp[(ptrdiff_t)J[l] * hs];
-        for (a = 0; a < D; ++a) xj[a][l] = S->x.p[a][(ptrdiff_t)J[l] * xs];
-    }
+    sph__batch_gather(hp, hs, J, hj); /* the gathers, on their own: the loops below read contiguous lanes */
+    for (a = 0; a < D; ++a) sph__batch_gather(S->x.p[a], xs, J, xj[a]);
     SPH__LANES
     for (l = 0; l < SPH_BATCH; ++l) r[l] = 0;
     sph__h_xi(S->x, D, i, xi);
@@ -6604,7 +6740,7 @@ SPH_API int sph_batch_fill(const sph_batch_src *S, sph_idx i, sph_off *next, sph
         }
         SPH__LANES
         for (l = 0; l < SPH_BATCH; ++l) dx[l] = xia - xa[l];
-        if (La != 0) sph__image_chunk(dx, SPH_BATCH, La, iLa); /* the image of sph__h_dx */
+        if (La != 0) sph__batch_image(dx, La, iLa); /* the image of sph__h_dx */
         SPH__LANES
         for (l = 0; l < SPH_BATCH; ++l) r[l] += dx[l] * dx[l];
         SPH__LANES

@@ -17,12 +17,17 @@
  * forms: one pair at a time with the scalar pair terms (sph_kernel_f,
  * sph_pair_gradh_*, sph_pair_av_signal, sph_pair_av_apply: scalar_pair),
  * and as a caller's loop over the lanes of sph_batch_fill
- * (docs/smoothing_length.md, "Pair batches"; F alone, sph_batch_select);
- * both then reduced by sph_pairs_reduce, and the largest difference of the
- * two results printed; the batch form again with i's share summed in the
- * loop (sph_pairs_reduce_rows: no to_i buffer), which must equal it bit for
- * bit; then the fill alone, F alone and W and F. Build also
- * with -O3 -march=native (the lane loops then use the widest vectors).
+ * (docs/smoothing_length.md, "Pair batches"; F alone, sph_batch_select;
+ * the loop's fields packed per particle, two cache lines, the fills reading
+ * x and h from there too); both then reduced by sph_pairs_reduce, and the
+ * largest difference of the two results printed; the batch form again with
+ * i's share summed in the loop (sph_pairs_reduce_rows: no to_i buffer),
+ * and with j's share stored at the pair index k instead of its slot
+ * (sph_pairs_reduce_rows_k), both of which must equal the first bit for
+ * bit; the gather form on the full list for comparison (each pair
+ * evaluated from both rows, no stores: its time per unordered pair); then
+ * the fill alone, F alone and W and F. Build also with -O3 -march=native
+ * (the lane loops then use the widest vectors).
  *
  * 3-D perturbed lattice in a periodic unit box, h solved by sph_h_solve
  * (eta 1.2, cubic spline: about 58 neighbours), one symmetric list at
@@ -110,82 +115,145 @@ static void scalar_pair(const fields *f, sph_idx i, sph_idx j, sph_real *ti, sph
     *vs = s > *vs ? s : *vs;
 }
 
+/* What the batch loop reads of a particle, side by side: the partner's
+ * fields then cost two cache lines (ten separate arrays: ten lines), and the
+ * fills read x and h from here too (sph_view_aos). */
+typedef struct {
+    sph_real x[3], h, v[3], m, A, rho, cs, u, p, alpha, pad[2];
+} part;
+
+/* The fields of the batch loop side by side, once per step (after h, rho,
+ * A and c_s). */
+static void pack(part *P, int n, const sph_real *x, const sph_real *v, const sph_real *h, const sph_real *m,
+                 const sph_real *A, const sph_real *rho, const sph_real *cs, const sph_real *u, const sph_real *p,
+                 const sph_real *al)
+{
+    int i, a;
+    for (i = 0; i < n; ++i) {
+        part *q = P + i;
+        for (a = 0; a < 3; ++a) q->x[a] = x[3 * i + a], q->v[a] = v[3 * i + a];
+        q->h = h[i], q->m = m[i], q->A = A[i], q->rho = rho[i], q->cs = cs[i], q->u = u[i], q->p = p[i], q->alpha = al[i];
+        q->pad[0] = q->pad[1] = 0;
+    }
+}
+
+/* The ways the batch loop stores its results (see batch_rows). */
+enum { TO_I_SLOTS, ROWS_SLOTS, ROWS_AT_K, GATHER };
+
 /* The same equations on batches, in three plain loops over all SPH_BATCH
  * lanes (padding lanes compute harmless zeros): the partner's fields
  * gathered into lane arrays, then the arithmetic (it vectorises: no
- * gathers, branches or scalar sqrt inside), then the stores, to_j[t_slot[k]]
- * scattered and i's share either to to_i[k] (contiguous; sph_pairs_reduce
- * then) or, with rows != NULL, added up in row order into rows[5 i ..]
- * (sph_pairs_reduce_rows then; to_i unused). */
-static sph_real batch_rows(const fields *f, const sph_batch_src *S, const sph_pairs *pr, sph_real *to_i,
-                           sph_real *to_j, sph_real *rows)
+ * gathers, branches or scalar sqrt inside; two divisions per lane, 1/rho_ij
+ * and 1/r, multiplied where needed), then the stores. form: TO_I_SLOTS
+ * i's share to to_i[k] (contiguous) and j's scattered to to_j[t_slot[k]]
+ * (sph_pairs_reduce then); ROWS_SLOTS i's share added up in row order into
+ * rows[5 i ..] (sph_pairs_reduce_rows then; to_i unused); ROWS_AT_K the
+ * same with j's share at k, in sequence (sph_pairs_reduce_rows_k then);
+ * GATHER over a full list (each pair in both rows): i's share into rows,
+ * nothing stored for j. */
+static sph_real batch_rows(const part *P, sph_real beta, sph_real alpha_u, const sph_batch_src *S,
+                           const sph_pairs *pr, int form, sph_real *to_i, sph_real *to_j, sph_real *rows)
 {
-    const sph_idx n = pr->half.n_targets;
-    const sph_real *m = f->m, *A = f->A, *rho = f->rho, *cs = f->cs, *u = f->u, *p = f->p, *al = f->alpha, *v = f->v;
-    const sph_real beta = f->beta, alpha_u = f->alpha_u;
+    const sph_idx n = S->list->n_targets;
     sph_real vmax = 0;
     sph_idx i;
     for (i = 0; i < n; ++i) {
-        const sph_real mi = m[i], Ai = A[i], rhoi = rho[i], ci = cs[i], ui = u[i], pi = p[i];
-        const sph_real ai = al[i], vi0 = v[3 * i], vi1 = v[3 * i + 1], vi2 = v[3 * i + 2];
+        const part *Pi_ = P + i;
+        const sph_real mi = Pi_->m, Ai = Pi_->A, rhoi = Pi_->rho, ci = Pi_->cs, ui = Pi_->u, pi = Pi_->p;
+        const sph_real ai = Pi_->alpha, vi0 = Pi_->v[0], vi1 = Pi_->v[1], vi2 = Pi_->v[2];
         int c;
         sph_real si[5] = {0, 0, 0, 0, 0};
         sph_batch b;
         sph_off next = 0;
         while (sph_batch_fill(S, i, &next, &b) > 0) {
             sph_real mj[SPH_BATCH], Aj[SPH_BATCH], rhoj[SPH_BATCH], cj[SPH_BATCH], uj[SPH_BATCH], pj[SPH_BATCH];
-            sph_real aj[SPH_BATCH], vj[3][SPH_BATCH], vu[SPH_BATCH], rhob[SPH_BATCH], r1[SPH_BATCH];
+            sph_real aj[SPH_BATCH], vj[3][SPH_BATCH], vu[SPH_BATCH], irb[SPH_BATCH], ir[SPH_BATCH];
             sph_real gi[SPH_BATCH], gj[SPH_BATCH], ei[SPH_BATCH], ej[SPH_BATCH], di[SPH_BATCH], dj[SPH_BATCH], vs[SPH_BATCH];
-            sph_real *ti = to_i + 5 * b.k[0]; /* (to_i unused with rows) */
             int l;
-            for (l = 0; l < SPH_BATCH; ++l) {
-                const sph_idx j = b.j[l];
-                mj[l] = m[j], Aj[l] = A[j], rhoj[l] = rho[j], cj[l] = cs[j], uj[l] = u[j], pj[l] = p[j], aj[l] = al[j];
-                vj[0][l] = v[3 * j], vj[1][l] = v[3 * j + 1], vj[2][l] = v[3 * j + 2];
+            for (l = 0; l < SPH_BATCH; ++l) { /* the partner's fields: two cache lines */
+                const part *Pj = P + b.j[l];
+                mj[l] = Pj->m, Aj[l] = Pj->A, rhoj[l] = Pj->rho, cj[l] = Pj->cs, uj[l] = Pj->u, pj[l] = Pj->p;
+                aj[l] = Pj->alpha, vj[0][l] = Pj->v[0], vj[1][l] = Pj->v[1], vj[2][l] = Pj->v[2];
             }
             for (l = 0; l < SPH_BATCH; ++l) {
-                rhob[l] = (rhoi + rhoj[l]) / 2;
-                vu[l] = fabs(pi - pj[l]) / rhob[l];
-                r1[l] = b.r[l] > 0 ? b.r[l] : 1; /* here: a division by a select stays scalar (gcc -O2) */
+                irb[l] = 2 / (rhoi + rhoj[l]);          /* 1 / rho_ij */
+                ir[l] = 1 / (b.r[l] > 0 ? b.r[l] : 1); /* here: a division by a select stays scalar (gcc -O2) */
             }
+            for (l = 0; l < SPH_BATCH; ++l) vu[l] = fabs(pi - pj[l]) * irb[l];
             sph_batch_sqrt(vu); /* sqrt(|p_i - p_j| / rho_ij) */
             for (l = 0; l < SPH_BATCH; ++l) {
                 const sph_real dx0 = b.dx[0][l], dx1 = b.dx[1][l], dx2 = b.dx[2][l], r = b.r[l];
                 const sph_real e = (vi0 - vj[0][l]) * dx0 + (vi1 - vj[1][l]) * dx1 + (vi2 - vj[2][l]) * dx2;
                 const sph_real Fi = b.F_i[l], Fj = b.F_j[l], Fb = (Fi + Fj) / 2;
-                const sph_real w = (e < 0 ? e : 0) / r1[l]; /* no division under a condition: */
+                const sph_real w = (e < 0 ? e : 0) * ir[l]; /* no division under a condition: */
                 const sph_real vsig = ci + cj[l] - beta * w;
-                const sph_real Pi = -((ai + aj[l]) / 2 / 2) * vsig * w / rhob[l]; /* the vectoriser would need masks */
+                const sph_real Pi = -((ai + aj[l]) / 4) * vsig * w * irb[l]; /* the vectoriser would need masks */
                 const sph_real cf = Ai * Fi + Aj[l] * Fj + Pi * Fb;
-                const sph_real cond = alpha_u * vu[l] * (ui - uj[l]) * Fb * r / rhob[l];
+                const sph_real cond = alpha_u * vu[l] * (ui - uj[l]) * Fb * r * irb[l];
                 gi[l] = mj[l] * cf, gj[l] = mi * cf; /* dv_i/dt = -g_i x_ij, dv_j/dt = g_j x_ij */
                 ei[l] = mj[l] * (Ai * Fi * e + Pi * Fb * e / 2 + cond);
                 ej[l] = mi * (Aj[l] * Fj * e + Pi * Fb * e / 2 - cond);
                 di[l] = mj[l] * e * Fi, dj[l] = mi * e * Fj;
-                vs[l] = vsig; /* the largest after the loop: a max reduction here stops the vectoriser */
+                vs[l] = b.j[l] != i ? vsig : 0; /* (a gather list's self pair: not a pair) the largest after the
+                                                   loop: a max reduction here stops the vectoriser */
             }
-            if (rows != NULL) { /* i's share in registers, in the order sph_pairs_reduce adds to_i */
+            if (form == TO_I_SLOTS) { /* to_i[k]: the batch's pairs are consecutive in the half list */
+                sph_real *ti = to_i + 5 * b.k[0];
+                for (l = 0; l < b.n; ++l) {
+                    for (c = 0; c < 3; ++c) ti[5 * l + c] = -gi[l] * b.dx[c][l];
+                    ti[5 * l + 3] = ei[l], ti[5 * l + 4] = di[l];
+                }
+            } else { /* i's share in registers, in the order sph_pairs_reduce adds to_i */
                 for (l = 0; l < b.n; ++l) {
                     for (c = 0; c < 3; ++c) si[c] += -gi[l] * b.dx[c][l];
                     si[3] += ei[l], si[4] += di[l];
                 }
-            } else {
-                for (l = 0; l < b.n; ++l) { /* to_i[k]: the batch's pairs are consecutive in the half list */
-                    for (c = 0; c < 3; ++c) ti[5 * l + c] = -gi[l] * b.dx[c][l];
-                    ti[5 * l + 3] = ei[l], ti[5 * l + 4] = di[l];
-                }
             }
-            for (l = 0; l < b.n; ++l) {
-                sph_real *tj = to_j + 5 * pr->t_slot[b.k[l]];
-                for (c = 0; c < 3; ++c) tj[c] = gj[l] * b.dx[c][l];
-                tj[3] = ej[l], tj[4] = dj[l];
+            if (form == ROWS_AT_K) { /* j's share at k: in sequence, like to_i */
+                sph_real *tk = to_j + 5 * b.k[0];
+                for (l = 0; l < b.n; ++l) {
+                    for (c = 0; c < 3; ++c) tk[5 * l + c] = gj[l] * b.dx[c][l];
+                    tk[5 * l + 3] = ej[l], tk[5 * l + 4] = dj[l];
+                }
+            } else if (form != GATHER) { /* at its slot: 40 or so places per row */
+                for (l = 0; l < b.n; ++l) {
+                    sph_real *tj = to_j + 5 * pr->t_slot[b.k[l]];
+                    for (c = 0; c < 3; ++c) tj[c] = gj[l] * b.dx[c][l];
+                    tj[3] = ej[l], tj[4] = dj[l];
+                }
             }
             for (l = 0; l < b.n; ++l) vmax = vs[l] > vmax ? vs[l] : vmax;
         }
-        if (rows != NULL)
+        if (form != TO_I_SLOTS)
             for (c = 0; c < 5; ++c) rows[5 * i + c] = si[c];
     }
     return vmax;
+}
+
+/* The memory traffic of the batch loop at k alone, for the floor of its
+ * time: each pair's partner fields read (the two cache lines of part), 5
+ * reals stored at k and 5 added to the row, no kernel and no pair
+ * arithmetic; sph_pairs_reduce_rows_k after it. */
+static sph_real traffic_only(const part *P, const sph_pairs *pr, sph_real *to_j, sph_real *rows)
+{
+    const sph_idx n = pr->half.n_targets;
+    sph_idx i;
+    sph_real s = 0;
+    for (i = 0; i < n; ++i) {
+        sph_real si[5] = {0, 0, 0, 0, 0};
+        sph_off k;
+        int c;
+        for (k = pr->half.offset[i]; k < pr->half.offset[i + 1]; ++k) {
+            const part *q = P + pr->half.index[k];
+            sph_real *t = to_j + 5 * k;
+            t[0] = q->x[0] + q->v[0], t[1] = q->x[1] + q->v[1], t[2] = q->x[2] + q->v[2];
+            t[3] = q->m + q->A + q->rho + q->h, t[4] = q->cs + q->u + q->p + q->alpha;
+            for (c = 0; c < 5; ++c) si[c] += t[c];
+        }
+        for (c = 0; c < 5; ++c) rows[5 * i + c] = si[c];
+        s += si[0];
+    }
+    return s;
 }
 
 int main(int argc, char **argv)
@@ -193,7 +261,7 @@ int main(int argc, char **argv)
     const int side = argc > 1 ? atoi(argv[1]) : 40, reps = argc > 2 ? atoi(argv[2]) : 9;
     const int n = side * side * side;
     const double dx = 1.0 / side;
-    sph_real *x, *v, *m, *h, *hl, *rho, *om, *p, *A, *P, *dv, *du, *buf, *V, *u, *cs, *al, *t5, *f5[3];
+    sph_real *x, *v, *m, *h, *hl, *rho, *om, *p, *A, *P, *dv, *du, *buf, *V, *u, *cs, *al, *t5, *f5[5];
     sph_off *off = NULL, *hoff, *toff, *tpair, pairs;
     sph_idx *idx = NULL, *hidx;
     sph_box box = {{0, 0, 0}, {1, 1, 1}, {1, 1, 1}};
@@ -202,9 +270,11 @@ int main(int argc, char **argv)
     sph_hctx c;
     sph_hreport rep;
     tp_rng g = {7};
-    double *t[9], med[9], tb, diff = 0, diff2 = 0, fmax = 0, sink = 0;
-    sph_real vs[3] = {0, 0, 0};
-    sph_batch_src bs, bw;
+    double *t[13], med[13], tb, diff = 0, diffg = 0, diff2 = 0, fmax = 0, sink = 0;
+    sph_real vs[5] = {0, 0, 0, 0, 0};
+    sph_batch_src bs, bw, bg;
+    sph_view xv, hv5;
+    part *pk, *P5;
     fields fl;
     int i, r, st;
     if (side < 8 || side > 400 || reps < 1 || reps > 1000) {
@@ -221,11 +291,12 @@ int main(int argc, char **argv)
     u = malloc(sizeof(sph_real) * (size_t)n), cs = malloc(sizeof(sph_real) * (size_t)n);
     al = malloc(sizeof(sph_real) * (size_t)n);
     f5[0] = malloc(sizeof(sph_real) * 5 * (size_t)n), f5[1] = malloc(sizeof(sph_real) * 5 * (size_t)n);
-    f5[2] = malloc(sizeof(sph_real) * 5 * (size_t)n);
-    for (i = 0; i < 9; ++i) t[i] = malloc(sizeof(double) * (size_t)reps);
-    if (!u || !cs || !al || !f5[0] || !f5[1] || !f5[2]) return 1;
+    f5[2] = malloc(sizeof(sph_real) * 5 * (size_t)n), f5[3] = malloc(sizeof(sph_real) * 5 * (size_t)n);
+    f5[4] = malloc(sizeof(sph_real) * 5 * (size_t)n);
+    for (i = 0; i < 13; ++i) t[i] = malloc(sizeof(double) * (size_t)reps);
+    if (!u || !cs || !al || !f5[0] || !f5[1] || !f5[2] || !f5[3] || !f5[4]) return 1;
     if (!x || !v || !m || !h || !hl || !rho || !om || !p || !A || !P || !V || !dv || !du) return 1;
-    for (i = 0; i < 9; ++i)
+    for (i = 0; i < 13; ++i)
         if (!t[i]) return 1;
     tp_lattice(3, side, dx, x);
     tp_perturb(3, n, 0.2 * dx, &g, x);
@@ -269,10 +340,17 @@ int main(int argc, char **argv)
     st = sph_pairs_build(&full, hoff, hidx, off[n], toff, tpair, &pairs, &pr);
     tb = tm_now() - tb;
     if (st != SPH_OK) return fprintf(stderr, "pairs: %s\n", sph_strerror(st)), 1;
-    st = sph_batch_source(&bs, SPH_KERNEL_CUBIC, 3, &pr.half, &box, sph_view_interleaved(x, 3), sph_view_soa(h, NULL, NULL));
+    pk = malloc(sizeof(part) * (size_t)n + 64); /* aligned to 64 bytes: a particle is two cache lines */
+    if (!pk) return 1;
+    P5 = (part *)(void *)((char *)pk + (64 - (size_t)((uintptr_t)pk % 64)) % 64);
+    pack(P5, n, x, v, h, m, A, rho, cs, u, p, al);
+    xv = sph_view_aos(P5[0].x, 3, sizeof(part)), hv5 = sph_view_aos(&P5[0].h, 1, sizeof(part));
+    st = sph_batch_source(&bs, SPH_KERNEL_CUBIC, 3, &pr.half, &box, xv, hv5);
     if (st == SPH_OK) /* W and F (the default), for the time of the fill alone */
-        st = sph_batch_source(&bw, SPH_KERNEL_CUBIC, 3, &pr.half, &box, sph_view_interleaved(x, 3), sph_view_soa(h, NULL, NULL));
+        st = sph_batch_source(&bw, SPH_KERNEL_CUBIC, 3, &pr.half, &box, xv, hv5);
+    if (st == SPH_OK) st = sph_batch_source(&bg, SPH_KERNEL_CUBIC, 3, &full, &box, xv, hv5); /* the gather form */
     if (st == SPH_OK) st = sph_batch_select(&bs, SPH_BATCH_F); /* the pair loop reads F only */
+    if (st == SPH_OK) st = sph_batch_select(&bg, SPH_BATCH_F);
     if (st != SPH_OK) return fprintf(stderr, "batch source: %s\n", sph_strerror(st)), 1;
     fl.x = x, fl.v = v, fl.m = m, fl.h = h, fl.rho = rho, fl.A = A, fl.u = u, fl.p = p, fl.cs = cs, fl.alpha = al;
     fl.box = &box, fl.beta = 3, fl.alpha_u = 1;
@@ -304,13 +382,27 @@ int main(int argc, char **argv)
         }
         st |= sph_pairs_reduce(&pr, 5, t5, t5 + 5 * pairs, f5[0]);
         t4 = tm_now();
-        vs[1] = batch_rows(&fl, &bs, &pr, t5, t5 + 5 * pairs, NULL);
+        pack(P5, n, x, v, h, m, A, rho, cs, u, p, al);
+        t[11][r] = tm_now() - t4;
+        t4 = tm_now();
+        vs[1] = batch_rows(P5, fl.beta, fl.alpha_u, &bs, &pr, TO_I_SLOTS, t5, t5 + 5 * pairs, NULL);
         st |= sph_pairs_reduce(&pr, 5, t5, t5 + 5 * pairs, f5[1]);
         t5s = tm_now();
         t[5][r] = t5s - t4;
-        vs[2] = batch_rows(&fl, &bs, &pr, NULL, t5 + 5 * pairs, f5[2]);
+        vs[2] = batch_rows(P5, fl.beta, fl.alpha_u, &bs, &pr, ROWS_SLOTS, NULL, t5 + 5 * pairs, f5[2]);
         st |= sph_pairs_reduce_rows(&pr, 5, t5 + 5 * pairs, f5[2]);
         t[8][r] = tm_now() - t5s;
+        t5s = tm_now();
+        vs[3] = batch_rows(P5, fl.beta, fl.alpha_u, &bs, &pr, ROWS_AT_K, NULL, t5 + 5 * pairs, f5[3]);
+        st |= sph_pairs_reduce_rows_k(&pr, 5, t5 + 5 * pairs, f5[3]);
+        t[9][r] = tm_now() - t5s;
+        t5s = tm_now();
+        vs[4] = batch_rows(P5, fl.beta, fl.alpha_u, &bg, &pr, GATHER, NULL, NULL, f5[4]);
+        t[10][r] = tm_now() - t5s;
+        t5s = tm_now();
+        sink += (double)traffic_only(P5, &pr, t5 + 5 * pairs, t5);
+        st |= sph_pairs_reduce_rows_k(&pr, 5, t5 + 5 * pairs, t5);
+        t[12][r] = tm_now() - t5s;
         t5s = tm_now();
         if (st != SPH_OK) return fprintf(stderr, "forces: %s\n", sph_strerror(st)), 1;
         t[0][r] = t1 - t0, t[1][r] = t2 - t1, t[2][r] = t3 - t2, t[3][r] = (t1 - t0) / (t2 - t1);
@@ -329,10 +421,10 @@ int main(int argc, char **argv)
         }
         t[7][r] = tm_now() - t5s;
     }
-    for (i = 0; i < 9; ++i) med[i] = tm_median(t[i], reps);
+    for (i = 0; i < 13; ++i) med[i] = tm_median(t[i], reps);
     for (i = 0; i < 5 * n; ++i) fmax = fabs(f5[0][i]) > fmax ? fabs(f5[0][i]) : fmax;
     for (i = 0; i < 5 * n; ++i) diff = fabs(f5[1][i] - f5[0][i]) > diff ? fabs(f5[1][i] - f5[0][i]) : diff;
-    for (i = 0; i < 5 * n; ++i) diff2 += f5[2][i] != f5[1][i]; /* the two reductions: bit for bit */
+    for (i = 0; i < 5 * n; ++i) diff2 += (f5[2][i] != f5[1][i]) + (f5[3][i] != f5[1][i]); /* the reductions: bit for bit */
     printf("%d particles, %ld pairs (i < j), %.1f neighbours per particle, %s, median of %d\n", n, (long)pairs,
            (double)off[n] / n, sizeof(sph_real) == sizeof(float) ? "float" : "double", reps);
     printf("  grad-h force + du/dt, gather    (sph_gradh_forces)        %7.2f ns/pair\n", 1e9 * med[0] / (double)pairs);
@@ -345,16 +437,27 @@ int main(int argc, char **argv)
            1e9 * med[5] / (double)pairs, med[4] / med[5]);
     printf("    the same, i's share summed in the loop (sph_pairs_reduce_rows) %7.2f ns/pair (speed-up %.2f)\n",
            1e9 * med[8] / (double)pairs, med[4] / med[8]);
+    printf("    the same, j's share stored at k (sph_pairs_reduce_rows_k)      %7.2f ns/pair (speed-up %.2f)\n",
+           1e9 * med[9] / (double)pairs, med[4] / med[9]);
+    printf("    gather form: each pair from both rows of the full list, no stores   %7.2f ns/pair (speed-up %.2f)\n",
+           1e9 * med[10] / (double)pairs, med[4] / med[10]);
     printf("    of which sph_batch_fill alone (x_ij, r, F at h_i, h_j)      %7.2f ns/pair\n", 1e9 * med[6] / (double)pairs);
     printf("    sph_batch_fill alone with W too (x_ij, r, W, F)              %7.2f ns/pair (checksum %.3g)\n",
            1e9 * med[7] / (double)pairs, sink);
+    printf("    the floor of the form at k: its memory traffic alone (partner's fields, to_j at k,\n"
+           "      sph_pairs_reduce_rows_k; no kernel, no arithmetic)          %7.2f ns/pair; + the fill alone %.2f\n",
+           1e9 * med[12] / (double)pairs, 1e9 * (med[12] + med[6]) / (double)pairs);
     printf("    largest |batch - scalar| / largest |value| %.2g, signal velocity %.17g vs %.17g\n", diff / fmax,
            (double)vs[1], (double)vs[0]);
-    printf("    values where the two batch forms differ: %.0f of %d (signal velocity %.17g)\n", diff2, 5 * n, (double)vs[2]);
+    for (i = 0; i < 5 * n; ++i) diffg = fabs(f5[4][i] - f5[0][i]) > diffg ? fabs(f5[4][i] - f5[0][i]) : diffg;
+    printf("    gather form: largest |gather - scalar| / largest |value| %.2g, signal velocity %.17g\n", diffg / fmax, (double)vs[4]);
+    printf("    values where the other two batch forms differ from the first: %.0f of %d (signal velocity %.17g, %.17g)\n",
+           diff2, 2 * 5 * n, (double)vs[2], (double)vs[3]);
+    printf("  the batch loop's fields packed per particle, once per step  %7.2f ns/pair\n", 1e9 * med[11] / (double)pairs);
     printf("  sph_pairs_build once per list                             %7.2f ns/pair\n", 1e9 * tb / (double)pairs);
     free(x), free(v), free(m), free(h), free(hl), free(rho), free(om), free(p), free(A), free(P), free(V), free(dv);
     free(du), free(off), free(idx), free(hoff), free(toff), free(hidx), free(tpair), free(buf);
-    free(u), free(cs), free(al), free(f5[0]), free(f5[1]), free(f5[2]), free(t5);
-    for (i = 0; i < 9; ++i) free(t[i]);
+    free(u), free(cs), free(al), free(f5[0]), free(f5[1]), free(f5[2]), free(f5[3]), free(f5[4]), free(t5), free(pk);
+    for (i = 0; i < 13; ++i) free(t[i]);
     return 0;
 }

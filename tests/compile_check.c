@@ -33,6 +33,7 @@ int main(void)
 #endif
 #if !defined(SPH_ONLY_PAIRS) && !defined(SPH_NO_SMOOTHING_LENGTH)
     ok = ok && sph_pairs_reduce(NULL, 1, NULL, NULL, NULL) == SPH_ENULL; /* section 9 */
+    ok = ok && sph_pairs_reduce_rows_k(NULL, 1, NULL, NULL) == SPH_ENULL;
 #endif
 #if !defined(SPH_ONLY_PAIRS) && !defined(SPH_NO_NSEARCH)
     { /* section 7 */

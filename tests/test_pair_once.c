@@ -7,7 +7,9 @@
  * same for 1 and 2 OpenMP threads; sph_pairs_build refuses a list that is
  * not symmetric and reports the pair count when the arrays are short;
  * sph_pairs_reduce_rows on rows summed by the caller equals sph_pairs_reduce
- * bit for bit; a
+ * bit for bit, and sph_pairs_reduce_rows_k (the partners' shares at the
+ * pair index) equals sph_pairs_reduce_rows bit for bit for any thread
+ * count; a
  * buffer shorter than sph_gradh_pairs_buffer_len is refused; both forms give
  * the same bits through structure-of-arrays, interleaved and array-of-structs
  * views.
@@ -330,12 +332,76 @@ static void factor_case(void)
     th_end();
 }
 
+/* sph_pairs_reduce_rows_k: j's share stored at the pair index k, not at its
+ * slot: on the 3-D scene's 600-particle list, with values of mixed magnitude
+ * (another order of a sum would round differently), 3 and 5 components (5:
+ * its unrolled adds), bit for bit sph_pairs_reduce_rows on the same shares
+ * at the slots, with 1 and 2 threads, and the partner ranges of its threads
+ * (sph__pairs_add_k over 1, 2, 7 and 600 ranges of j: the threads split
+ * only from 2048 particles on) add the same bits; bad input refused. */
+static void reduce_k_case(void)
+{
+    static scene s;
+    static sph_real o1[5 * N], o2[5 * N], o3[5 * N], rows[5 * N];
+    sph_off *mem = NULL, k, pairs;
+    sph_pairs pr;
+    sph_real *tj = NULL, *tk = NULL;
+    tp_rng g = {5};
+    int i, st, nc;
+    th_begin("sph_pairs_reduce_rows_k: partners' shares at k equal sph_pairs_reduce_rows bit for bit, any ranges");
+    st = make_scene(&s, 3);
+    if (st == SPH_OK) st = pairs_of(&s, &mem, &pr);
+    TH_CHECK(st == SPH_OK, "scene and pairs: %s", sph_strerror(st));
+    if (st != SPH_OK) {
+        free(mem);
+        th_end();
+        return;
+    }
+    pairs = pr.half.offset[N];
+    tj = malloc(sizeof(sph_real) * 5 * (size_t)pairs), tk = malloc(sizeof(sph_real) * 5 * (size_t)pairs);
+    TH_CHECK(tj != NULL && tk != NULL && pairs > 10 * N, "buffers, %ld pairs", (long)pairs);
+    for (nc = 3; nc <= 5 && tj != NULL && tk != NULL; nc += 2) {
+        int parts, bad = 0;
+        for (i = 0; i < nc * N; ++i) rows[i] = (sph_real)(tp_range(&g, -1, 1) * pow(10.0, (double)(i % 4) * 3 - 6));
+        for (k = 0; k < nc * pairs; ++k) tk[k] = (sph_real)(tp_range(&g, -1, 1) * pow(10.0, (double)(k % 7) * 2 - 7));
+        for (k = 0; k < pairs; ++k)
+            for (i = 0; i < nc; ++i) tj[nc * pr.t_slot[k] + i] = tk[nc * k + i];
+        memcpy(o1, rows, sizeof o1), memcpy(o2, rows, sizeof o2);
+        th_set_threads(1);
+        st = sph_pairs_reduce_rows(&pr, nc, tj, o1);
+        st |= sph_pairs_reduce_rows_k(&pr, nc, tk, o2);
+        for (i = 0; i < nc * N; ++i) bad += o1[i] != o2[i];
+        TH_CHECK(st == SPH_OK && bad == 0, "%d components, 1 thread: %d of %d sums differ from sph_pairs_reduce_rows", nc,
+                 bad, nc * N);
+        memcpy(o3, rows, sizeof o3);
+        th_set_threads(2);
+        st = sph_pairs_reduce_rows_k(&pr, nc, tk, o3);
+        th_set_threads(1);
+        TH_CHECK(st == SPH_OK && memcmp(o2, o3, sizeof o2) == 0, "%d components: 1 and 2 threads differ", nc);
+        for (parts = 1; parts <= N; parts = parts == 1 ? 2 : parts == 2 ? 7 : parts == 7 ? N : N + 1) {
+            int q;
+            memcpy(o3, rows, sizeof o3);
+            for (q = 0; q < parts; ++q)
+                sph__pairs_add_k(&pr, nc, tk, o3, (sph_idx)(N * q / parts), (sph_idx)(N * (q + 1) / parts));
+            TH_CHECK(memcmp(o2, o3, sizeof o2) == 0, "%d components: %d ranges of j differ from one", nc, parts);
+        }
+    }
+    TH_CHECK(sph_pairs_reduce_rows_k(&pr, 17, tk, o3) == SPH_ERANGE && sph_pairs_reduce_rows_k(&pr, 0, tk, o3) == SPH_ERANGE &&
+                 sph_pairs_reduce_rows_k(&pr, 3, NULL, o3) == SPH_ENULL &&
+                 sph_pairs_reduce_rows_k(&pr, 3, tk, NULL) == SPH_ENULL && sph_pairs_reduce_rows_k(NULL, 3, tk, o3) == SPH_ENULL,
+             "ncomp 0 or 17, NULL to_j, out or pairs accepted");
+    free(tj), free(tk), free(mem);
+    tp_free_list(&s.L);
+    th_end();
+}
+
 int main(void)
 {
     conservation_case(3);
     conservation_case(2);
     po_layout_case();
     build_errors_case();
+    reduce_k_case();
     factor_case();
     return th_summary();
 }
