@@ -2082,9 +2082,10 @@ SPH__INLINE void sph__axis_chunk(const sph_real *x, ptrdiff_t s, const sph_idx *
 
 /* r[k] = |x_ij| of the n sources j[k] of x_i in D >= 1 axes (x_ij on axis a
  * into d[a]; one scratch array may serve every axis), zero padded to a
- * multiple of 8 for the vector square roots. */
-SPH__INLINE void sph__r_chunk(sph_view x, int D, const sph_idx *j, int n, const sph_real *xi, const sph_real *L,
-                              const sph_real *iL, sph_real *const *d, sph_real *r)
+ * multiple of 8 for the vector square roots. One instance for every loop
+ * that calls it (inlined, it would be a copy per shape and use). */
+SPH__NOINLINE void sph__r_chunk(sph_view x, int D, const sph_idx *j, int n, const sph_real *xi, const sph_real *L,
+                                const sph_real *iL, sph_real *const *d, sph_real *r)
 {
     int a, k;
     for (a = 0; a < D && a < 3; ++a) sph__axis_chunk(x.p[a], x.stride, j, n, xi[a], L[a], iL[a], d[a], r, a == 0);
@@ -2501,6 +2502,23 @@ SPH__SHAPE_IDS(SPH__X)
 #else
 #define SPH__SIMD_SUM4 /* clang: as SPH__SIMD_KERNEL */
 #endif
+/* F at h_ij = (h_i + h_j) / 2 for a chunk of pairs with per-particle h: 1/h_ij,
+ * q = r h_ij^-1 and alpha h_ij^-(d+2) (multiplied as sph__hpow does), in loops
+ * the compilers vectorise (a gather and a division per pair). */
+SPH__INLINE void sph__hij_chunk(sph_view hs, const sph_idx *j, int n, int D, sph_real hi, sph_real alpha,
+                                const sph_real *r, sph_real *qF, sph_real *cFj)
+{
+    int k;
+    SPH__SIMD
+    for (k = 0; k < n; ++k) cFj[k] = 2 / (hi + SPH__AT(hs, 0, j[k]));
+    SPH__SIMD
+    for (k = 0; k < n; ++k) {
+        const sph_real hF = cFj[k], c3 = alpha * hF * hF * hF, c4 = D > 1 ? c3 * hF : c3;
+        qF[k] = r[k] * hF;
+        cFj[k] = D > 2 ? c4 * hF : c4;
+    }
+}
+
 /* (O2) rho = sum_j m_j W_ij (dens) and/or (O5) g = sum_j V_j (f_j - f_i) F_ij x_ij
  * (grad) of target t, a chunk at a time: x_ij and r (axis by axis, then the
  * square roots); with per-particle h, 1/h_ij = 2 / (h_i + h_j), q_ij and
@@ -2515,7 +2533,7 @@ SPH__INLINE void sph__dgc_body(const sph__args *A, const sph__nshape *sh, const 
                                int grad, const int hv, sph_real fi, sph_real *g, sph_real *rho)
 {
     const int D = SPH__DIM(A);
-    const sph_real hinv = t->hinv, cW = t->cW, cF = t->cF, hi = t->hi, alpha = t->alpha;
+    const sph_real hinv = t->hinv, cW = t->cW, cF = t->cF;
     sph_real s0 = 0, s1 = 0, s2 = 0, s3 = 0, d[3][SPH__CHUNK], r[SPH__CHUNK], qF[SPH__CHUNK], cFj[SPH__CHUNK];
     sph_real *const dp[3] = {d[0], d[1], d[2]};
     sph_off o;
@@ -2526,17 +2544,7 @@ SPH__INLINE void sph__dgc_body(const sph__args *A, const sph__nshape *sh, const 
         sph__r_chunk(A->x, D, j, n, t->xi, A->L, A->invL, dp, r);
         for (a = D; a < 3; ++a)
             for (k = 0; k < n; ++k) d[a][k] = 0;
-        if (hv) { /* F at h_ij = (h_i + h_j) / 2: 1/h_ij, q = r / h_ij and alpha h_ij^-(d+2)
-                   * (multiplied as sph__hpow does) in vector loops of their own */
-            SPH__SIMD
-            for (k = 0; k < n; ++k) cFj[k] = 2 / (hi + SPH__AT(A->hs, 0, j[k]));
-            SPH__SIMD
-            for (k = 0; k < n; ++k) {
-                const sph_real hF = cFj[k], c3 = alpha * hF * hF * hF, c4 = D > 1 ? c3 * hF : c3;
-                qF[k] = r[k] * hF;
-                cFj[k] = D > 2 ? c4 * hF : c4;
-            }
-        }
+        if (hv) sph__hij_chunk(A->hs, j, n, D, t->hi, t->alpha, r, qF, cFj);
         if (dens && !grad) {
             SPH__SIMD_SUM4
             for (k = 0; k < n; ++k) s3 += sph_pair_density(SPH__AT(A->m, 0, j[k]), cW * sph__nshape_w(sh, r[k] * hinv));
