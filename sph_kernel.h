@@ -379,38 +379,69 @@ SPH_API int sph__finite(sph_real x) { return x >= -SPH__REAL_MAX && x <= SPH__RE
 /* r[0..n) = sqrt(r[0..n)), n a multiple of 8 (zero padded): IEEE square roots,
  * bit for bit those of sph__sqrt, without the errno test that keeps compilers
  * from vectorising sqrt() (the operators of section 6, sph_batch_fill).
+ * With AVX-512 in 512-bit registers: a lane loop compiled for AVX-512 reads
+ * the lanes with 512-bit loads, which the store buffer does not forward
+ * from two 256-bit stores (they wait for the cache instead; docs/smoothing_length.md).
  * SPH_NO_INTRINSICS selects the portable loop. */
 SPH__INLINE void sph__sqrt_chunk(sph_real *r, int n)
 {
-    int k;
+    int k = 0;
+#if SPH__OP_AVX512
+    if (sizeof(sph_real) == sizeof(double)) {
+        for (; k + 8 <= n; k += 8)
+            _mm512_storeu_pd((double *)r + k, _mm512_maskz_sqrt_pd(SPH__ALL8, _mm512_loadu_pd((const double *)r + k)));
+    } else {
+        for (; k + 16 <= n; k += 16)
+            _mm512_storeu_ps((float *)r + k, _mm512_maskz_sqrt_ps((__mmask16)0xFFFF, _mm512_loadu_ps((const float *)r + k)));
+    }
+#endif
 #if SPH__SQRT_SIMD == 2
     if (sizeof(sph_real) == sizeof(double)) {
-        for (k = 0; k < n; k += 4)
+        for (; k < n; k += 4)
             _mm256_storeu_pd((double *)r + k, _mm256_sqrt_pd(_mm256_loadu_pd((const double *)r + k)));
     } else {
-        for (k = 0; k < n; k += 8)
+        for (; k < n; k += 8)
             _mm256_storeu_ps((float *)r + k, _mm256_sqrt_ps(_mm256_loadu_ps((const float *)r + k)));
     }
 #elif SPH__SQRT_SIMD == 1
     if (sizeof(sph_real) == sizeof(double)) {
-        for (k = 0; k < n; k += 2)
+        for (; k < n; k += 2)
             _mm_storeu_pd((double *)r + k, _mm_sqrt_pd(_mm_loadu_pd((const double *)r + k)));
     } else {
-        for (k = 0; k < n; k += 4)
+        for (; k < n; k += 4)
             _mm_storeu_ps((float *)r + k, _mm_sqrt_ps(_mm_loadu_ps((const float *)r + k)));
     }
 #else
-    for (k = 0; k < n; ++k) r[k] = sph__sqrt(r[k]);
+    for (; k < n; ++k) r[k] = sph__sqrt(r[k]);
 #endif
 }
 
 /* e[0..n) -= L floor(e[0..n) / L + 1/2) with 1/L given: sph__pair's minimum
- * image, bit for bit, in vector registers (AVX: its vector floor; SSE2: by
- * the int32 conversion) where the compilers leave floor() in a loop scalar
- * (the operators of section 6, sph_batch_fill). */
+ * image, bit for bit, in vector registers (AVX-512 first, as sph__sqrt_chunk;
+ * AVX: its vector floor; SSE2: by the int32 conversion) where the compilers
+ * leave floor() in a loop scalar (the operators of section 6, sph_batch_fill). */
 SPH__INLINE void sph__image_chunk(sph_real *e, int n, sph_real L, sph_real iL)
 {
     int k = 0;
+#if SPH__OP_AVX512
+    if (sizeof(sph_real) == sizeof(double)) {
+        const __m512d vL = _mm512_set1_pd((double)L), viL = _mm512_set1_pd((double)iL), h = _mm512_set1_pd(0.5);
+        for (; k + 8 <= n; k += 8) {
+            const __m512d v = _mm512_loadu_pd((const double *)e + k);
+            const __m512d f = _mm512_maskz_roundscale_pd(SPH__ALL8, _mm512_add_pd(_mm512_mul_pd(v, viL), h),
+                                                         _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC);
+            _mm512_storeu_pd((double *)e + k, _mm512_sub_pd(v, _mm512_mul_pd(vL, f)));
+        }
+    } else {
+        const __m512 vL = _mm512_set1_ps((float)L), viL = _mm512_set1_ps((float)iL), h = _mm512_set1_ps(0.5f);
+        for (; k + 16 <= n; k += 16) {
+            const __m512 v = _mm512_loadu_ps((const float *)e + k);
+            const __m512 f = _mm512_maskz_roundscale_ps((__mmask16)0xFFFF, _mm512_add_ps(_mm512_mul_ps(v, viL), h),
+                                                        _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC);
+            _mm512_storeu_ps((float *)e + k, _mm512_sub_ps(v, _mm512_mul_ps(vL, f)));
+        }
+    }
+#endif
 #if SPH__SQRT_SIMD == 2
     if (sizeof(sph_real) == sizeof(double)) {
         const __m256d vL = _mm256_set1_pd((double)L), viL = _mm256_set1_pd((double)iL), h = _mm256_set1_pd(0.5);
@@ -6608,38 +6639,12 @@ SPH_API int sph_batch_select(sph_batch_src *S, int what)
     return SPH_OK;
 }
 
-/* The lanes' square roots and minimum image in 512-bit registers where the
- * target has AVX-512 (1), else through sph__sqrt_chunk and sph__image_chunk
- * (0; also with SPH_NO_INTRINSICS). The lane loops around them then compile
- * to 512-bit loads, and a 512-bit load of lanes just written by two 256-bit
- * stores is not forwarded from the store buffer but waits for the cache
- * (bench/pair_once.c, -O3 -march=native on Zen 4: a sixth of the time of
- * sph_batch_fill). The same operations, so the same bits; the maskz_ forms
- * for g++ (SPH__ALL8). */
-#if SPH__OP_AVX512
-#define SPH__BATCH_AVX512 1
-#else
-#define SPH__BATCH_AVX512 0
-#endif
-
 /* v[l] = sqrt(v[l]) over the SPH_BATCH lanes of a caller's pair loop: IEEE
  * square roots in vector registers, where sqrt() in a loop stays scalar
  * unless errno is off (-fno-math-errno). */
 SPH_API void sph_batch_sqrt(sph_real *v)
 {
     int l;
-#if SPH__BATCH_AVX512
-    if (sizeof(sph_real) == sizeof(double) && SPH_BATCH % 8 == 0) {
-        for (l = 0; l < SPH_BATCH; l += 8)
-            _mm512_storeu_pd((double *)v + l, _mm512_maskz_sqrt_pd(SPH__ALL8, _mm512_loadu_pd((const double *)v + l)));
-        return;
-    }
-    if (sizeof(sph_real) == sizeof(float) && SPH_BATCH % 16 == 0) {
-        for (l = 0; l < SPH_BATCH; l += 16)
-            _mm512_storeu_ps((float *)v + l, _mm512_maskz_sqrt_ps((__mmask16)0xFFFF, _mm512_loadu_ps((const float *)v + l)));
-        return;
-    }
-#endif
     if (SPH_BATCH % 8 == 0) {
         sph__sqrt_chunk(v, SPH_BATCH);
     } else {
@@ -6647,45 +6652,14 @@ SPH_API void sph_batch_sqrt(sph_real *v)
     }
 }
 
-/* e[l] -= L floor(e[l] / L + 1/2) over the lanes (1/L given): the minimum
- * image of sph__image_chunk in the registers of SPH__BATCH_AVX512. */
-SPH__INLINE void sph__batch_image(sph_real *e, sph_real L, sph_real iL)
-{
-#if SPH__BATCH_AVX512
-    int l;
-    if (sizeof(sph_real) == sizeof(double) && SPH_BATCH % 8 == 0) {
-        const __m512d vL = _mm512_set1_pd((double)L), viL = _mm512_set1_pd((double)iL), h = _mm512_set1_pd(0.5);
-        for (l = 0; l < SPH_BATCH; l += 8) {
-            const __m512d v = _mm512_loadu_pd((const double *)e + l);
-            const __m512d f = _mm512_maskz_roundscale_pd(SPH__ALL8, _mm512_add_pd(_mm512_mul_pd(v, viL), h),
-                                                         _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC);
-            _mm512_storeu_pd((double *)e + l, _mm512_sub_pd(v, _mm512_mul_pd(vL, f)));
-        }
-        return;
-    }
-    if (sizeof(sph_real) == sizeof(float) && SPH_BATCH % 16 == 0) {
-        const __m512 vL = _mm512_set1_ps((float)L), viL = _mm512_set1_ps((float)iL), h = _mm512_set1_ps(0.5f);
-        for (l = 0; l < SPH_BATCH; l += 16) {
-            const __m512 v = _mm512_loadu_ps((const float *)e + l);
-            const __m512 f = _mm512_maskz_roundscale_ps((__mmask16)0xFFFF, _mm512_add_ps(_mm512_mul_ps(v, viL), h),
-                                                        _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC);
-            _mm512_storeu_ps((float *)e + l, _mm512_sub_ps(v, _mm512_mul_ps(vL, f)));
-        }
-        return;
-    }
-#endif
-    sph__image_chunk(e, SPH_BATCH, L, iL);
-}
-
-/* v[l] = p[J[l] s] over the lanes. With SPH__BATCH_AVX512 (double) each 8
- * lanes are built in a register from scalar loads and stored at once: the
- * lane loops' 512-bit loads of v are then forwarded from the store, which
- * eight scalar stores are not (bench/pair_once.c: an eighth of the time of
- * sph_batch_fill). */
+/* v[l] = p[J[l] s] over the lanes. With AVX-512 (double) each 8 lanes are
+ * built in a register from scalar loads and stored at once: the lane loops'
+ * 512-bit loads of v are then forwarded from the store, which eight scalar
+ * stores are not (as in sph__sqrt_chunk). */
 SPH__INLINE void sph__batch_gather(const sph_real *p, ptrdiff_t s, const sph_idx *J, sph_real *v)
 {
     int l;
-#if SPH__BATCH_AVX512
+#if SPH__OP_AVX512
     if (sizeof(sph_real) == sizeof(double) && SPH_BATCH % 8 == 0) {
         const double *q = (const double *)p;
         for (l = 0; l < SPH_BATCH; l += 8) {
@@ -6748,7 +6722,7 @@ SPH_API int sph_batch_fill(const sph_batch_src *S, sph_idx i, sph_off *next, sph
         }
         SPH__LANES
         for (l = 0; l < SPH_BATCH; ++l) dx[l] = xia - xa[l];
-        if (La != 0) sph__batch_image(dx, La, iLa); /* the image of sph__h_dx */
+        if (La != 0) sph__image_chunk(dx, SPH_BATCH, La, iLa); /* the image of sph__h_dx */
         SPH__LANES
         for (l = 0; l < SPH_BATCH; ++l) r[l] += dx[l] * dx[l];
         SPH__LANES
