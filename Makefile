@@ -271,8 +271,9 @@ fuzz:
 	fi
 
 # ---- bench-search: cost per listed pair of the neighbour search with
-# varying h (bench/bench_search_h.c, docs/neighbours.md "Varying h"), built
-# -O3 -march=native and -O2 generic; BEFORE=path/to/sph_kernel.h also builds
+# varying h (bench/bench_search_h.c, docs/neighbours.md "Varying h"): the
+# one-pass lists and, beside them, sph_nsearch_count alone (the direct
+# search), built -O3 -march=native and -O2 generic; BEFORE=path/to/sph_kernel.h also builds
 # and runs it against that header (before/after figures in one run). ----
 BEFORE ?=
 bench-search: bench/bench_search_h.c sph_kernel.h support/particles.h support/timing.h

@@ -18,11 +18,14 @@
  * grid's locality permutation (N5), as a solver would keep them. The grid
  * is built with cells of kappa h_max / 2, as examples/sod_shock.c does.
  * Printed per line: pairs, the median over the repeats of the one-pass
- * sph_nsearch_lists (index 20 % longer than the pairs), ns per pair,
- * candidate distance checks per pair (sph_nsearch_stats), and ns per pair
- * over the baseline's in this run: the figure the search must keep <= 1.5;
- * then the grid's cells, the median time of sph_nsearch_build and its
- * workspace in MB.
+ * sph_nsearch_lists (index 20 % longer than the pairs), the median of
+ * sph_nsearch_count alone (the list lengths of the direct search, which in
+ * symmetric mode with varying h searches each target out to the reach of
+ * its sources, where the lists complete the gather ones), ns per pair of
+ * the lists, candidate distance checks per pair (sph_nsearch_stats), and ns
+ * per pair over the baseline's in this run: the figure the search must keep
+ * <= 1.5; then the grid's cells, the median time of sph_nsearch_build and
+ * its workspace in MB.
  */
 #define _POSIX_C_SOURCE 199309L
 #ifdef SPH_HEADER
@@ -115,7 +118,7 @@ static double bs_run(const bs_scene *s, int mode, int repeats, sph_real kappa, d
     sph_real hmax = 0, cell;
     sph_off *off = (sph_off *)malloc(sizeof(sph_off) * (size_t)(s->n + 1)), pairs = 0, cand = 0, cap;
     sph_idx *idx;
-    double *t = (double *)malloc(sizeof(double) * (size_t)repeats), med, ns, build;
+    double *t = (double *)malloc(sizeof(double) * (size_t)repeats), med, ns, build, count;
     size_t bytes = 0;
     void *work;
     sph_nsearch g;
@@ -141,9 +144,16 @@ static double bs_run(const bs_scene *s, int mode, int repeats, sph_real kappa, d
         t[r] = tm_now() - t0;
     }
     med = tm_median(t, repeats);
+    for (r = 0; r < repeats; ++r) {
+        double t0 = tm_now();
+        st |= sph_nsearch_count(&g, xv, s->n, hv, s->h[0], kappa, mode, off);
+        t[r] = tm_now() - t0;
+    }
+    count = tm_median(t, repeats);
+    if (off[s->n] != pairs) st = SPH_EOFFSET; /* the direct search lists the same pairs */
     ns = 1e9 * med / (double)pairs;
-    printf("%-8s %-9s %8d %10ld %9.4f s %8.2f %8.2f %7.2f %9d %8.4f s %6.1f%s\n", s->name,
-           mode == SPH_NSEARCH_GATHER ? "gather" : "symmetric", s->n, (long)pairs, med, ns,
+    printf("%-8s %-9s %8d %10ld %9.4f s %8.4f s %8.2f %8.2f %7.2f %9d %8.4f s %6.1f%s\n", s->name,
+           mode == SPH_NSEARCH_GATHER ? "gather" : "symmetric", s->n, (long)pairs, med, count, ns,
            (double)cand / (double)pairs, base > 0 ? ns / base : 1.0, g.n_cells, build, (double)bytes / 1e6,
            st == SPH_OK ? "" : "  ERROR");
     free(off), free(idx), free(t), free(work);
@@ -208,7 +218,7 @@ int main(int argc, char **argv)
         }
         printf("%s", line);
     }
-    printf("%-8s %-9s %8s %10s %11s %8s %8s %7s %9s %10s %6s\n", "scene", "mode", "N", "pairs", "lists", "ns/pair",
+    printf("%-8s %-9s %8s %10s %11s %10s %8s %8s %7s %9s %10s %6s\n", "scene", "mode", "N", "pairs", "lists", "count", "ns/pair",
            "cand/pr", "ratio", "cells", "build", "MB");
     base = bs_run(&sc[0], SPH_NSEARCH_GATHER, repeats, kappa, 0);
     if (base <= 0) return 1;
