@@ -3601,13 +3601,15 @@ SPH__NOINLINE int sph__nsearch_far(const sph_nsearch *g, const sph__probe *p, sp
  * by sph__nsearch_in; the loop itself only tests r^2 against the smallest
  * squared quarter period (cheaper in it), and sph__nsearch_far looks at
  * the axes of the blocks that pass it. HV: R per source (symmetric with
- * per-source h); dim, HV, IMG constants once inlined. */
+ * per-source h); HV 2 also sets mw[k] to -1 where r^2 >= (kappa h_j)^2,
+ * else 0 (the mark ~j = j ^ mw[k], stored without a branch); dim, HV, IMG
+ * constants once inlined. */
 SPH__INLINE unsigned sph__nsearch_mask(const sph_nsearch *g, sph__probe *p, sph_idx b, sph_idx k1,
-                                       const sph_real *s, const int dim, const int HV, const int IMG, unsigned *mk)
+                                       const sph_real *s, const int dim, const int HV, const int IMG, sph_idx *mw)
 {
     const sph_real *x = g->x + b;
     const ptrdiff_t stride = g->n_padded;
-    unsigned mask = 0, own = 0;
+    unsigned mask = 0;
     int k, a, wide = 0;
     for (k = 0; k < SPH__NS_BLOCK; ++k) {
         sph_real r2 = 0, R2 = p->R2;
@@ -3622,22 +3624,21 @@ SPH__INLINE unsigned sph__nsearch_mask(const sph_nsearch *g, sph__probe *p, sph_
         }
         if (HV == 2) {
             const sph_real Ri = p->kappa * g->h[b + k];
-            own |= (unsigned)(r2 < Ri * Ri) << k;
+            mw[k] = -(sph_idx)!(r2 < Ri * Ri);
         }
         mask |= (unsigned)((r2 < R2) & (b + k < k1)) << k;
     }
     if (wide) wide = sph__nsearch_far(g, p, b, k1, s, dim, IMG);
     if (wide) {
         ++p->redone;
-        for (mask = own = 0, k = 0; k < SPH__NS_BLOCK && b + k < k1; ++k) {
+        for (mask = 0, k = 0; k < SPH__NS_BLOCK && b + k < k1; ++k) {
             mask |= (unsigned)sph__nsearch_in(g, p, b + k, dim) << k;
             if (HV == 2) {
                 const sph_real Ri = p->kappa * g->h[b + k];
-                own |= (unsigned)(sph__nsearch_r2(g, p->xt, b + k, dim) < Ri * Ri) << k;
+                mw[k] = -(sph_idx)!(sph__nsearch_r2(g, p->xt, b + k, dim) < Ri * Ri);
             }
         }
     }
-    if (HV == 2) *mk = mask & ~own;
     return mask;
 }
 
@@ -3701,7 +3702,13 @@ SPH__INLINE unsigned sph__nsearch_mask16(const sph_nsearch *g, sph__probe *p, sp
         near_edge |= (unsigned)(_mm512_mask_cmp_pd_mask(lv, r2, _mm512_mul_pd(R2, _mm512_set1_pd(1 + eps)), _CMP_LT_OQ) &
                                 (__mmask8)~in8) << (8 * half);
     }
-    if (wide) return sph__nsearch_mask(g, p, b, k1, s, dim, HV, IMG, mk);
+    if (wide) {
+        sph_idx mw[SPH__NS_BLOCK];
+        mask = sph__nsearch_mask(g, p, b, k1, s, dim, HV, IMG, mw);
+        if (HV == 2)
+            for (*mk = 0, k = 0; k < SPH__NS_BLOCK; ++k) *mk |= (unsigned)(mw[k] & 1) << k & mask;
+        return mask;
+    }
     mask = in;
     for (k = 0; near_edge != 0; ++k, near_edge >>= 1)
         if (near_edge & 1u) mask |= (unsigned)sph__nsearch_in(g, p, b + k, dim) << k;
@@ -3715,9 +3722,6 @@ SPH__INLINE unsigned sph__nsearch_mask16(const sph_nsearch *g, sph__probe *p, sp
     }
     return mask;
 }
-#define SPH__NSEARCH_MASK(g, p, b, k1, s, dim, HV, IMG, mk) sph__nsearch_mask16(g, p, b, k1, s, dim, HV, IMG, mk)
-#else
-#define SPH__NSEARCH_MASK(g, p, b, k1, s, dim, HV, IMG, mk) sph__nsearch_mask(g, p, b, k1, s, dim, HV, IMG, mk)
 #endif
 
 /* Lowest set bit of m != 0. */
@@ -3747,9 +3751,10 @@ SPH__INLINE sph_off sph__nsearch_run_blocks(const sph_nsearch *g, sph__probe *p,
     sph_idx b;
     int k;
     for (b = k0; b < k1; b += SPH__NS_BLOCK) {
-        unsigned mk = 0; /* HV 2: the accepted sources to store marked */
-        const unsigned mask = SPH__NSEARCH_MASK(g, p, b, k1, s, dim, HV, IMG, &mk);
 #if SPH__NS_COMPRESS
+        unsigned mk = 0; /* HV 2: the accepted sources to store marked */
+        const unsigned mask = sph__nsearch_mask16(g, p, b, k1, s, dim, HV, IMG, &mk);
+#define SPH__NS_MARKED(k) (-(sph_idx)((mk >> (k)) & 1u))
         /* the accepted indices compressed into one register, stored whole
            where the segment has room for 16, else as many as were accepted
            (a masked store: an exact segment, as fill gives each target) */
@@ -3770,13 +3775,16 @@ SPH__INLINE sph_off sph__nsearch_run_blocks(const sph_nsearch *g, sph__probe *p,
             continue;
         }
 #else
+        sph_idx mw[SPH__NS_BLOCK]; /* HV 2: -1 where the source is stored marked (~j = j ^ -1), else 0 */
+        const unsigned mask = sph__nsearch_mask(g, p, b, k1, s, dim, HV, IMG, mw);
+#define SPH__NS_MARKED(k) (HV == 2 ? mw[k] : 0)
         if (p->seg == NULL) {
             for (k = 0; k < SPH__NS_BLOCK; ++k) m += (mask >> k) & 1u;
             continue;
         }
         if (m + SPH__NS_BLOCK <= p->cap) {
             for (k = 0; k < SPH__NS_BLOCK; ++k) {
-                p->seg[m] = g->order[b + k] ^ -(sph_idx)((mk >> k) & 1u);
+                p->seg[m] = g->order[b + k] ^ SPH__NS_MARKED(k);
                 m += (mask >> k) & 1u;
             }
             continue;
@@ -3784,10 +3792,11 @@ SPH__INLINE sph_off sph__nsearch_run_blocks(const sph_nsearch *g, sph__probe *p,
 #endif
         for (k = 0; k < SPH__NS_BLOCK; ++k) /* past the segment's end: count, store what fits */
             if ((mask >> k) & 1u) {
-                if (m < p->cap) p->seg[m] = g->order[b + k] ^ -(sph_idx)((mk >> k) & 1u);
+                if (m < p->cap) p->seg[m] = g->order[b + k] ^ SPH__NS_MARKED(k);
                 ++m;
             }
     }
+#undef SPH__NS_MARKED
     return m;
 }
 
