@@ -6673,6 +6673,27 @@ SPH__INLINE void sph__batch_gather(const sph_real *p, ptrdiff_t s, const sph_idx
     for (l = 0; l < SPH_BATCH; ++l) v[l] = p[(ptrdiff_t)J[l] * s];
 }
 
+/* The partners of a batch (O0): J[l] = p[l] for the n <= SPH_BATCH listed
+ * pairs, J[l] = i in the padding lanes. With AVX-512 one masked load per
+ * 16 lanes, i in the lanes not loaded; else one select per lane: a plain
+ * copy of n entries compiles to rep movs (gcc), slow to start for 64 bytes. */
+SPH__INLINE void sph__batch_index(const sph_idx *p, int n, sph_idx i, sph_idx *J)
+{
+    int l;
+#if SPH__OP_AVX512
+    if (sizeof(sph_idx) == 4) {
+        for (l = 0; l < SPH_BATCH; l += 16) {
+            const int m = n - l < 0 ? 0 : n - l > 16 ? 16 : n - l, w = SPH_BATCH - l < 16 ? SPH_BATCH - l : 16;
+            const __m512i v = _mm512_mask_loadu_epi32(_mm512_set1_epi32(i), (__mmask16)((1u << m) - 1), p + (m > 0 ? l : 0));
+            _mm512_mask_storeu_epi32(J + l, (__mmask16)((1u << w) - 1), v);
+        }
+        return;
+    }
+#endif
+    SPH__LANES
+    for (l = 0; l < SPH_BATCH; ++l) J[l] = l < n ? p[l] : i;
+}
+
 /* (O0), (O1), (K1), (K2) for the next pairs of row i: fills *b with the
  * pairs *next .. *next + SPH_BATCH - 1 of the row (counted from the row's
  * start; start with *next = 0), advances *next past them and returns their
@@ -6705,8 +6726,7 @@ SPH_API int sph_batch_fill(const sph_batch_src *S, sph_idx i, sph_off *next, sph
     D = S->dim;
     wW = (S->what & SPH_BATCH_W) != 0, wF = (S->what & SPH_BATCH_F) != 0;
     hp = S->h.p[0], hs = S->h.stride, xs = S->x.stride;
-    for (l = 0; l < n; ++l) J[l] = L->index[o0 + l];
-    for (; l < SPH_BATCH; ++l) J[l] = i;
+    sph__batch_index(L->index + o0, n, i, J);
     sph__batch_gather(hp, hs, J, hj); /* the gathers, on their own: the loops below read contiguous lanes */
     for (a = 0; a < D; ++a) sph__batch_gather(S->x.p[a], xs, J, xj[a]);
     SPH__LANES
