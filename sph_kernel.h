@@ -6652,25 +6652,25 @@ SPH_API void sph_batch_sqrt(sph_real *v)
     }
 }
 
-/* v[l] = p[J[l] s] over the lanes. With AVX-512 (double) each 8 lanes are
- * built in a register from scalar loads and stored at once: the lane loops'
- * 512-bit loads of v are then forwarded from the store, which eight scalar
- * stores are not (as in sph__sqrt_chunk). */
-SPH__INLINE void sph__batch_gather(const sph_real *p, ptrdiff_t s, const sph_idx *J, sph_real *v)
+/* v[l] = p[O[l]] over the lanes, O[l] = J[l] s the partners' offsets. With
+ * AVX-512 (double) each 8 lanes are built in a register from scalar loads
+ * and stored at once: the lane loops' 512-bit loads of v are then forwarded
+ * from the store, which eight scalar stores are not (as in sph__sqrt_chunk). */
+SPH__INLINE void sph__batch_gather(const sph_real *p, const ptrdiff_t *O, sph_real *v)
 {
     int l;
 #if SPH__OP_AVX512
     if (sizeof(sph_real) == sizeof(double) && SPH_BATCH % 8 == 0) {
         const double *q = (const double *)p;
         for (l = 0; l < SPH_BATCH; l += 8) {
-            const sph_idx *o = J + l;
-            _mm512_storeu_pd((double *)v + l, _mm512_set_pd(q[o[7] * s], q[o[6] * s], q[o[5] * s], q[o[4] * s],
-                                                            q[o[3] * s], q[o[2] * s], q[o[1] * s], q[o[0] * s]));
+            const ptrdiff_t *o = O + l;
+            _mm512_storeu_pd((double *)v + l,
+                             _mm512_set_pd(q[o[7]], q[o[6]], q[o[5]], q[o[4]], q[o[3]], q[o[2]], q[o[1]], q[o[0]]));
         }
         return;
     }
 #endif
-    for (l = 0; l < SPH_BATCH; ++l) v[l] = p[(ptrdiff_t)J[l] * s];
+    for (l = 0; l < SPH_BATCH; ++l) v[l] = p[O[l]];
 }
 
 /* The partners of a batch (O0): J[l] = p[l] for the n <= SPH_BATCH listed
@@ -6694,6 +6694,13 @@ SPH__INLINE void sph__batch_index(const sph_idx *p, int n, sph_idx i, sph_idx *J
     for (l = 0; l < SPH_BATCH; ++l) J[l] = l < n ? p[l] : i;
 }
 
+/* A hint to fetch the cache line at p (gcc, clang), nothing elsewhere. */
+#if (defined(__GNUC__) || defined(__clang__)) && !defined(__CUDACC__)
+#define SPH__PREFETCH(p) __builtin_prefetch(p)
+#else
+#define SPH__PREFETCH(p) ((void)(p))
+#endif
+
 /* (O0), (O1), (K1), (K2) for the next pairs of row i: fills *b with the
  * pairs *next .. *next + SPH_BATCH - 1 of the row (counted from the row's
  * start; start with *next = 0), advances *next past them and returns their
@@ -6709,6 +6716,7 @@ SPH_API int sph_batch_fill(const sph_batch_src *S, sph_idx i, sph_off *next, sph
     sph_real Wi[SPH_BATCH], Fi[SPH_BATCH], Wj[SPH_BATCH], Fj[SPH_BATCH];
     sph_real xj[3][SPH_BATCH], hj[SPH_BATCH]; /* x_j, h_j gathered into contiguous lanes */
     sph_idx J[SPH_BATCH];
+    ptrdiff_t Ox[SPH_BATCH], Oh[SPH_BATCH]; /* J[l] times the strides of x and h */
     const sph_neighbours *L;
     const sph_real *hp;
     ptrdiff_t hs, xs;
@@ -6727,8 +6735,22 @@ SPH_API int sph_batch_fill(const sph_batch_src *S, sph_idx i, sph_off *next, sph
     wW = (S->what & SPH_BATCH_W) != 0, wF = (S->what & SPH_BATCH_F) != 0;
     hp = S->h.p[0], hs = S->h.stride, xs = S->x.stride;
     sph__batch_index(L->index + o0, n, i, J);
-    sph__batch_gather(hp, hs, J, hj); /* the gathers, on their own: the loops below read contiguous lanes */
-    for (a = 0; a < D; ++a) sph__batch_gather(S->x.p[a], xs, J, xj[a]);
+    SPH__LANES
+    for (l = 0; l < SPH_BATCH; ++l) Ox[l] = (ptrdiff_t)J[l] * xs;
+    if (hs != xs) {
+        SPH__LANES
+        for (l = 0; l < SPH_BATCH; ++l) Oh[l] = (ptrdiff_t)J[l] * hs;
+    }
+    if (left > n) { /* the next batch's partners, on their way while this one computes */
+        const sph_idx *Jn = L->index + o0 + n;
+        const int nn = left - n < SPH_BATCH ? (int)(left - n) : SPH_BATCH;
+        for (l = 0; l < nn; ++l) {
+            SPH__PREFETCH(S->x.p[0] + (ptrdiff_t)Jn[l] * xs);
+            SPH__PREFETCH(hp + (ptrdiff_t)Jn[l] * hs);
+        }
+    }
+    sph__batch_gather(hp, hs != xs ? Oh : Ox, hj); /* the gathers, on their own: the loops below read contiguous lanes */
+    for (a = 0; a < D; ++a) sph__batch_gather(S->x.p[a], Ox, xj[a]);
     SPH__LANES
     for (l = 0; l < SPH_BATCH; ++l) r[l] = 0;
     sph__h_xi(S->x, D, i, xi);
@@ -6799,6 +6821,7 @@ SPH_API int sph_batch_fill(const sph_batch_src *S, sph_idx i, sph_off *next, sph
     b->n = n;
     return n;
 }
+#undef SPH__PREFETCH
 
 #endif /* section 9 */
 #endif /* sections 4-9 */
