@@ -6694,6 +6694,21 @@ SPH__INLINE void sph__batch_index(const sph_idx *p, int n, sph_idx i, sph_idx *J
     for (l = 0; l < SPH_BATCH; ++l) J[l] = l < n ? p[l] : i;
 }
 
+/* sph__hpow over the lanes of a batch at h_i and h_j: vi[l] = alpha vi[l]
+ * hiinv^n, vj[l] = alpha vj[l] hjinv[l]^n, multiplied in sph__hpow's order
+ * (the same bits), one pass with the running products in registers. */
+SPH__INLINE void sph__hpow_lanes(sph_real *vi, sph_real *vj, sph_real alpha, sph_real hiinv, const sph_real *hjinv,
+                                 const int n)
+{
+    int l, d;
+    SPH__LANES
+    for (l = 0; l < SPH_BATCH; ++l) {
+        sph_real pi = alpha * vi[l], pj = alpha * vj[l];
+        for (d = 0; d < n; ++d) pi *= hiinv, pj *= hjinv[l];
+        vi[l] = pi, vj[l] = pj;
+    }
+}
+
 /* A hint to fetch the cache line at p (gcc, clang), nothing elsewhere. */
 #if (defined(__GNUC__) || defined(__clang__)) && !defined(__CUDACC__)
 #define SPH__PREFETCH(p) __builtin_prefetch(p)
@@ -6701,37 +6716,22 @@ SPH__INLINE void sph__batch_index(const sph_idx *p, int n, sph_idx i, sph_idx *J
 #define SPH__PREFETCH(p) ((void)(p))
 #endif
 
-/* (O0), (O1), (K1), (K2) for the next pairs of row i: fills *b with the
- * pairs *next .. *next + SPH_BATCH - 1 of the row (counted from the row's
- * start; start with *next = 0), advances *next past them and returns their
- * number b->n, 0 once the row is done. i outside 0..n-1, *next negative or
- * a NULL argument give an empty batch (0). The self pair j = i, if listed,
- * is a lane like the others (r = 0, dx = 0, W and F at q = 0). Every lane
- * loop runs over all SPH_BATCH lanes; padding lanes hold j = i, k = -1 and
- * zeros, so a sum over all lanes of terms proportional to dx, W or F may
- * include them. */
-SPH_API int sph_batch_fill(const sph_batch_src *S, sph_idx i, sph_off *next, sph_batch *b)
+/* sph_batch_fill's work in D dimensions, D a constant in each call of its
+ * switch, so that the loops over the axes and sph__hpow's powers unroll:
+ * the pairs from position o0 of row i, left of them in the row. */
+SPH__INLINE int sph__batch_fill_dim(const sph_batch_src *S, sph_idx i, sph_off o0, sph_off left, sph_batch *b,
+                                    const int D)
 {
     sph_real xi[3], r[SPH_BATCH], qi[SPH_BATCH], qj[SPH_BATCH], hjinv[SPH_BATCH], hiinv, alpha;
     sph_real Wi[SPH_BATCH], Fi[SPH_BATCH], Wj[SPH_BATCH], Fj[SPH_BATCH];
     sph_real xj[3][SPH_BATCH], hj[SPH_BATCH]; /* x_j, h_j gathered into contiguous lanes */
     sph_idx J[SPH_BATCH];
     ptrdiff_t Ox[SPH_BATCH], Oh[SPH_BATCH]; /* J[l] times the strides of x and h */
-    const sph_neighbours *L;
+    const sph_neighbours *L = S->list;
     const sph_real *hp;
     ptrdiff_t hs, xs;
-    sph_off o0, left;
-    int n, l, a, d, D, wW, wF;
-    if (b == NULL) return 0;
-    b->n = 0;
-    if (S == NULL || S->list == NULL || next == NULL || *next < 0 || i < 0 || i >= S->list->n_targets) return 0;
-    L = S->list;
-    o0 = L->offset[i] + *next;
-    left = L->offset[i + 1] - o0;
-    if (left <= 0) return 0;
-    n = left < SPH_BATCH ? (int)left : SPH_BATCH;
-    *next += n;
-    D = S->dim;
+    const int n = left < SPH_BATCH ? (int)left : SPH_BATCH;
+    int l, a, wW, wF;
     wW = (S->what & SPH_BATCH_W) != 0, wF = (S->what & SPH_BATCH_F) != 0;
     hp = S->h.p[0], hs = S->h.stride, xs = S->x.stride;
     sph__batch_index(L->index + o0, n, i, J);
@@ -6782,22 +6782,12 @@ SPH_API int sph_batch_fill(const sph_batch_src *S, sph_idx i, sph_off *next, sph
     if (wW) { /* sph__hpow(alpha w, 1/h, dim) */
         sph__nshape_wg_lanes(S->shape, qi, Wi, NULL);
         sph__nshape_wg_lanes(S->shape, qj, Wj, NULL);
-        SPH__LANES
-        for (l = 0; l < SPH_BATCH; ++l) Wi[l] *= alpha, Wj[l] *= alpha;
-        for (d = 0; d < D; ++d) {
-            SPH__LANES
-            for (l = 0; l < SPH_BATCH; ++l) Wi[l] *= hiinv, Wj[l] *= hjinv[l];
-        }
+        sph__hpow_lanes(Wi, Wj, alpha, hiinv, hjinv, D);
     }
     if (wF) { /* sph__hpow(alpha g, 1/h, dim + 2) */
         sph__nshape_wg_lanes(S->shape, qi, NULL, Fi);
         sph__nshape_wg_lanes(S->shape, qj, NULL, Fj);
-        SPH__LANES
-        for (l = 0; l < SPH_BATCH; ++l) Fi[l] *= alpha, Fj[l] *= alpha;
-        for (d = 0; d < D + 2; ++d) {
-            SPH__LANES
-            for (l = 0; l < SPH_BATCH; ++l) Fi[l] *= hiinv, Fj[l] *= hjinv[l];
-        }
+        sph__hpow_lanes(Fi, Fj, alpha, hiinv, hjinv, D + 2);
     }
     if (!wW) {
         SPH__LANES
@@ -6820,6 +6810,32 @@ SPH_API int sph_batch_fill(const sph_batch_src *S, sph_idx i, sph_off *next, sph
     }
     b->n = n;
     return n;
+}
+
+/* (O0), (O1), (K1), (K2) for the next pairs of row i: fills *b with the
+ * pairs *next .. *next + SPH_BATCH - 1 of the row (counted from the row's
+ * start; start with *next = 0), advances *next past them and returns their
+ * number b->n, 0 once the row is done. i outside 0..n-1, *next negative or
+ * a NULL argument give an empty batch (0). The self pair j = i, if listed,
+ * is a lane like the others (r = 0, dx = 0, W and F at q = 0). Every lane
+ * loop runs over all SPH_BATCH lanes; padding lanes hold j = i, k = -1 and
+ * zeros, so a sum over all lanes of terms proportional to dx, W or F may
+ * include them. */
+SPH_API int sph_batch_fill(const sph_batch_src *S, sph_idx i, sph_off *next, sph_batch *b)
+{
+    sph_off o0, left;
+    if (b == NULL) return 0;
+    b->n = 0;
+    if (S == NULL || S->list == NULL || next == NULL || *next < 0 || i < 0 || i >= S->list->n_targets) return 0;
+    o0 = S->list->offset[i] + *next;
+    left = S->list->offset[i + 1] - o0;
+    if (left <= 0) return 0;
+    *next += left < SPH_BATCH ? left : SPH_BATCH;
+    switch (S->dim) {
+    case 1: return sph__batch_fill_dim(S, i, o0, left, b, 1);
+    case 2: return sph__batch_fill_dim(S, i, o0, left, b, 2);
+    default: return sph__batch_fill_dim(S, i, o0, left, b, 3);
+    }
 }
 #undef SPH__PREFETCH
 
