@@ -6751,8 +6751,6 @@ SPH__INLINE int sph__batch_fill_dim(const sph_batch_src *S, sph_idx i, sph_off o
     }
     sph__batch_gather(hp, hs != xs ? Oh : Ox, hj); /* the gathers, on their own: the loops below read contiguous lanes */
     for (a = 0; a < D; ++a) sph__batch_gather(S->x.p[a], Ox, xj[a]);
-    SPH__LANES
-    for (l = 0; l < SPH_BATCH; ++l) r[l] = 0;
     sph__h_xi(S->x, D, i, xi);
     for (a = 0; a < 3; ++a) {
         const sph_real *xa = xj[a], xia = xi[a], La = S->P.L[a], iLa = S->P.invL[a];
@@ -6766,7 +6764,7 @@ SPH__INLINE int sph__batch_fill_dim(const sph_batch_src *S, sph_idx i, sph_off o
         for (l = 0; l < SPH_BATCH; ++l) dx[l] = xia - xa[l];
         if (La != 0) sph__image_chunk(dx, SPH_BATCH, La, iLa); /* the image of sph__h_dx */
         SPH__LANES
-        for (l = 0; l < SPH_BATCH; ++l) r[l] += dx[l] * dx[l];
+        for (l = 0; l < SPH_BATCH; ++l) r[l] = (a > 0 ? r[l] : 0) + dx[l] * dx[l]; /* a constant select, no zero loop */
         SPH__LANES
         for (l = 0; l < SPH_BATCH; ++l) b->dx[a][l] = dx[l];
     }
@@ -6789,24 +6787,13 @@ SPH__INLINE int sph__batch_fill_dim(const sph_batch_src *S, sph_idx i, sph_off o
         sph__nshape_wg_lanes(S->shape, qj, NULL, Fj);
         sph__hpow_lanes(Fi, Fj, alpha, hiinv, hjinv, D + 2);
     }
-    if (!wW) {
-        SPH__LANES
-        for (l = 0; l < SPH_BATCH; ++l) Wi[l] = 0, Wj[l] = 0;
-    }
-    if (!wF) {
-        SPH__LANES
-        for (l = 0; l < SPH_BATCH; ++l) Fi[l] = 0, Fj[l] = 0;
-    }
     SPH__LANES
-    for (l = 0; l < SPH_BATCH; ++l) {
+    for (l = 0; l < SPH_BATCH; ++l) { /* padding and what is not asked for: 0 by selects (zero loops: rep stos) */
+        const int v = l < n, vW = v & wW, vF = v & wF;
         b->j[l] = J[l];
-        b->k[l] = o0 + l;
+        b->k[l] = v ? o0 + l : -1;
         b->r[l] = r[l];
-        b->W_i[l] = Wi[l], b->F_i[l] = Fi[l], b->W_j[l] = Wj[l], b->F_j[l] = Fj[l];
-    }
-    for (l = n; l < SPH_BATCH; ++l) { /* padding, apart: a select on l would keep the loop above scalar */
-        b->k[l] = -1;
-        b->W_i[l] = 0, b->F_i[l] = 0, b->W_j[l] = 0, b->F_j[l] = 0;
+        b->W_i[l] = vW ? Wi[l] : 0, b->F_i[l] = vF ? Fi[l] : 0, b->W_j[l] = vW ? Wj[l] : 0, b->F_j[l] = vF ? Fj[l] : 0;
     }
     b->n = n;
     return n;
