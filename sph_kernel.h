@@ -6661,65 +6661,105 @@ SPH_API void sph_batch_sqrt(sph_real *v)
     }
 }
 
-/* v[l] = p[J[l] s] over the lanes. With AVX-512 (double) each 8 lanes are
- * built in a register from scalar loads and stored at once: the lane loops'
- * 512-bit loads of v are then forwarded from the store, which eight scalar
- * stores are not (as in sph__sqrt_chunk). */
-SPH__INLINE void sph__batch_gather(const sph_real *p, ptrdiff_t s, const sph_idx *J, sph_real *v)
+/* v[l] = p[O[l]] over the lanes, O[l] = J[l] s the partners' offsets. With
+ * AVX-512 (double) each 8 lanes are built in a register from scalar loads
+ * and stored at once: the lane loops' 512-bit loads of v are then forwarded
+ * from the store, which eight scalar stores are not (as in sph__sqrt_chunk). */
+SPH__INLINE void sph__batch_gather(const sph_real *p, const ptrdiff_t *O, sph_real *v)
 {
     int l;
 #if SPH__OP_AVX512
     if (sizeof(sph_real) == sizeof(double) && SPH_BATCH % 8 == 0) {
         const double *q = (const double *)p;
         for (l = 0; l < SPH_BATCH; l += 8) {
-            const sph_idx *o = J + l;
-            _mm512_storeu_pd((double *)v + l, _mm512_set_pd(q[o[7] * s], q[o[6] * s], q[o[5] * s], q[o[4] * s],
-                                                            q[o[3] * s], q[o[2] * s], q[o[1] * s], q[o[0] * s]));
+            const ptrdiff_t *o = O + l;
+            _mm512_storeu_pd((double *)v + l,
+                             _mm512_set_pd(q[o[7]], q[o[6]], q[o[5]], q[o[4]], q[o[3]], q[o[2]], q[o[1]], q[o[0]]));
         }
         return;
     }
 #endif
-    for (l = 0; l < SPH_BATCH; ++l) v[l] = p[(ptrdiff_t)J[l] * s];
+    for (l = 0; l < SPH_BATCH; ++l) v[l] = p[O[l]];
 }
 
-/* (O0), (O1), (K1), (K2) for the next pairs of row i: fills *b with the
- * pairs *next .. *next + SPH_BATCH - 1 of the row (counted from the row's
- * start; start with *next = 0), advances *next past them and returns their
- * number b->n, 0 once the row is done. i outside 0..n-1, *next negative or
- * a NULL argument give an empty batch (0). The self pair j = i, if listed,
- * is a lane like the others (r = 0, dx = 0, W and F at q = 0). Every lane
- * loop runs over all SPH_BATCH lanes; padding lanes hold j = i, k = -1 and
- * zeros, so a sum over all lanes of terms proportional to dx, W or F may
- * include them. */
-SPH_API int sph_batch_fill(const sph_batch_src *S, sph_idx i, sph_off *next, sph_batch *b)
+/* The partners of a batch (O0): J[l] = p[l] for the n <= SPH_BATCH listed
+ * pairs, J[l] = i in the padding lanes. With AVX-512 one masked load per
+ * 16 lanes, i in the lanes not loaded; else one select per lane: a plain
+ * copy of n entries compiles to rep movs (gcc), slow to start for 64 bytes. */
+SPH__INLINE void sph__batch_index(const sph_idx *p, int n, sph_idx i, sph_idx *J)
+{
+    int l;
+#if SPH__OP_AVX512
+    if (sizeof(sph_idx) == 4) {
+        for (l = 0; l < SPH_BATCH; l += 16) {
+            const int m = n - l < 0 ? 0 : n - l > 16 ? 16 : n - l, w = SPH_BATCH - l < 16 ? SPH_BATCH - l : 16;
+            const __m512i v = _mm512_mask_loadu_epi32(_mm512_set1_epi32(i), (__mmask16)((1u << m) - 1), p + (m > 0 ? l : 0));
+            _mm512_mask_storeu_epi32(J + l, (__mmask16)((1u << w) - 1), v);
+        }
+        return;
+    }
+#endif
+    SPH__LANES
+    for (l = 0; l < SPH_BATCH; ++l) J[l] = l < n ? p[l] : i;
+}
+
+/* sph__hpow over the lanes of a batch at h_i and h_j: vi[l] = alpha vi[l]
+ * hiinv^n, vj[l] = alpha vj[l] hjinv[l]^n, multiplied in sph__hpow's order
+ * (the same bits), one pass with the running products in registers. */
+SPH__INLINE void sph__hpow_lanes(sph_real *vi, sph_real *vj, sph_real alpha, sph_real hiinv, const sph_real *hjinv,
+                                 const int n)
+{
+    int l, d;
+    SPH__LANES
+    for (l = 0; l < SPH_BATCH; ++l) {
+        sph_real pi = alpha * vi[l], pj = alpha * vj[l];
+        for (d = 0; d < n; ++d) pi *= hiinv, pj *= hjinv[l];
+        vi[l] = pi, vj[l] = pj;
+    }
+}
+
+/* A hint to fetch the cache line at p (gcc, clang), nothing elsewhere. */
+#if (defined(__GNUC__) || defined(__clang__)) && !defined(__CUDACC__)
+#define SPH__PREFETCH(p) __builtin_prefetch(p)
+#else
+#define SPH__PREFETCH(p) ((void)(p))
+#endif
+
+/* sph_batch_fill's work in D dimensions, D a constant in each call of its
+ * switch, so that the loops over the axes and sph__hpow's powers unroll:
+ * the pairs from position o0 of row i, left of them in the row. */
+SPH__INLINE int sph__batch_fill_dim(const sph_batch_src *S, sph_idx i, sph_off o0, sph_off left, sph_batch *b,
+                                    const int D)
 {
     sph_real xi[3], r[SPH_BATCH], qi[SPH_BATCH], qj[SPH_BATCH], hjinv[SPH_BATCH], hiinv, alpha;
     sph_real Wi[SPH_BATCH], Fi[SPH_BATCH], Wj[SPH_BATCH], Fj[SPH_BATCH];
     sph_real xj[3][SPH_BATCH], hj[SPH_BATCH]; /* x_j, h_j gathered into contiguous lanes */
     sph_idx J[SPH_BATCH];
-    const sph_neighbours *L;
+    ptrdiff_t Ox[SPH_BATCH], Oh[SPH_BATCH]; /* J[l] times the strides of x and h */
+    const sph_neighbours *L = S->list;
     const sph_real *hp;
     ptrdiff_t hs, xs;
-    sph_off o0, left;
-    int n, l, a, d, D, wW, wF;
-    if (b == NULL) return 0;
-    b->n = 0;
-    if (S == NULL || S->list == NULL || next == NULL || *next < 0 || i < 0 || i >= S->list->n_targets) return 0;
-    L = S->list;
-    o0 = L->offset[i] + *next;
-    left = L->offset[i + 1] - o0;
-    if (left <= 0) return 0;
-    n = left < SPH_BATCH ? (int)left : SPH_BATCH;
-    *next += n;
-    D = S->dim;
+    const int n = left < SPH_BATCH ? (int)left : SPH_BATCH;
+    int l, a, wW, wF;
     wW = (S->what & SPH_BATCH_W) != 0, wF = (S->what & SPH_BATCH_F) != 0;
     hp = S->h.p[0], hs = S->h.stride, xs = S->x.stride;
-    for (l = 0; l < n; ++l) J[l] = L->index[o0 + l];
-    for (; l < SPH_BATCH; ++l) J[l] = i;
-    sph__batch_gather(hp, hs, J, hj); /* the gathers, on their own: the loops below read contiguous lanes */
-    for (a = 0; a < D; ++a) sph__batch_gather(S->x.p[a], xs, J, xj[a]);
+    sph__batch_index(L->index + o0, n, i, J);
     SPH__LANES
-    for (l = 0; l < SPH_BATCH; ++l) r[l] = 0;
+    for (l = 0; l < SPH_BATCH; ++l) Ox[l] = (ptrdiff_t)J[l] * xs;
+    if (hs != xs) {
+        SPH__LANES
+        for (l = 0; l < SPH_BATCH; ++l) Oh[l] = (ptrdiff_t)J[l] * hs;
+    }
+    if (left > n) { /* the next batch's partners, on their way while this one computes */
+        const sph_idx *Jn = L->index + o0 + n;
+        const int nn = left - n < SPH_BATCH ? (int)(left - n) : SPH_BATCH;
+        for (l = 0; l < nn; ++l) {
+            SPH__PREFETCH(S->x.p[0] + (ptrdiff_t)Jn[l] * xs);
+            SPH__PREFETCH(hp + (ptrdiff_t)Jn[l] * hs);
+        }
+    }
+    sph__batch_gather(hp, hs != xs ? Oh : Ox, hj); /* the gathers, on their own: the loops below read contiguous lanes */
+    for (a = 0; a < D; ++a) sph__batch_gather(S->x.p[a], Ox, xj[a]);
     sph__h_xi(S->x, D, i, xi);
     for (a = 0; a < 3; ++a) {
         const sph_real *xa = xj[a], xia = xi[a], La = S->P.L[a], iLa = S->P.invL[a];
@@ -6733,7 +6773,7 @@ SPH_API int sph_batch_fill(const sph_batch_src *S, sph_idx i, sph_off *next, sph
         for (l = 0; l < SPH_BATCH; ++l) dx[l] = xia - xa[l];
         if (La != 0) sph__image_chunk(dx, SPH_BATCH, La, iLa); /* the image of sph__h_dx */
         SPH__LANES
-        for (l = 0; l < SPH_BATCH; ++l) r[l] += dx[l] * dx[l];
+        for (l = 0; l < SPH_BATCH; ++l) r[l] = (a > 0 ? r[l] : 0) + dx[l] * dx[l]; /* a constant select, no zero loop */
         SPH__LANES
         for (l = 0; l < SPH_BATCH; ++l) b->dx[a][l] = dx[l];
     }
@@ -6749,45 +6789,51 @@ SPH_API int sph_batch_fill(const sph_batch_src *S, sph_idx i, sph_off *next, sph
     if (wW) { /* sph__hpow(alpha w, 1/h, dim) */
         sph__nshape_wg_lanes(S->shape, qi, Wi, NULL);
         sph__nshape_wg_lanes(S->shape, qj, Wj, NULL);
-        SPH__LANES
-        for (l = 0; l < SPH_BATCH; ++l) Wi[l] *= alpha, Wj[l] *= alpha;
-        for (d = 0; d < D; ++d) {
-            SPH__LANES
-            for (l = 0; l < SPH_BATCH; ++l) Wi[l] *= hiinv, Wj[l] *= hjinv[l];
-        }
+        sph__hpow_lanes(Wi, Wj, alpha, hiinv, hjinv, D);
     }
     if (wF) { /* sph__hpow(alpha g, 1/h, dim + 2) */
         sph__nshape_wg_lanes(S->shape, qi, NULL, Fi);
         sph__nshape_wg_lanes(S->shape, qj, NULL, Fj);
-        SPH__LANES
-        for (l = 0; l < SPH_BATCH; ++l) Fi[l] *= alpha, Fj[l] *= alpha;
-        for (d = 0; d < D + 2; ++d) {
-            SPH__LANES
-            for (l = 0; l < SPH_BATCH; ++l) Fi[l] *= hiinv, Fj[l] *= hjinv[l];
-        }
-    }
-    if (!wW) {
-        SPH__LANES
-        for (l = 0; l < SPH_BATCH; ++l) Wi[l] = 0, Wj[l] = 0;
-    }
-    if (!wF) {
-        SPH__LANES
-        for (l = 0; l < SPH_BATCH; ++l) Fi[l] = 0, Fj[l] = 0;
+        sph__hpow_lanes(Fi, Fj, alpha, hiinv, hjinv, D + 2);
     }
     SPH__LANES
-    for (l = 0; l < SPH_BATCH; ++l) {
+    for (l = 0; l < SPH_BATCH; ++l) { /* padding and what is not asked for: 0 by selects (zero loops: rep stos) */
+        const int v = l < n, vW = v & wW, vF = v & wF;
         b->j[l] = J[l];
-        b->k[l] = o0 + l;
+        b->k[l] = v ? o0 + l : -1;
         b->r[l] = r[l];
-        b->W_i[l] = Wi[l], b->F_i[l] = Fi[l], b->W_j[l] = Wj[l], b->F_j[l] = Fj[l];
-    }
-    for (l = n; l < SPH_BATCH; ++l) { /* padding, apart: a select on l would keep the loop above scalar */
-        b->k[l] = -1;
-        b->W_i[l] = 0, b->F_i[l] = 0, b->W_j[l] = 0, b->F_j[l] = 0;
+        b->W_i[l] = vW ? Wi[l] : 0, b->F_i[l] = vF ? Fi[l] : 0, b->W_j[l] = vW ? Wj[l] : 0, b->F_j[l] = vF ? Fj[l] : 0;
     }
     b->n = n;
     return n;
 }
+
+/* (O0), (O1), (K1), (K2) for the next pairs of row i: fills *b with the
+ * pairs *next .. *next + SPH_BATCH - 1 of the row (counted from the row's
+ * start; start with *next = 0), advances *next past them and returns their
+ * number b->n, 0 once the row is done. i outside 0..n-1, *next negative or
+ * a NULL argument give an empty batch (0). The self pair j = i, if listed,
+ * is a lane like the others (r = 0, dx = 0, W and F at q = 0). Every lane
+ * loop runs over all SPH_BATCH lanes; padding lanes hold j = i, k = -1 and
+ * zeros, so a sum over all lanes of terms proportional to dx, W or F may
+ * include them. */
+SPH_API int sph_batch_fill(const sph_batch_src *S, sph_idx i, sph_off *next, sph_batch *b)
+{
+    sph_off o0, left;
+    if (b == NULL) return 0;
+    b->n = 0;
+    if (S == NULL || S->list == NULL || next == NULL || *next < 0 || i < 0 || i >= S->list->n_targets) return 0;
+    o0 = S->list->offset[i] + *next;
+    left = S->list->offset[i + 1] - o0;
+    if (left <= 0) return 0;
+    *next += left < SPH_BATCH ? left : SPH_BATCH;
+    switch (S->dim) {
+    case 1: return sph__batch_fill_dim(S, i, o0, left, b, 1);
+    case 2: return sph__batch_fill_dim(S, i, o0, left, b, 2);
+    default: return sph__batch_fill_dim(S, i, o0, left, b, 3);
+    }
+}
+#undef SPH__PREFETCH
 
 #endif /* section 9 */
 #endif /* sections 4-9 */
