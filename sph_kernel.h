@@ -4799,12 +4799,13 @@ SPH_API sph_idx sph__nsearch_block(const sph_nsearch *g, sph_view xt, sph_view h
  * index holds capacity entries, *pairs = offset[nt] (the entries needed).
  * SPH_ESIZE when more than capacity are needed: offset is then complete
  * (sph_nsearch_fill with it and a larger index finishes the job), index
- * unspecified. Under OpenMP the targets are split into one contiguous block
- * per thread (at least 1024 targets each), each searched into the share of
- * index proportional to it, then moved down into place; from the first
- * block that outgrows its share on, a second pass fills the lists (a
- * capacity ~20 % above the expected pairs avoids it). The result does not
- * depend on the thread count. */
+ * unspecified. Under OpenMP the targets are split into up to four
+ * contiguous blocks per thread (at least 1024 targets each), taken by the
+ * threads as they come free (a core that runs slower takes fewer), each
+ * searched into the share of index proportional to it, then moved down into
+ * place; from the first block that outgrows its share on, a second pass
+ * fills the lists (a capacity ~20 % above the expected pairs avoids it). The
+ * result does not depend on the thread count. */
 SPH_API int sph__nsearch_lists_ref(const sph_nsearch *g, sph_view xt, sph_idx n_targets, sph_view ht, sph_real h,
                                    sph_real kappa, int mode, sph_off *offset, sph_idx *index, sph_off capacity,
                                    sph_off *pairs)
@@ -4819,7 +4820,7 @@ SPH_API int sph__nsearch_lists_ref(const sph_nsearch *g, sph_view xt, sph_idx n_
     if (capacity < 0) return SPH_ECOUNT;
     nb = 1;
 #ifdef _OPENMP
-    nb = omp_get_max_threads();
+    nb = 4 * omp_get_max_threads();
     nb = nb < MAX_BLOCKS ? nb : MAX_BLOCKS;
     nb = n_targets / 1024 < nb ? (int)(n_targets / 1024) : nb;
     nb = nb > 1 ? nb : 1;
@@ -4831,7 +4832,7 @@ SPH_API int sph__nsearch_lists_ref(const sph_nsearch *g, sph_view xt, sph_idx n_
     lo[nb] = n_targets;
     s0[nb] = capacity;
 #ifdef _OPENMP
-#pragma omp parallel for schedule(static, 1) if (nb > 1)
+#pragma omp parallel for schedule(dynamic, 1) if (nb > 1)
 #endif
     for (b = 0; b < nb; ++b)
         bad[b] = sph__nsearch_block(g, xt, ht, h, kappa, mode, lo[b], lo[b + 1], offset, index, s0[b], s0[b + 1]);

@@ -1011,8 +1011,8 @@ static void test_threads(void)
 #endif
 }
 
-/* The one-pass search in blocks (one per thread, at least 1024 targets
- * each): a dense half and a sparse half of the targets, in both orders, so
+/* The one-pass search in blocks (up to four per thread, at least 1024
+ * targets each: four here on two threads): a dense half and a sparse half of the targets, in both orders, so
  * that with an exact index one block outgrows its share (the second pass
  * fills from there) and with an index twice as long both fit and the
  * second moves down into place. */
