@@ -334,7 +334,8 @@ bench: $(BUILD)/bench/benchmark_double $(BUILD)/bench/benchmark_float tiny-size
 
 # bench-step: the step of examples/sod_shock.c per particle (search, density / h,
 # forces, the rest; pairs, candidates, bytes) at nx = 16, 32, 48 on 1 and 2
-# threads, built with CFLAGS and with -O3 -march=native, medians of 3 repeats
+# threads and on 1 thread pinned to each of two CPUs (the speed-up the cores
+# allow), built with CFLAGS and with -O3 -march=native, medians of 3 repeats
 # (bench/bench_step.sh; a few minutes): $(RESULTS)/step.md. Shorter:
 # make bench-step BENCH_STEP_NX=16 BENCH_STEP_REPEATS=3
 bench-step:

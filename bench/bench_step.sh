@@ -2,13 +2,17 @@
 # bench/bench_step.sh - the step of examples/sod_shock.c per particle: wall
 # time of search, density / h solve, forces and the rest (sod_shock
 # --profile), list entries, half-list pairs, search candidates and bytes held
-# per particle, for nx = 16, 32, 48 on 1 and 2 threads, built with the
-# Makefile's flags and with -O3 -march=native. Run by `make bench-step`; prints
-# the table and writes it to docs/results/step.md.
+# per particle, for nx = 16, 32, 48 on 1 and 2 threads and on 1 thread pinned
+# to each of the first two CPUs (what speed-up the two cores allow), built
+# with the Makefile's flags and with -O3 -march=native. Run by `make
+# bench-step`; prints the table and writes it to docs/results/step.md.
 #   BENCH_STEP_NX="16"        resolutions (fcc cells per unit length, left)
 #   BENCH_STEP_REPEATS=3      repeats of every run (a time is their median)
 #   BENCH_STEP_T_END=0.05     simulated time of each run
 #   BENCH_STEP_OUT=file       where the table goes
+#   BENCH_STEP_CORES=1        0: skip the one-thread runs pinned to each of the
+#                             first two CPUs (taskset), which tell how fast each
+#                             core runs and so what speed-up the two allow
 # Each repeat runs every (nx, build, threads) once, the 1- and 2-thread runs of a
 # build back to back, so that a ratio (speed-up, -O3 against -O2, a phase's
 # share) is taken within one repeat or one run and load that comes and goes
@@ -26,9 +30,20 @@ DIR=${BUILD:-build}/bench_step
 case $DIR in /*) ;; *) DIR=./$DIR ;; esac
 NATIVE="-O3 -march=native -std=c99 -Wall -Wextra -pedantic -Werror"
 THREADS="1 2"
+CORES=${BENCH_STEP_CORES:-1}
+case $CORES in 0 | 1) ;; *) echo "bench/bench_step.sh: BENCH_STEP_CORES=$CORES is neither 0 nor 1"; exit 2 ;; esac
 if [ -z "$OPENMP" ]; then
     echo "bench/bench_step.sh: $CC has no -fopenmp: 1 thread only"
     THREADS=1
+fi
+# The first two CPUs this process may run on ("0,1" from "0-63" or "0,2,4").
+CPUS=$(taskset -pc $$ 2> /dev/null | sed 's/.*: //' | tr ',' '\n' |
+    awk -F- '{ for (c = $1; c <= ($2 == "" ? $1 : $2) && k < 2; ++c) printf "%s%d", (k++ ? "," : ""), c }')
+if [ "$THREADS" = "1" ] || [ "$CORES" = 0 ]; then
+    CPUS=
+elif [ "${CPUS#*,}" = "$CPUS" ]; then
+    echo "bench/bench_step.sh: no taskset or fewer than two CPUs to pin to: no per-core runs"
+    CPUS=
 fi
 case $REPEATS in '' | *[!0-9]* | 0) echo "bench/bench_step.sh: BENCH_STEP_REPEATS=$REPEATS is not a positive integer"; exit 2 ;; esac
 mkdir -p "$DIR/out" || exit 1
@@ -44,10 +59,14 @@ r=1
 while [ "$r" -le "$REPEATS" ]; do
     for nx in $NX; do
         for b in O2 native; do
-            for th in $THREADS; do
+            # 1@c: one thread pinned to CPU c, after the 1- and 2-thread runs of the same build
+            for th in $THREADS $(echo "$CPUS" | tr ',' '\n' | sed -n 's/^[0-9]/1@&/p'); do
                 echo "repeat $r/$REPEATS  nx $nx  $b  $th thread(s)" >&2
-                if ! OMP_NUM_THREADS=$th "$DIR/sod_shock_$b" --nx "$nx" --t-end "$T_END" --threads "$th" --profile \
-                    --out "$DIR/out" > "$DIR/run.txt" 2>&1; then
+                pin=
+                case $th in 1@*) pin="taskset -c ${th#1@}" ;; esac
+                # shellcheck disable=SC2086
+                if ! OMP_NUM_THREADS=${th%@*} $pin "$DIR/sod_shock_$b" --nx "$nx" --t-end "$T_END" --threads "${th%@*}" \
+                    --profile --out "$DIR/out" > "$DIR/run.txt" 2>&1; then
                     cat "$DIR/run.txt"
                     echo "bench/bench_step.sh: sod_shock --nx $nx ($b, $th threads) failed"
                     exit 1
@@ -95,8 +114,12 @@ T1=$(date +%s)
     echo "candidates: positions the search checked (sph_nsearch_stats every 10th step, outside"
     echo "the timed phases); bytes: held by the step (fields, lists, search workspace). spread:"
     echo "the slowest and fastest total."
+    if [ -n "$CPUS" ]; then
+        echo "Threads \"1, CPU c\": one thread pinned to CPU c (taskset), run after the unpinned"
+        echo "1- and 2-thread runs of the same build: how fast each core of the machine runs the step."
+    fi
     echo
-    awk '
+    awk -v cpus="$CPUS" '
         function median(s,    a, m, i, j, t) { # of the space-separated numbers in s
             m = split(s, a, " ")
             for (i = 2; i <= m; ++i) for (j = i; j > 1 && a[j - 1] + 0 > a[j] + 0; --j) { t = a[j]; a[j] = a[j - 1]; a[j - 1] = t }
@@ -117,7 +140,8 @@ T1=$(date +%s)
             print "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
             for (i = 1; i <= nk; ++i) {
                 k = order[i]; split(k, f, " ")
-                printf "| %s | %s | %s | %s | %s | %.2f |", f[1], f[2], n[k], steps[k], f[3], median(v[k, 7])
+                th = f[3]; sub(/^1@/, "1, CPU ", th)
+                printf "| %s | %s | %s | %s | %s | %.2f |", f[1], f[2], n[k], steps[k], th, median(v[k, 7])
                 for (c = 8; c <= 11; ++c) printf " %.2f (%.0f %%) |", median(v[k, c]), median(share[k, c])
                 printf " %.2f-%.2f | %.1f | %.1f | %.0f | %.0f |\n", lo(v[k, 7]), hi(v[k, 7]), median(v[k, 12]), median(v[k, 13]), median(v[k, 14]), median(v[k, 15])
             }
@@ -126,24 +150,48 @@ T1=$(date +%s)
             print "Ratios of the total, each the median over the repeats of the ratio within one repeat:"
             print "the 2-thread speed-up (1-thread time / 2-thread time) and native against O2 (O2 time /"
             print "native time, same threads)."
+            if (cpus != "") {
+                split(cpus, cpu, ",")
+                print "Allowed: the largest 2-thread speed-up the two cores allow over the faster of them,"
+                print "1 + t_fast / t_slow, with t_a, t_b the 1-thread times pinned to CPU " cpu[1] " and CPU " cpu[2] ": below 2"
+                print "when one core runs slower than the other, as on a virtual machine whose host shares"
+                print "its second core. Efficiency: the 2-thread time the two cores would take with the work"
+                print "shared in proportion to their speeds, 1 / (1 / t_a + 1 / t_b), over the measured one."
+            }
             print ""
-            print "| nx | 2-thread speed-up, O2 | 2-thread speed-up, native | native / O2, 1 thread | native / O2, 2 threads |"
-            print "|---|---|---|---|---|"
+            if (cpus != "") {
+                print "| nx | 2-thread speed-up, O2 | allowed, O2 | efficiency, O2 | 2-thread speed-up, native | allowed, native | efficiency, native | native / O2, 1 thread | native / O2, 2 threads |"
+                print "|---|---|---|---|---|---|---|---|---|"
+            } else {
+                print "| nx | 2-thread speed-up, O2 | 2-thread speed-up, native | native / O2, 1 thread | native / O2, 2 threads |"
+                print "|---|---|---|---|---|"
+            }
             for (i = 1; i <= nk; ++i) {
                 k = order[i]; split(k, f, " ")
                 if (f[1] != "O2" || f[3] != 1 || done[f[2]]++) continue
-                s2 = sn = r1 = r2 = ""
+                s2 = sn = r1 = r2 = a2 = an = e2 = en = ""
                 for (rr = 1; ((rr, "O2 " f[2] " 1") in tot); ++rr) {
                     s2 = s2 " " tot[rr, "O2 " f[2] " 1"] / tot[rr, "O2 " f[2] " 2"]
                     sn = sn " " tot[rr, "native " f[2] " 1"] / tot[rr, "native " f[2] " 2"]
                     r1 = r1 " " tot[rr, "O2 " f[2] " 1"] / tot[rr, "native " f[2] " 1"]
                     r2 = r2 " " tot[rr, "O2 " f[2] " 2"] / tot[rr, "native " f[2] " 2"]
+                    if (cpus == "") continue
+                    for (bb = 1; bb <= 2; ++bb) {
+                        b = bb == 1 ? "O2 " f[2] : "native " f[2]
+                        ta = tot[rr, b " 1@" cpu[1]]; tb = tot[rr, b " 1@" cpu[2]]
+                        al = ta < tb ? 1 + ta / tb : 1 + tb / ta
+                        ef = 1 / (tot[rr, b " 2"] * (1 / ta + 1 / tb))
+                        if (bb == 1) { a2 = a2 " " al; e2 = e2 " " ef } else { an = an " " al; en = en " " ef }
+                    }
                 }
-                printf "| %s | %.2f | %.2f | %.2f | %.2f |\n", f[2], median(s2), median(sn), median(r1), median(r2)
+                if (cpus != "")
+                    printf "| %s | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f | %.2f |\n", f[2], median(s2), median(a2), median(e2), median(sn), median(an), median(en), median(r1), median(r2)
+                else
+                    printf "| %s | %.2f | %.2f | %.2f | %.2f |\n", f[2], median(s2), median(sn), median(r1), median(r2)
             }
         }' "$DIR/runs.txt"
     echo
-    echo "One line per run (repeat, build, nx, threads, particles, steps, total, search, density/h,"
+    echo "One line per run (repeat, build, nx, threads (1@c: pinned to CPU c), particles, steps, total, search, density/h,"
     echo "forces, rest, entries, pairs, candidates, bytes): \`${DIR#./}/runs.txt\`."
 } > "$DIR/step.md" || exit 1
 cat "$DIR/step.md"
