@@ -4643,6 +4643,19 @@ SPH_API sph_idx sph__nsearch_sym_count(const sph_idx *row, sph_off n, sph_off *e
     return marks;
 }
 
+/* The second run (n2 <= 64) merged in from buf: from its last value down,
+ * the values of the first run above it moved up, then it. LOW 0 when every
+ * value of buf is above a[0]: the scan of the first run then stops at a[0]
+ * without testing its end (a constant once inlined). */
+SPH__INLINE void sph__ns_merge_buf(sph_idx *a, const sph_idx *buf, sph_off n1, sph_off n2, const int LOW)
+{
+    sph_off w = n1 + n2, p = n1, q;
+    for (q = n2 - 1; q >= 0; --q) {
+        while ((!LOW || p > 0) && a[p - 1] > buf[q]) a[--w] = a[--p];
+        a[--w] = buf[q];
+    }
+}
+
 /* Merges the ascending runs a[0 .. n1-1] and a[n1 .. n1+n2-1] (no value in
  * both) in place: through a buffer of 64 when one run fits it, else by a
  * rotation at a cut point and the two halves merged alike (O(n log n)
@@ -4653,14 +4666,12 @@ SPH_API void sph__ns_merge(sph_idx *a, sph_off n1, sph_off n2)
     sph_idx buf[B];
     sph_off c1, c2, lo, hi, k;
     if (n1 == 0 || n2 == 0) return;
-    if (n2 <= B) { /* the second run into buf; from its last value down, the values of the first run
-                      above it moved up, then it */
-        sph_off w = n1 + n2, p = n1, q;
+    if (n2 <= B) { /* the second run into buf, merged from the back */
         for (k = 0; k < n2; ++k) buf[k] = a[n1 + k];
-        for (q = n2 - 1; q >= 0; --q) {
-            while (p > 0 && a[p - 1] > buf[q]) a[--w] = a[--p];
-            a[--w] = buf[q];
-        }
+        if (a[n1] > a[0]) /* the second run's lowest, buf[0] */
+            sph__ns_merge_buf(a, buf, n1, n2, 0);
+        else
+            sph__ns_merge_buf(a, buf, n1, n2, 1);
         return;
     }
     if (n1 <= B) { /* the first run into buf, merged from the front */
