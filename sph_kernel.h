@@ -3328,7 +3328,7 @@ typedef struct {
     sph_real kappa_b;     /* hreach holds for every kappa up to this one (the given cell as kappa h_max / 2) */
     sph_real h_far;       /* largest hcell of the cells reaching beyond SPH__NS_PUSH cells (0: none) */
     int plain;            /* 1: the plain reference search (SPH_NSEARCH_PLAIN) */
-    sph_idx *sym;         /* [n_padded] per source its gather row's length, and */
+    sph_idx *sym;         /* [2 n_padded] per source its gather row's length, then the marks in that row, and */
     sph_off *sym_at;      /* [n_padded] the sources reaching it from beyond it: their count, then the
                              next place for one (the symmetric lists from the gather ones,
                              sph__nsearch_sym_lists); both NULL without hcell */
@@ -4274,7 +4274,7 @@ SPH_API double sph__nsearch_layout(sph_nsearch *g, int with_h, char *base)
     const double hcell = pyr ? sph__nsearch_line((double)sizeof(sph_real) * (double)g->n_cells) : 0;
     const double hreach = pyr ? sph__nsearch_line((double)sizeof(sph_real) * 2 * (double)g->n_cells) : 0;
     const double hs = (with_h != 0) * reals;
-    const double sym = pyr ? order : 0, sym_at = pyr ? sph__nsearch_line((double)sizeof(sph_off) * padded) : 0;
+    const double sym = pyr ? 2 * order : 0, sym_at = pyr ? sph__nsearch_line((double)sizeof(sph_off) * padded) : 0;
     if (base != NULL) {
         base += (64 - (size_t)((uintptr_t)base % 64)) % 64;
         g->cell_start = (sph_idx *)(void *)base;
@@ -4590,11 +4590,24 @@ SPH_API int sph__nsearch_sym_ok(const sph_nsearch *g, sph_view xt, sph_idx nt, s
 
 /* Bit k set when v[k] < 0 (a mark), k < w <= 32: one word per 32 list
  * entries, so that the loops over marks branch per set bit of a word, not
- * per entry. */
+ * per entry; a whole word from the sign bits of 16 or 4 entries per
+ * instruction where the build has AVX-512 or SSE2. */
 SPH_API unsigned sph__ns_signs(const sph_idx *v, int w)
 {
     unsigned m = 0;
     int k;
+#if SPH__NS_COMPRESS
+    if (w == 32)
+        return (unsigned)_mm512_cmplt_epi32_mask(_mm512_loadu_si512((const void *)v), _mm512_setzero_si512()) |
+               (unsigned)_mm512_cmplt_epi32_mask(_mm512_loadu_si512((const void *)(v + 16)), _mm512_setzero_si512()) << 16;
+#elif SPH__SQRT_SIMD
+    if (w == 32) {
+        for (k = 0; k < 8; ++k)
+            m |= (unsigned)_mm_movemask_ps(_mm_castsi128_ps(_mm_loadu_si128((const __m128i *)(const void *)(v + 4 * k))))
+                 << (4 * k);
+        return m;
+    }
+#endif
     if (w == 32)
         for (k = 0; k < 32; ++k) m |= ((unsigned)v[k] >> 31) << k;
     else
@@ -4603,14 +4616,14 @@ SPH_API unsigned sph__ns_signs(const sph_idx *v, int w)
 }
 
 /* Counts into ext[i] the marks -1 - i of list entries row[0 .. n-1]
- * (atomically under OpenMP: chunks are counted in parallel). The marks of
- * up to 512 entries are gathered first, then counted in a loop of their
- * own: its increments, scattered over ext, overlap one another instead of
- * each waiting behind a mispredicted branch of the scan. */
-SPH_API void sph__nsearch_sym_count(const sph_idx *row, sph_off n, sph_off *ext)
+ * (atomically under OpenMP: chunks are counted in parallel); returns how
+ * many. The marks of up to 512 entries are gathered first, then counted in
+ * a loop of their own: its increments, scattered over ext, overlap one
+ * another instead of each waiting behind a mispredicted branch of the scan. */
+SPH_API sph_idx sph__nsearch_sym_count(const sph_idx *row, sph_off n, sph_off *ext)
 {
     enum { C = 512 };
-    sph_idx mark[C];
+    sph_idx mark[C], marks = 0;
     sph_off e, k;
     for (e = 0; e < n; e += C) {
         const sph_off w = n - e < (sph_off)C ? n - e : (sph_off)C;
@@ -4619,12 +4632,27 @@ SPH_API void sph__nsearch_sym_count(const sph_idx *row, sph_off n, sph_off *ext)
             unsigned m = sph__ns_signs(row + e + k, w - k < 32 ? (int)(w - k) : 32);
             for (; m != 0; m &= m - 1) mark[c++] = row[e + k + sph__ns_ctz(m)];
         }
+        marks += c;
         while (c > 0) {
 #ifdef _OPENMP
 #pragma omp atomic
 #endif
             ++ext[-1 - mark[--c]];
         }
+    }
+    return marks;
+}
+
+/* The second run (n2 <= 64) merged in from buf: from its last value down,
+ * the values of the first run above it moved up, then it. LOW 0 when every
+ * value of buf is above a[0]: the scan of the first run then stops at a[0]
+ * without testing its end (a constant once inlined). */
+SPH__INLINE void sph__ns_merge_buf(sph_idx *a, const sph_idx *buf, sph_off n1, sph_off n2, const int LOW)
+{
+    sph_off w = n1 + n2, p = n1, q;
+    for (q = n2 - 1; q >= 0; --q) {
+        while ((!LOW || p > 0) && a[p - 1] > buf[q]) a[--w] = a[--p];
+        a[--w] = buf[q];
     }
 }
 
@@ -4638,14 +4666,12 @@ SPH_API void sph__ns_merge(sph_idx *a, sph_off n1, sph_off n2)
     sph_idx buf[B];
     sph_off c1, c2, lo, hi, k;
     if (n1 == 0 || n2 == 0) return;
-    if (n2 <= B) { /* the second run into buf; from its last value down, the values of the first run
-                      above it moved up, then it */
-        sph_off w = n1 + n2, p = n1, q;
+    if (n2 <= B) { /* the second run into buf, merged from the back */
         for (k = 0; k < n2; ++k) buf[k] = a[n1 + k];
-        for (q = n2 - 1; q >= 0; --q) {
-            while (p > 0 && a[p - 1] > buf[q]) a[--w] = a[--p];
-            a[--w] = buf[q];
-        }
+        if (a[n1] > a[0]) /* the second run's lowest, buf[0] */
+            sph__ns_merge_buf(a, buf, n1, n2, 0);
+        else
+            sph__ns_merge_buf(a, buf, n1, n2, 1);
         return;
     }
     if (n1 <= B) { /* the first run into buf, merged from the front */
@@ -4683,22 +4709,24 @@ SPH_API void sph__ns_merge(sph_idx *a, sph_off n1, sph_off n2)
     sph__ns_merge(a + c1 + c2, n1 - c1, n2 - c2);
 }
 
-/* Completes the symmetric rows in place. Gather row i (len[i] entries, a
- * source i marked -1 - i, in ascending source) is at the front of its final
- * segment offset[i] .. offset[i+1] - 1; at[i] = offset[i+1]. Each mark is
- * transposed into the back of its source's segment (at[i] moves down to
- * offset[i] + len[i]), rows taken in descending order so that every E_i
- * comes out ascending, found 32 entries at a time from a word of their
- * signs (sph__ns_signs) and undone; then each row merges its two runs
- * (parallel under OpenMP). */
-SPH_API void sph__nsearch_sym_finish(sph_idx n, const sph_off *offset, const sph_idx *len, sph_off *at, sph_idx *index)
+/* Completes the symmetric rows in place. Gather row i (len[i] entries,
+ * marks[i] of them a source i marked -1 - i, in ascending source) is at the
+ * front of its final segment offset[i] .. offset[i+1] - 1; at[i] =
+ * offset[i+1]. Each mark is transposed into the back of its source's
+ * segment (at[i] moves down to offset[i] + len[i]), rows taken in
+ * descending order so that every E_i comes out ascending, found 32 entries
+ * at a time from a word of their signs (sph__ns_signs), up to the row's
+ * last mark, and undone; then each row merges its two runs (parallel under
+ * OpenMP). */
+SPH_API void sph__nsearch_sym_finish(sph_idx n, const sph_off *offset, const sph_idx *len, const sph_idx *marks,
+                                     sph_off *at, sph_idx *index)
 {
     sph_idx i, j;
     for (j = n - 1; j >= 0; --j) {
-        sph_idx *row = index + offset[j], e;
-        for (e = 0; e < len[j]; e += 32) {
+        sph_idx *row = index + offset[j], e, left = marks[j];
+        for (e = 0; left > 0 && e < len[j]; e += 32) {
             unsigned m = sph__ns_signs(row + e, len[j] - e < 32 ? (int)(len[j] - e) : 32);
-            for (; m != 0; m &= m - 1) {
+            for (; m != 0; m &= m - 1, --left) {
                 const int k = sph__ns_ctz(m);
                 const sph_idx src = -1 - row[e + k];
                 row[e + k] = src;
@@ -4719,7 +4747,7 @@ SPH_API void sph__nsearch_sym_finish(sph_idx n, const sph_off *offset, const sph
 SPH_API int sph__nsearch_sym_fill(const sph_nsearch *g, sph_view xt, sph_idx n, sph_view ht, sph_real h,
                                   sph_real kappa, const sph_off *offset, sph_idx *index)
 {
-    sph_idx *len = g->sym, i;
+    sph_idx *len = g->sym, *marks = g->sym + g->n_padded, i;
     sph_off *ext = g->sym_at;
     int bad = 0;
     for (i = 0; i < n; ++i) ext[i] = 0;
@@ -4739,12 +4767,12 @@ SPH_API int sph__nsearch_sym_fill(const sph_nsearch *g, sph_view xt, sph_idx n, 
 #ifdef _OPENMP
 #pragma omp parallel for schedule(dynamic, 256) if (n >= 4096)
 #endif
-    for (i = 0; i < n; ++i) sph__nsearch_sym_count(index + offset[i], len[i], ext);
+    for (i = 0; i < n; ++i) marks[i] = sph__nsearch_sym_count(index + offset[i], len[i], ext);
     for (i = 0; i < n; ++i)
         bad |= offset[i + 1] - offset[i] != len[i] + ext[i];
     if (bad) return SPH_EOFFSET;
     for (i = 0; i < n; ++i) ext[i] = offset[i + 1];
-    sph__nsearch_sym_finish(n, offset, len, ext, index);
+    sph__nsearch_sym_finish(n, offset, len, marks, ext, index);
     return SPH_OK;
 }
 
@@ -4856,14 +4884,14 @@ SPH_API int sph__nsearch_lists_ref(const sph_nsearch *g, sph_view xt, sph_idx n_
 /* sph_nsearch_lists in symmetric mode from the gather lists (sph__nsearch_sym_ok
  * holds): the gather lists into index, marked, their marks counted per
  * source, the final offsets from the row lengths, the gather rows moved up to their final segments (last row
- * first: a row only moves up, over rows already moved), then completed.
+ * first: a row only moves up, over rows already moved) and the marks of each counted on the way, then completed.
  * SPH_ESIZE, offsets complete, when index cannot hold the symmetric lists; when
  * it cannot hold even the gather ones, the offsets come from the direct
  * search (sph__nsearch_lists_ref). */
 SPH_API int sph__nsearch_sym_lists(const sph_nsearch *g, sph_view xt, sph_idx n, sph_view ht, sph_real h,
                                    sph_real kappa, sph_off *offset, sph_idx *index, sph_off capacity, sph_off *pairs)
 {
-    sph_idx *len = g->sym, i, k;
+    sph_idx *len = g->sym, *marks = g->sym + g->n_padded, i, k;
     sph_off src, *at = g->sym_at;
     int st;
     st = sph__nsearch_lists_ref(g, xt, n, ht, h, kappa, SPH__NS_MARK, offset, index, capacity, pairs);
@@ -4883,11 +4911,17 @@ SPH_API int sph__nsearch_sym_lists(const sph_nsearch *g, sph_view xt, sph_idx n,
     *pairs = offset[n];
     if (offset[n] > capacity) return SPH_ESIZE;
     for (i = n - 1; i >= 0; --i) {
+        unsigned c = 0;
         src -= len[i];
-        for (k = len[i] - 1; src != offset[i] && k >= 0; --k) index[offset[i] + k] = index[src + k]; /* up: last first */
+        for (k = len[i] - 1; k >= 0; --k) { /* up: last first */
+            const sph_idx v = index[src + k];
+            index[offset[i] + k] = v;
+            c += (unsigned)v >> 31;
+        }
+        marks[i] = (sph_idx)c;
         at[i] = offset[i + 1];
     }
-    sph__nsearch_sym_finish(n, offset, len, at, index);
+    sph__nsearch_sym_finish(n, offset, len, marks, at, index);
     return SPH_OK;
 }
 
