@@ -4848,7 +4848,8 @@ SPH_API int sph__nsearch_lists_ref(const sph_nsearch *g, sph_view xt, sph_idx n_
     if (capacity < 0) return SPH_ECOUNT;
     nb = 1;
 #ifdef _OPENMP
-    nb = 4 * omp_get_max_threads();
+    nb = omp_get_max_threads();
+    nb = nb > 1 ? 4 * nb : 1; /* one thread: one block, nothing to move */
     nb = nb < MAX_BLOCKS ? nb : MAX_BLOCKS;
     nb = n_targets / 1024 < nb ? (int)(n_targets / 1024) : nb;
     nb = nb > 1 ? nb : 1;
