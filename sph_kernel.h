@@ -295,7 +295,8 @@ typedef SPH_REAL sph_real;
 #define SPH__NOINLINE static inline
 #endif
 
-/* Vector square roots for the operator loops (section 6): AVX (2), SSE2 (1),
+/* Vector square roots for the operator loops (section 6), and the sign
+ * words of the symmetric lists' completion (section 7): AVX (2), SSE2 (1),
  * none (0: portable loop). */
 #if !defined(SPH_NO_INTRINSICS) && !defined(__CUDACC__) && (defined(__GNUC__) || defined(__clang__)) && \
     (defined(__AVX__) || defined(__SSE2__))
