@@ -45,6 +45,9 @@ elif [ "${CPUS#*,}" = "$CPUS" ]; then
     echo "bench/bench_step.sh: no taskset or fewer than two CPUs to pin to: no per-core runs"
     CPUS=
 fi
+# The runs of each build and nx: 1 and 2 threads, then 1@c, one thread pinned to CPU c
+RUNS=$THREADS
+for c in $(echo "$CPUS" | tr ',' ' '); do RUNS="$RUNS 1@$c"; done
 case $REPEATS in '' | *[!0-9]* | 0) echo "bench/bench_step.sh: BENCH_STEP_REPEATS=$REPEATS is not a positive integer"; exit 2 ;; esac
 mkdir -p "$DIR/out" || exit 1
 START=$(date -u '+%Y-%m-%d %H:%M UTC')
@@ -59,8 +62,7 @@ r=1
 while [ "$r" -le "$REPEATS" ]; do
     for nx in $NX; do
         for b in O2 native; do
-            # 1@c: one thread pinned to CPU c, after the 1- and 2-thread runs of the same build
-            for th in $THREADS $(echo "$CPUS" | tr ',' '\n' | sed -n 's/^[0-9]/1@&/p'); do
+            for th in $RUNS; do
                 echo "repeat $r/$REPEATS  nx $nx  $b  $th thread(s)" >&2
                 pin=
                 case $th in 1@*) pin="taskset -c ${th#1@}" ;; esac
