@@ -24,8 +24,11 @@
  * i's share summed in the loop (sph_pairs_reduce_rows: no to_i buffer),
  * and with j's share stored at the pair index k instead of its slot
  * (sph_pairs_reduce_rows_k), both of which must equal the first bit for
- * bit; the gather form on the full list for comparison (each pair
- * evaluated from both rows, no stores: its time per unordered pair); then
+ * bit; with j's share added to its row in the loop (one thread: no
+ * buffer, no reduction; the same terms in another order, its largest
+ * difference from the scalar form printed); the gather form on the full
+ * list for comparison (each pair evaluated from both rows, no stores: its
+ * time per unordered pair); then
  * the fill alone, F alone and W and F. Build also with -O3 -march=native
  * (the lane loops then use the widest vectors).
  *
@@ -138,7 +141,7 @@ static void pack(part *P, int n, const sph_real *x, const sph_real *v, const sph
 }
 
 /* The ways the batch loop stores its results (see batch_rows). */
-enum { TO_I_SLOTS, ROWS_SLOTS, ROWS_AT_K, GATHER };
+enum { TO_I_SLOTS, ROWS_SLOTS, ROWS_AT_K, ROWS_DIRECT, GATHER };
 
 /* The same equations on batches, in three plain loops over all SPH_BATCH
  * lanes (padding lanes compute harmless zeros): the partner's fields
@@ -149,6 +152,8 @@ enum { TO_I_SLOTS, ROWS_SLOTS, ROWS_AT_K, GATHER };
  * (sph_pairs_reduce then); ROWS_SLOTS i's share added up in row order into
  * rows[5 i ..] (sph_pairs_reduce_rows then; to_i unused); ROWS_AT_K the
  * same with j's share at k, in sequence (sph_pairs_reduce_rows_k then);
+ * ROWS_DIRECT j's share added to rows[5 j ..] in the loop and i's summed
+ * in lane arrays (one thread: rows zeroed before, no buffer, no reduction);
  * GATHER over a full list (each pair in both rows): i's share into rows,
  * nothing stored for j. */
 static sph_real batch_rows(const part *P, sph_real beta, sph_real alpha_u, const sph_batch_src *S,
@@ -161,15 +166,14 @@ static sph_real batch_rows(const part *P, sph_real beta, sph_real alpha_u, const
         const part *Pi_ = P + i;
         const sph_real mi = Pi_->m, Ai = Pi_->A, rhoi = Pi_->rho, ci = Pi_->cs, ui = Pi_->u, pi = Pi_->p;
         const sph_real ai = Pi_->alpha, vi0 = Pi_->v[0], vi1 = Pi_->v[1], vi2 = Pi_->v[2];
-        int c;
-        sph_real si[5] = {0, 0, 0, 0, 0};
+        int c, l;
+        sph_real si[5] = {0, 0, 0, 0, 0}, sl[5][SPH_BATCH] = {{0}};
         sph_batch b;
         sph_off next = 0;
         while (sph_batch_fill(S, i, &next, &b) > 0) {
             sph_real mj[SPH_BATCH], Aj[SPH_BATCH], rhoj[SPH_BATCH], cj[SPH_BATCH], uj[SPH_BATCH], pj[SPH_BATCH];
             sph_real aj[SPH_BATCH], vj[3][SPH_BATCH], vu[SPH_BATCH], irb[SPH_BATCH], ir[SPH_BATCH];
             sph_real gi[SPH_BATCH], gj[SPH_BATCH], ei[SPH_BATCH], ej[SPH_BATCH], di[SPH_BATCH], dj[SPH_BATCH], vs[SPH_BATCH];
-            int l;
             for (l = 0; l < SPH_BATCH; ++l) { /* the partner's fields: two cache lines */
                 const part *Pj = P + b.j[l];
                 mj[l] = Pj->m, Aj[l] = Pj->A, rhoj[l] = Pj->rho, cj[l] = Pj->cs, uj[l] = Pj->u, pj[l] = Pj->p;
@@ -203,6 +207,11 @@ static sph_real batch_rows(const part *P, sph_real beta, sph_real alpha_u, const
                     for (c = 0; c < 3; ++c) ti[5 * l + c] = -gi[l] * b.dx[c][l];
                     ti[5 * l + 3] = ei[l], ti[5 * l + 4] = di[l];
                 }
+            } else if (form == ROWS_DIRECT) { /* any order will do: the lanes add up i's share in vectors */
+                for (l = 0; l < SPH_BATCH; ++l) {
+                    for (c = 0; c < 3; ++c) sl[c][l] -= gi[l] * b.dx[c][l];
+                    sl[3][l] += ei[l], sl[4][l] += di[l];
+                }
             } else { /* i's share in registers, in the order sph_pairs_reduce adds to_i */
                 for (l = 0; l < b.n; ++l) {
                     for (c = 0; c < 3; ++c) si[c] += -gi[l] * b.dx[c][l];
@@ -215,6 +224,12 @@ static sph_real batch_rows(const part *P, sph_real beta, sph_real alpha_u, const
                     for (c = 0; c < 3; ++c) tk[5 * l + c] = gj[l] * b.dx[c][l];
                     tk[5 * l + 3] = ej[l], tk[5 * l + 4] = dj[l];
                 }
+            } else if (form == ROWS_DIRECT) { /* j's share added to its row now: one thread owns them all */
+                for (l = 0; l < b.n; ++l) {
+                    sph_real *tj = rows + 5 * b.j[l];
+                    for (c = 0; c < 3; ++c) tj[c] += gj[l] * b.dx[c][l];
+                    tj[3] += ej[l], tj[4] += dj[l];
+                }
             } else if (form != GATHER) { /* at its slot: 40 or so places per row */
                 for (l = 0; l < b.n; ++l) {
                     sph_real *tj = to_j + 5 * pr->t_slot[b.k[l]];
@@ -224,7 +239,11 @@ static sph_real batch_rows(const part *P, sph_real beta, sph_real alpha_u, const
             }
             for (l = 0; l < b.n; ++l) vmax = vs[l] > vmax ? vs[l] : vmax;
         }
-        if (form != TO_I_SLOTS)
+        if (form == ROWS_DIRECT) { /* row i has had its share from rows before it */
+            for (c = 0; c < 5; ++c)
+                for (l = 0; l < SPH_BATCH; ++l) si[c] += sl[c][l];
+            for (c = 0; c < 5; ++c) rows[5 * i + c] += si[c];
+        } else if (form != TO_I_SLOTS)
             for (c = 0; c < 5; ++c) rows[5 * i + c] = si[c];
     }
     return vmax;
@@ -261,7 +280,7 @@ int main(int argc, char **argv)
     const int side = argc > 1 ? atoi(argv[1]) : 40, reps = argc > 2 ? atoi(argv[2]) : 9;
     const int n = side * side * side;
     const double dx = 1.0 / side;
-    sph_real *x, *v, *m, *h, *hl, *rho, *om, *p, *A, *P, *dv, *du, *buf, *V, *u, *cs, *al, *t5, *f5[5];
+    sph_real *x, *v, *m, *h, *hl, *rho, *om, *p, *A, *P, *dv, *du, *buf, *V, *u, *cs, *al, *t5, *f5[6];
     sph_off *off = NULL, *hoff, *toff, *tpair, pairs;
     sph_idx *idx = NULL, *hidx;
     sph_box box = {{0, 0, 0}, {1, 1, 1}, {1, 1, 1}};
@@ -270,8 +289,8 @@ int main(int argc, char **argv)
     sph_hctx c;
     sph_hreport rep;
     tp_rng g = {7};
-    double *t[13], med[13], tb, diff = 0, diffg = 0, diff2 = 0, fmax = 0, sink = 0;
-    sph_real vs[5] = {0, 0, 0, 0, 0};
+    double *t[14], med[14], tb, diff = 0, diffg = 0, diffd = 0, diff2 = 0, fmax = 0, sink = 0;
+    sph_real vs[6] = {0, 0, 0, 0, 0, 0};
     sph_batch_src bs, bw, bg;
     sph_view xv, hv5;
     part *pk, *P5;
@@ -292,11 +311,11 @@ int main(int argc, char **argv)
     al = malloc(sizeof(sph_real) * (size_t)n);
     f5[0] = malloc(sizeof(sph_real) * 5 * (size_t)n), f5[1] = malloc(sizeof(sph_real) * 5 * (size_t)n);
     f5[2] = malloc(sizeof(sph_real) * 5 * (size_t)n), f5[3] = malloc(sizeof(sph_real) * 5 * (size_t)n);
-    f5[4] = malloc(sizeof(sph_real) * 5 * (size_t)n);
-    for (i = 0; i < 13; ++i) t[i] = malloc(sizeof(double) * (size_t)reps);
-    if (!u || !cs || !al || !f5[0] || !f5[1] || !f5[2] || !f5[3] || !f5[4]) return 1;
+    f5[4] = malloc(sizeof(sph_real) * 5 * (size_t)n), f5[5] = malloc(sizeof(sph_real) * 5 * (size_t)n);
+    for (i = 0; i < 14; ++i) t[i] = malloc(sizeof(double) * (size_t)reps);
+    if (!u || !cs || !al || !f5[0] || !f5[1] || !f5[2] || !f5[3] || !f5[4] || !f5[5]) return 1;
     if (!x || !v || !m || !h || !hl || !rho || !om || !p || !A || !P || !V || !dv || !du) return 1;
-    for (i = 0; i < 13; ++i)
+    for (i = 0; i < 14; ++i)
         if (!t[i]) return 1;
     tp_lattice(3, side, dx, x);
     tp_perturb(3, n, 0.2 * dx, &g, x);
@@ -397,6 +416,10 @@ int main(int argc, char **argv)
         st |= sph_pairs_reduce_rows_k(&pr, 5, t5 + 5 * pairs, f5[3]);
         t[9][r] = tm_now() - t5s;
         t5s = tm_now();
+        memset(f5[5], 0, sizeof(sph_real) * 5 * (size_t)n);
+        vs[5] = batch_rows(P5, fl.beta, fl.alpha_u, &bs, &pr, ROWS_DIRECT, NULL, NULL, f5[5]);
+        t[13][r] = tm_now() - t5s;
+        t5s = tm_now();
         vs[4] = batch_rows(P5, fl.beta, fl.alpha_u, &bg, &pr, GATHER, NULL, NULL, f5[4]);
         t[10][r] = tm_now() - t5s;
         t5s = tm_now();
@@ -421,7 +444,7 @@ int main(int argc, char **argv)
         }
         t[7][r] = tm_now() - t5s;
     }
-    for (i = 0; i < 13; ++i) med[i] = tm_median(t[i], reps);
+    for (i = 0; i < 14; ++i) med[i] = tm_median(t[i], reps);
     for (i = 0; i < 5 * n; ++i) fmax = fabs(f5[0][i]) > fmax ? fabs(f5[0][i]) : fmax;
     for (i = 0; i < 5 * n; ++i) diff = fabs(f5[1][i] - f5[0][i]) > diff ? fabs(f5[1][i] - f5[0][i]) : diff;
     for (i = 0; i < 5 * n; ++i) diff2 += (f5[2][i] != f5[1][i]) + (f5[3][i] != f5[1][i]); /* the reductions: bit for bit */
@@ -439,6 +462,8 @@ int main(int argc, char **argv)
            1e9 * med[8] / (double)pairs, med[4] / med[8]);
     printf("    the same, j's share stored at k (sph_pairs_reduce_rows_k)      %7.2f ns/pair (speed-up %.2f)\n",
            1e9 * med[9] / (double)pairs, med[4] / med[9]);
+    printf("    the same, j's share added to its row in the loop (one thread, no reduction) %7.2f ns/pair (speed-up %.2f)\n",
+           1e9 * med[13] / (double)pairs, med[4] / med[13]);
     printf("    gather form: each pair from both rows of the full list, no stores   %7.2f ns/pair (speed-up %.2f)\n",
            1e9 * med[10] / (double)pairs, med[4] / med[10]);
     printf("    of which sph_batch_fill alone (x_ij, r, F at h_i, h_j)      %7.2f ns/pair\n", 1e9 * med[6] / (double)pairs);
@@ -450,6 +475,9 @@ int main(int argc, char **argv)
     printf("    largest |batch - scalar| / largest |value| %.2g, signal velocity %.17g vs %.17g\n", diff / fmax,
            (double)vs[1], (double)vs[0]);
     for (i = 0; i < 5 * n; ++i) diffg = fabs(f5[4][i] - f5[0][i]) > diffg ? fabs(f5[4][i] - f5[0][i]) : diffg;
+    for (i = 0; i < 5 * n; ++i) diffd = fabs(f5[5][i] - f5[0][i]) > diffd ? fabs(f5[5][i] - f5[0][i]) : diffd;
+    printf("    added in the loop: largest |direct - scalar| / largest |value| %.2g, signal velocity %.17g\n",
+           diffd / fmax, (double)vs[5]);
     printf("    gather form: largest |gather - scalar| / largest |value| %.2g, signal velocity %.17g\n", diffg / fmax, (double)vs[4]);
     printf("    values where the other two batch forms differ from the first: %.0f of %d (signal velocity %.17g, %.17g)\n",
            diff2, 2 * 5 * n, (double)vs[2], (double)vs[3]);
@@ -457,7 +485,7 @@ int main(int argc, char **argv)
     printf("  sph_pairs_build once per list                             %7.2f ns/pair\n", 1e9 * tb / (double)pairs);
     free(x), free(v), free(m), free(h), free(hl), free(rho), free(om), free(p), free(A), free(P), free(V), free(dv);
     free(du), free(off), free(idx), free(hoff), free(toff), free(hidx), free(tpair), free(buf);
-    free(u), free(cs), free(al), free(f5[0]), free(f5[1]), free(f5[2]), free(f5[3]), free(f5[4]), free(t5), free(pk);
-    for (i = 0; i < 13; ++i) free(t[i]);
+    free(u), free(cs), free(al), free(f5[0]), free(f5[1]), free(f5[2]), free(f5[3]), free(f5[4]), free(f5[5]), free(t5), free(pk);
+    for (i = 0; i < 14; ++i) free(t[i]);
     return 0;
 }
