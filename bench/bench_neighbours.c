@@ -9,7 +9,9 @@
  * cells of R, R/2, R/3; particles in random index order ("shuffled") and
  * after the locality permutation ("cell-sorted"). Prints the seconds of
  * build, count, fill and the one-pass lists (index 20 % longer than the
- * pairs) and the candidate checks per neighbour found.
+ * pairs), the candidate checks per neighbour found, and the nanoseconds per
+ * list entry of sph_neighbours_check on the lists (median of 5 calls: the
+ * pass every function that takes a list runs over it).
  */
 #define _POSIX_C_SOURCE 199309L
 #include <stdio.h>
@@ -30,8 +32,9 @@ static void run(const char *label, const sph_real *x, int n, sph_real h, sph_rea
     sph_nsearch g;
     size_t bytes;
     void *work;
-    double t0, t1, t2, t3, t4;
-    int st;
+    double t0, t1, t2, t3, t4, tc[5];
+    sph_neighbours L;
+    int st, r;
     memset(&g, 0, sizeof g); /* printed even when the build fails */
     sph_nsearch_workspace_size(3, v, n, sph_view_none(), cell, box, &bytes);
     work = malloc(bytes);
@@ -47,11 +50,18 @@ static void run(const char *label, const sph_real *x, int n, sph_real h, sph_rea
     st |= sph_nsearch_lists(&g, v, n, sph_view_none(), h, kappa, SPH_NSEARCH_GATHER, off, idx, cap,
                             &pairs);
     t4 = tm_now();
+    L = sph_nsearch_list(&g, n, off, idx);
+    for (r = 0; r < 5; ++r) {
+        tc[r] = tm_now();
+        st |= sph_neighbours_check(&L);
+        tc[r] = tm_now() - tc[r];
+    }
     st |= sph_nsearch_stats(&g, v, n, sph_view_none(), h, kappa, SPH_NSEARCH_GATHER, &pairs, &cand, NULL);
     printf("%-12s cell %.3f R  cells %7d  build %.4f s  count %.4f s  fill %.4f s  lists %.4f s  "
-           "neighbours/particle %.1f  candidates/neighbour %.3f  workspace %.1f MB%s\n",
+           "neighbours/particle %.1f  candidates/neighbour %.3f  workspace %.1f MB  check %.3f ns/entry%s\n",
            label, cell_over_R, g.n_cells, t1 - t0, t2 - t1, t3 - t2, t4 - t3, (double)pairs / n,
-           (double)cand / (double)pairs, (double)bytes / 1e6, st == SPH_OK ? "" : "  ERROR");
+           (double)cand / (double)pairs, (double)bytes / 1e6, 1e9 * tm_median(tc, 5) / (double)off[n],
+           st == SPH_OK ? "" : "  ERROR");
     if (perm_out != NULL) sph_nsearch_permutation(&g, perm_out);
     free(idx);
     free(off);

@@ -647,6 +647,36 @@ static void test_operators(void)
             TH_CHECK(sph_density(&cc, sph_out_soa(y, NULL, NULL)) == SPH_ENULL && y[0] == 1, "context of bad values");
         }
     }
+    {   /* the check runs in blocks (of 4096 rows or entries, the entries 32 at a time, then a tail): one bad
+           offset or index anywhere, in a block's body, at its edges or in the tail, is found */
+        enum { NR = 5000, NE = 9011 };
+        static sph_off off[NR + 1];
+        static sph_idx idx[NE];
+        static const long at_e[] = {0, 1, 31, 32, 33, 4095, 4096, 4097, 8191, 8192, 8991, 8992, 9010};
+        static const long at_r[] = {0, 1, 31, 32, 4094, 4095, 4096, 4999};
+        const sph_idx bad_idx[] = {-1, 997, 998, INT_MIN, INT_MAX}; /* the sources are 0..996 */
+        sph_neighbours L = t.s.L.list;
+        long e, r;
+        int b;
+        for (r = 0; r <= NR; ++r) off[r] = (sph_off)(r * (long)NE / NR);
+        for (e = 0; e < NE; ++e) idx[e] = (sph_idx)(e % 997);
+        L.n_targets = NR, L.n_sources = 997, L.offset = off, L.index = idx;
+        TH_CHECK(sph_neighbours_check(&L) == SPH_OK, "valid list of %d rows, %d entries", NR, NE);
+        for (e = 0; e < (long)(sizeof at_e / sizeof at_e[0]); ++e)
+            for (b = 0; b < 5; ++b) {
+                const sph_idx keep = idx[at_e[e]];
+                idx[at_e[e]] = bad_idx[b];
+                TH_CHECK(sph_neighbours_check(&L) == SPH_EINDEX, "index %ld = %ld", at_e[e], (long)bad_idx[b]);
+                idx[at_e[e]] = keep;
+            }
+        for (r = 0; r < (long)(sizeof at_r / sizeof at_r[0]); ++r) {
+            const sph_off keep = off[at_r[r] + 1];
+            off[at_r[r] + 1] = off[at_r[r]] - 1; /* row at_r[r] of negative length */
+            TH_CHECK(sph_neighbours_check(&L) == SPH_EOFFSET, "offset %ld below the one before", at_r[r] + 1);
+            off[at_r[r] + 1] = keep;
+        }
+        TH_CHECK(sph_neighbours_check(&L) == SPH_OK, "the list restored");
+    }
     th_end();
     tb_free(&t);
 }
