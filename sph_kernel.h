@@ -135,6 +135,8 @@
  *   sph_out_soa(x, y, z)                         write view, as sph_view_soa
  *   sph_out_aos(first, ncomp, stride_bytes)      write view, as sph_view_aos
  *   sph_out_interleaved(x, ncomp)                write view, as sph_view_interleaved
+ *   sph_share_init(&s, next, shares, n, chunk)   a parallel loop's particles in shares of chunks
+ *   sph_share_next(&s, t, &u, &lo, &hi)          thread t's next chunk: its own share first
  * 5. Pair terms: neighbour j of target i, dx = x_i - x_j, F of the pair
  *   sph_pair_kernel(k, dim, dx, h)               r, q, W and F of the pair (O1)
  *   sph_pair_density(m_j, W)                     density term (O2)
@@ -1397,6 +1399,75 @@ SPH_API sph_out sph_out_interleaved(sph_real *x, int ncomp)
 
 /* Component a of particle i of a view or an output view (sections 6 and 9). */
 #define SPH__AT(v, a, i) ((v).p[a][(ptrdiff_t)(i) * (v).stride])
+
+/* Shares of a caller's parallel loop over particles 0..n-1: share p is
+ * n p / shares .. n (p + 1) / shares - 1, the block a static schedule gives
+ * thread p, handed out in chunks. A thread takes the chunks of its own share
+ * first (particles whose fields the static loops before left in its core's
+ * caches), then what is left of the others' (a slower core does not hold
+ * the loop back); every particle once, whatever the thread count.
+ * sph_share_next is safe to call from OpenMP threads at once. */
+#define SPH_SHARE_PAD 8 /* entries of next per share: one 64-byte line, so the threads' counters never share one */
+/* The shares of the library's own loops (their counters on the stack): one per thread, at most
+ * SPH__SHARES_MAX (threads beyond it start in share t modulo that); this thread's number. */
+#define SPH__SHARES_MAX 64
+#if defined(_OPENMP) && !defined(__CUDA_ARCH__) /* host code: a device thread runs the whole loop */
+#define SPH__SHARES (omp_get_max_threads() < SPH__SHARES_MAX ? omp_get_max_threads() : SPH__SHARES_MAX)
+#define SPH__THREAD omp_get_thread_num()
+#else
+#define SPH__SHARES 1
+#define SPH__THREAD 0
+#endif
+typedef struct {
+    sph_off *next; /* [shares * SPH_SHARE_PAD], the caller's: share p's next particle at next[p * SPH_SHARE_PAD] */
+    sph_off n;
+    sph_off chunk;
+    int shares;
+} sph_share;
+
+/* Particles 0..n-1 in `shares` shares of chunks of `chunk` particles, the
+ * counters in next (shares * SPH_SHARE_PAD entries); call it before each
+ * loop (serially). SPH_ENULL (s or next NULL), SPH_ECOUNT (n < 0 or
+ * shares < 1), SPH_ERANGE (chunk < 1); on error *s hands out nothing. */
+SPH_API int sph_share_init(sph_share *s, sph_off *next, int shares, sph_idx n, sph_idx chunk)
+{
+    int p;
+    if (s == NULL) return SPH_ENULL;
+    s->next = NULL, s->n = 0, s->chunk = 1, s->shares = 0;
+    if (next == NULL) return SPH_ENULL;
+    if (n < 0 || shares < 1) return SPH_ECOUNT;
+    if (chunk < 1) return SPH_ERANGE;
+    for (p = 0; p < shares; ++p) next[(size_t)p * SPH_SHARE_PAD] = (sph_off)n * p / shares;
+    s->next = next, s->n = n, s->chunk = chunk, s->shares = shares;
+    return SPH_OK;
+}
+
+/* Thread t's next chunk, particles *lo .. *hi - 1: 1, or 0 when none is left
+ * for it (also for t < 0 or an s that failed). *u starts at 0 in each
+ * thread and counts the shares the thread has emptied (its own is share t
+ * modulo shares, then the ones after it). */
+SPH_API int sph_share_next(sph_share *s, int t, int *u, sph_idx *lo, sph_idx *hi)
+{
+    if (s == NULL || s->next == NULL || u == NULL || t < 0) return 0;
+    while (*u >= 0 && *u < s->shares) {
+        const int p = (int)(((sph_off)t + *u) % s->shares);
+        const sph_off end = s->n * (p + 1) / s->shares;
+        sph_off *c = s->next + (size_t)p * SPH_SHARE_PAD, a;
+#ifdef _OPENMP
+#pragma omp atomic capture
+#endif
+        {
+            a = *c;
+            *c += s->chunk;
+        }
+        if (a < end) { /* a counter passes its end once per thread at most: no overflow for n < 2^62 */
+            *lo = (sph_idx)a, *hi = (sph_idx)(end - a > s->chunk ? a + s->chunk : end);
+            return 1;
+        }
+        ++*u;
+    }
+    return 0;
+}
 
 /* ======================================================================== */
 /* 5. Pair terms                                                             */
@@ -6168,7 +6239,8 @@ SPH_API int sph_h_solve(const sph_hctx *c, sph_out h, sph_out rho, sph_out omega
     const sph__kdim *kd;
     sph__period P;
     sph_idx i, n, nnc = 0, nbl = 0;
-    sph_off total = 0;
+    sph_off total = 0, next[SPH__SHARES_MAX * SPH_SHARE_PAD];
+    sph_share sh;
     int st = sph__hctx_check(c), mx = 0, a;
     if (st != SPH_OK) return st;
     n = c->list->n_targets;
@@ -6188,23 +6260,30 @@ SPH_API int sph_h_solve(const sph_hctx *c, sph_out h, sph_out rho, sph_out omega
             if (!sph__finite(c->x.p[a][(ptrdiff_t)i * c->x.stride])) return SPH_ENONFINITE;
     }
     P = sph__period_of(c->box, c->list, c->dim);
+    sph_share_init(&sh, next, SPH__SHARES, n, 64);
 #ifdef _OPENMP
-#pragma omp parallel for schedule(dynamic, 64) if (n >= 512) reduction(+ : nnc, nbl, total) reduction(max : mx)
+#pragma omp parallel if (n >= 512) reduction(+ : nnc, nbl, total) reduction(max : mx)
 #endif
-    for (i = 0; i < n; ++i) {
-        const sph_real hl = c->h_list.p[0] != NULL ? c->h_list.p[0][(ptrdiff_t)i * c->h_list.stride] : c->h_list_max;
-        sph_real hi = SPH__AT(h, 0, i), ri = 0, oi = 1;
-        int it = 0;
-        const int s = sph__h_particle(c, kd, &P, i, hl, &hi, &ri, &oi, &it);
-        SPH__AT(h, 0, i) = hi;
-        SPH__AT(rho, 0, i) = ri;
-        SPH__AT(omega, 0, i) = oi;
-        if (iterations != NULL) iterations[i] = it;
-        if (state != NULL) state[i] = s;
-        nnc += s == SPH_H_NOT_CONVERGED;
-        nbl += s == SPH_H_BEYOND_LIST;
-        total += it;
-        mx = it > mx ? it : mx;
+    { /* each thread its static share first (its core's caches), then the others' (sph_share_next) */
+        sph_idx lo, end, j; /* j, not i: declared in the region, each thread's own */
+        int u = 0;
+        while (sph_share_next(&sh, SPH__THREAD, &u, &lo, &end))
+            for (j = lo; j < end; ++j) {
+                const sph_real hl = c->h_list.p[0] != NULL ? c->h_list.p[0][(ptrdiff_t)j * c->h_list.stride]
+                                                           : c->h_list_max;
+                sph_real hi = SPH__AT(h, 0, j), ri = 0, oi = 1;
+                int it = 0;
+                const int s = sph__h_particle(c, kd, &P, j, hl, &hi, &ri, &oi, &it);
+                SPH__AT(h, 0, j) = hi;
+                SPH__AT(rho, 0, j) = ri;
+                SPH__AT(omega, 0, j) = oi;
+                if (iterations != NULL) iterations[j] = it;
+                if (state != NULL) state[j] = s;
+                nnc += s == SPH_H_NOT_CONVERGED;
+                nbl += s == SPH_H_BEYOND_LIST;
+                total += it;
+                mx = it > mx ? it : mx;
+            }
     }
     if (report != NULL) {
         report->n_not_converged = nnc;
