@@ -220,7 +220,9 @@ typedef struct {
     long solves, sums, researches, searches;
     int max_sums;
     sph_nsearch grid; /* the last search's cells (sph_nsearch_stats of --profile) */
-    sd_prof *prof;    /* inside the step loop with --profile, NULL otherwise */
+    sph_off *share_next; /* the force loop's shares (sph_share): one per thread, shares * SPH_SHARE_PAD */
+    int shares;
+    sd_prof *prof; /* inside the step loop with --profile, NULL otherwise */
 } sd_sim;
 
 static void sd_free(sd_sim *S)
@@ -229,6 +231,7 @@ static void sd_free(sd_sim *S)
     free(S->rho), free(S->om), free(S->hl), free(S->hle), free(S->x0), free(S->A), free(S->cs), free(S->alpha);
     free(S->dalpha), free(S->B), free(S->alpha_d), free(S->divv), free(S->sw);
     free(S->state), free(S->work), free(S->offset), free(S->p_off), free(S->index), free(S->p_idx);
+    free(S->share_next);
 }
 
 /* Particles per lattice cell: 4 (fcc) or 1 (cubic). */
@@ -328,7 +331,13 @@ static int sd_setup(sd_sim *S)
         SD_A(sw, 3))
         return -1;
 #undef SD_A
-    if ((S->state = (int *)sd_alloc(n, sizeof(int))) == NULL ||
+#ifdef _OPENMP
+    S->shares = omp_get_max_threads();
+#else
+    S->shares = 1;
+#endif
+    if ((S->share_next = (sph_off *)sd_alloc((size_t)S->shares * SPH_SHARE_PAD, sizeof(sph_off))) == NULL ||
+        (S->state = (int *)sd_alloc(n, sizeof(int))) == NULL ||
         (S->offset = (sph_off *)sd_alloc(n + 1, sizeof(sph_off))) == NULL ||
         (S->p_off = (sph_off *)sd_alloc(n + 1, sizeof(sph_off))) == NULL)
         return -1;
@@ -585,9 +594,43 @@ static void sd_switch_sphenix(sd_sim *S, sph_idx i, sph_real divv, sph_real curl
 /* Accelerations, du/dt, d alpha/dt and the largest signal velocity at the positions x, velocities vp and energies
  * up: each particle sums over its row of the pruned list (each pair is evaluated from both ends: no scatter, no
  * reduction, no per-pair buffers; the pair terms are antisymmetric, so momentum is conserved to round-off). */
+/* This thread's number in an OpenMP team, 0 without OpenMP. */
+static int sd_thread(void)
+{
+#ifdef _OPENMP
+    return omp_get_thread_num();
+#else
+    return 0;
+#endif
+}
+
+/* Particle i's pair sums (sd_batch over the batches of its row) and what follows from them: dv/dt, du/dt, d alpha /
+ * dt and the switches' input; returns the largest signal velocity of its pairs. */
+static sph_real sd_force_row(sd_sim *S, const sph_batch_src *B, sph_idx i)
+{
+    const sd_param *P = &S->P;
+    sph_real vs = 0, acc[SD_NT] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
+    const sph_real orho = S->om[i] * S->rho[i];
+    sph_real divv, src, curl;
+    sph_off next = 0;
+    sph_batch b;
+    int a;
+    while (sph_batch_fill(B, i, &next, &b) > 0) sd_batch(S, i, &b, &vs, acc);
+    for (a = 0; a < 3; ++a) S->a[3 * i + a] = acc[a];
+    S->du[i] = acc[3];
+    divv = -acc[4] / orho, src = divv < 0 ? -divv : 0; /* div v_i (Price 2012) */
+    curl = sqrt(acc[5] * acc[5] + acc[6] * acc[6] + acc[7] * acc[7]) / orho;
+    /* Morris & Monaghan (1997) with the source of Rosswog et al. (2000); SPHENIX's switch replaces it */
+    S->dalpha[i] = -(S->alpha[i] - (sph_real)P->alpha_min) * (sph_real)0.1 * S->cs[i] / S->h[i] +
+                   src * ((sph_real)P->alpha_max - S->alpha[i]);
+    S->sw[3 * i] = divv, S->sw[3 * i + 1] = curl, S->sw[3 * i + 2] = acc[8];
+    return vs;
+}
+
 static int sd_forces(sd_sim *S)
 {
     const sd_param *P = &S->P;
+    sph_share share;
     sph_batch_src B;
     sph_idx i;
     double vmax = 0;
@@ -603,27 +646,21 @@ static int sd_forces(sd_sim *S)
     }
     st = sph_batch_source(&B, S->k, 3, &S->pairs, NULL, sph_view_interleaved(S->x, 3), sph_view_soa(S->h, NULL, NULL));
     if (st != SPH_OK || (st = sph_batch_select(&B, SPH_BATCH_F)) != SPH_OK) return st; /* the loop needs F alone */
+    /* snippet: share */
+    if ((st = sph_share_init(&share, S->share_next, S->shares, S->n, 64)) != SPH_OK) return st;
 #ifdef _OPENMP
-#pragma omp parallel for schedule(dynamic, 64) reduction(max : vmax)
+#pragma omp parallel reduction(max : vmax)
 #endif
-    for (i = 0; i < S->n; ++i) {
-        sph_real vs = 0, acc[SD_NT] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
-        const sph_real orho = S->om[i] * S->rho[i];
-        sph_real divv, src, curl;
-        sph_off next = 0;
-        sph_batch b;
-        int a;
-        while (sph_batch_fill(&B, i, &next, &b) > 0) sd_batch(S, i, &b, &vs, acc);
-        for (a = 0; a < 3; ++a) S->a[3 * i + a] = acc[a];
-        S->du[i] = acc[3];
-        divv = -acc[4] / orho, src = divv < 0 ? -divv : 0; /* div v_i (Price 2012) */
-        curl = sqrt(acc[5] * acc[5] + acc[6] * acc[6] + acc[7] * acc[7]) / orho;
-        /* Morris & Monaghan (1997) with the source of Rosswog et al. (2000); SPHENIX's switch replaces it */
-        S->dalpha[i] = -(S->alpha[i] - (sph_real)P->alpha_min) * (sph_real)0.1 * S->cs[i] / S->h[i] +
-                       src * ((sph_real)P->alpha_max - S->alpha[i]);
-        vmax = vs > vmax ? vs : vmax;
-        S->sw[3 * i] = divv, S->sw[3 * i + 1] = curl, S->sw[3 * i + 2] = acc[8];
+    { /* each thread takes its own share first (the particles of the static loops: in its core's caches) */
+        sph_idx lo, hi, j;
+        int u = 0;
+        while (sph_share_next(&share, sd_thread(), &u, &lo, &hi))
+            for (j = lo; j < hi; ++j) {
+                const sph_real vs = sd_force_row(S, &B, j);
+                vmax = vs > vmax ? vs : vmax;
+            }
     }
+    /* end snippet */
 #ifdef _OPENMP
 #pragma omp parallel for schedule(static)
 #endif
