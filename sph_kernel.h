@@ -4928,7 +4928,8 @@ SPH_API int sph__nsearch_lists_ref(const sph_nsearch *g, sph_view xt, sph_idx n_
 {
     enum { MAX_BLOCKS = 64 };
     sph_idx lo[MAX_BLOCKS + 1], bad[MAX_BLOCKS];
-    sph_off s0[MAX_BLOCKS + 1], k, end;
+    sph_off s0[MAX_BLOCKS + 1], k, end, next[SPH__SHARES_MAX * SPH_SHARE_PAD];
+    sph_share sh;
     int nb, b, st = sph__nsearch_check(g, xt, n_targets, ht, h, kappa, mode == SPH__NS_MARK ? SPH_NSEARCH_GATHER : mode);
     sph_idx i;
     if (st != SPH_OK) return st;
@@ -4948,11 +4949,17 @@ SPH_API int sph__nsearch_lists_ref(const sph_nsearch *g, sph_view xt, sph_idx n_
     }
     lo[nb] = n_targets;
     s0[nb] = capacity;
+    sph_share_init(&sh, next, SPH__SHARES, nb, 1);
 #ifdef _OPENMP
-#pragma omp parallel for schedule(dynamic, 1) if (nb > 1)
+#pragma omp parallel if (nb > 1)
 #endif
-    for (b = 0; b < nb; ++b)
-        bad[b] = sph__nsearch_block(g, xt, ht, h, kappa, mode, lo[b], lo[b + 1], offset, index, s0[b], s0[b + 1]);
+    { /* each thread its own blocks first (the targets of its static share), then the others' (sph_share_next) */
+        sph_idx b0, b1, c;
+        int u = 0;
+        while (sph_share_next(&sh, SPH__THREAD, &u, &b0, &b1))
+            for (c = b0; c < b1; ++c)
+                bad[c] = sph__nsearch_block(g, xt, ht, h, kappa, mode, lo[c], lo[c + 1], offset, index, s0[c], s0[c + 1]);
+    }
     offset[0] = 0;
     for (i = 0; i < n_targets; ++i) offset[i + 1] += offset[i];
     *pairs = offset[n_targets];
@@ -5207,18 +5214,26 @@ SPH_API int sph_nsearch_prune(const sph_neighbours *list, const sph_box *box, in
     if (threads > 1 && index != NULL && cap >= list->offset[n]) { /* chunks of rows in parallel, each written at
         its rows' input positions (a pruned row is never longer), then moved down in order */
         const int C = 4 * threads;
+        sph_off next[SPH__SHARES_MAX * SPH_SHARE_PAD];
+        sph_share sh;
         int c;
+        sph_share_init(&sh, next, SPH__SHARES, C, 1);
 #ifdef _OPENMP
-#pragma omp parallel for schedule(dynamic, 1)
+#pragma omp parallel
 #endif
-        for (c = 0; c < C; ++c) {
-            const sph_idx lo = (sph_idx)((double)n * c / C), hi = (sph_idx)((double)n * (c + 1) / C);
-            sph_off k = list->offset[lo];
-            sph_idx r;
-            for (r = lo; r < hi; ++r) {
-                offset[r + 1] = sph__prune_row(list, bx, q, dim, x, h, kappa, mode, r, index + k);
-                k += offset[r + 1];
-            }
+        { /* each thread its own chunks first (the rows of its static share), then the others' (sph_share_next) */
+            sph_idx c0, c1, cc;
+            int u = 0;
+            while (sph_share_next(&sh, SPH__THREAD, &u, &c0, &c1))
+                for (cc = c0; cc < c1; ++cc) {
+                    const sph_idx lo = (sph_idx)((double)n * cc / C), hi = (sph_idx)((double)n * (cc + 1) / C);
+                    sph_off k = list->offset[lo];
+                    sph_idx r;
+                    for (r = lo; r < hi; ++r) {
+                        offset[r + 1] = sph__prune_row(list, bx, q, dim, x, h, kappa, mode, r, index + k);
+                        k += offset[r + 1];
+                    }
+                }
         }
         for (i = 0; i < n; ++i) offset[i + 1] += offset[i];
         for (c = 1; c < C; ++c) { /* chunk 0 is in place; the others move down, front first (they may overlap) */
