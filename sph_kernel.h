@@ -1401,20 +1401,22 @@ SPH_API sph_out sph_out_interleaved(sph_real *x, int ncomp)
 #define SPH__AT(v, a, i) ((v).p[a][(ptrdiff_t)(i) * (v).stride])
 
 /* Shares of a caller's parallel loop over particles 0..n-1: share p is
- * n p / shares .. n (p + 1) / shares - 1, the block a static schedule gives
- * thread p, handed out in chunks. A thread takes the chunks of its own share
+ * n p / shares .. n (p + 1) / shares - 1 (about the block that
+ * schedule(static) gives thread p), handed out in chunks. A thread takes the chunks of its own share
  * first (particles whose fields the static loops before left in its core's
  * caches), then what is left of the others' (a slower core does not hold
  * the loop back); every particle once, whatever the thread count.
  * sph_share_next is safe to call from OpenMP threads at once. */
 #define SPH_SHARE_PAD 8 /* entries of next per share: one 64-byte line, so the threads' counters never share one */
 /* The shares of the library's own loops (their counters on the stack): one per thread, at most
- * SPH__SHARES_MAX (threads beyond it start in share t modulo that); this thread's number. */
+ * SPH__SHARES_MAX (threads beyond it start in share t modulo that); this thread's number. Without
+ * OpenMP, and in device code (a device thread runs the whole loop), one share. */
+#if defined(_OPENMP) && !defined(__CUDA_ARCH__)
 #define SPH__SHARES_MAX 64
-#if defined(_OPENMP) && !defined(__CUDA_ARCH__) /* host code: a device thread runs the whole loop */
 #define SPH__SHARES (omp_get_max_threads() < SPH__SHARES_MAX ? omp_get_max_threads() : SPH__SHARES_MAX)
 #define SPH__THREAD omp_get_thread_num()
 #else
+#define SPH__SHARES_MAX 1
 #define SPH__SHARES 1
 #define SPH__THREAD 0
 #endif
