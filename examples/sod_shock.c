@@ -591,9 +591,6 @@ static void sd_switch_sphenix(sd_sim *S, sph_idx i, sph_real divv, sph_real curl
     }
 }
 
-/* Accelerations, du/dt, d alpha/dt and the largest signal velocity at the positions x, velocities vp and energies
- * up: each particle sums over its row of the pruned list (each pair is evaluated from both ends: no scatter, no
- * reduction, no per-pair buffers; the pair terms are antisymmetric, so momentum is conserved to round-off). */
 /* This thread's number in an OpenMP team, 0 without OpenMP. */
 static int sd_thread(void)
 {
@@ -627,6 +624,9 @@ static sph_real sd_force_row(sd_sim *S, const sph_batch_src *B, sph_idx i)
     return vs;
 }
 
+/* Accelerations, du/dt, d alpha/dt and the largest signal velocity at the positions x, velocities vp and energies
+ * up: each particle sums over its row of the pruned list (each pair is evaluated from both ends: no scatter, no
+ * reduction, no per-pair buffers; the pair terms are antisymmetric, so momentum is conserved to round-off). */
 static int sd_forces(sd_sim *S)
 {
     const sd_param *P = &S->P;
