@@ -155,10 +155,31 @@ static void pb_check_contents(sph_kernel k, int dim)
     th_end();
 }
 
+/* The (H5), (H6) terms of the lanes of batch b of row i: pair (i, j) gives
+ * i -m_j (A_i F_i + A_j F_j) x_ij (ci times x_ij) and m_j A_i F_i v_ij .
+ * x_ij (ei), j m_i (A_i F_i + A_j F_j) x_ij (cj) and m_i A_j F_j v_ij . x_ij
+ * (ej). 3-D. restrict: the outputs overlap neither b nor each other, so
+ * the compiler need not reload b->n or the lanes after each store. */
+/* snippet: pair_batch_terms */
+static void pb_gradh_terms(sph_idx i, const sph_batch *restrict b, const sph_real *v, const sph_real *m,
+                           const sph_real *A, sph_real *restrict ci, sph_real *restrict cj, sph_real *restrict ei,
+                           sph_real *restrict ej)
+{
+    int l;
+    for (l = 0; l < b->n; ++l) { /* one plain loop over the lanes, it vectorises */
+        const sph_idx j = b->j[l];
+        const sph_real e = (v[3 * i] - v[3 * j]) * b->dx[0][l] + (v[3 * i + 1] - v[3 * j + 1]) * b->dx[1][l] +
+                           (v[3 * i + 2] - v[3 * j + 2]) * b->dx[2][l]; /* v_ij . x_ij */
+        const sph_real cf = A[i] * b->F_i[l] + A[j] * b->F_j[l];
+        ci[l] = -m[j] * cf, cj[l] = m[i] * cf;
+        ei[l] = m[j] * A[i] * b->F_i[l] * e, ej[l] = m[i] * A[j] * b->F_j[l] * e;
+    }
+}
+/* end snippet */
+
 /* (H5), (H6) over batches of the half list, as a caller writes them: pair k
- * = (i, j) puts -m_j (A_i F_i + A_j F_j) x_ij and m_j A_i F_i v_ij . x_ij
- * into to_i[4 k ..], m_i (A_i F_i + A_j F_j) x_ij and m_i A_j F_j v_ij .
- * x_ij into to_j[4 t_slot[k] ..]; sph_pairs_reduce then sums them. 3-D. */
+ * = (i, j) puts i's terms into to_i[4 k ..], j's into to_j[4 t_slot[k] ..];
+ * sph_pairs_reduce then sums them. */
 static int pb_gradh_batches(const sph_pairs *pr, const sph_batch_src *S, const sph_real *v, const sph_real *m,
                          const sph_real *A, sph_real *to_i, sph_real *to_j, sph_real *out)
 {
@@ -170,14 +191,7 @@ static int pb_gradh_batches(const sph_pairs *pr, const sph_batch_src *S, const s
         while (sph_batch_fill(S, i, &next, &b) > 0) {
             sph_real ci[SPH_BATCH], cj[SPH_BATCH], ei[SPH_BATCH], ej[SPH_BATCH];
             int l, a;
-            for (l = 0; l < b.n; ++l) { /* the arithmetic: one plain loop over the lanes, it vectorises */
-                const sph_idx j = b.j[l];
-                const sph_real e = (v[3 * i] - v[3 * j]) * b.dx[0][l] + (v[3 * i + 1] - v[3 * j + 1]) * b.dx[1][l] +
-                                   (v[3 * i + 2] - v[3 * j + 2]) * b.dx[2][l]; /* v_ij . x_ij */
-                const sph_real cf = A[i] * b.F_i[l] + A[j] * b.F_j[l];
-                ci[l] = -m[j] * cf, cj[l] = m[i] * cf;
-                ei[l] = m[j] * A[i] * b.F_i[l] * e, ej[l] = m[i] * A[j] * b.F_j[l] * e;
-            }
+            pb_gradh_terms(i, &b, v, m, A, ci, cj, ei, ej); /* the arithmetic */
             for (l = 0; l < b.n; ++l) { /* the stores: i's share at k, j's at its slot */
                 sph_real *ti = to_i + 4 * b.k[l], *tj = to_j + 4 * pr->t_slot[b.k[l]];
                 for (a = 0; a < 3; ++a) ti[a] = ci[l] * b.dx[a][l], tj[a] = cj[l] * b.dx[a][l];
@@ -191,8 +205,8 @@ static int pb_gradh_batches(const sph_pairs *pr, const sph_batch_src *S, const s
 
 /* The same equations on one thread with no buffers: j's share added to
  * out[4 j ..] as the pair is met, i's to out[4 i ..] after its row (out
- * zeroed first): the terms pb_gradh_batches stores, bit for bit, summed in
- * another order. */
+ * zeroed first): the terms of pb_gradh_terms, as pb_gradh_batches stores
+ * them, summed in another order. */
 static void pb_gradh_direct(const sph_pairs *pr, const sph_batch_src *S, const sph_real *v, const sph_real *m,
                             const sph_real *A, sph_real *out)
 {
@@ -207,14 +221,7 @@ static void pb_gradh_direct(const sph_pairs *pr, const sph_batch_src *S, const s
         while (sph_batch_fill(S, i, &next, &b) > 0) {
             sph_real ci[SPH_BATCH], cj[SPH_BATCH], ei[SPH_BATCH], ej[SPH_BATCH];
             int l;
-            for (l = 0; l < b.n; ++l) { /* the arithmetic, as above */
-                const sph_idx j = b.j[l];
-                const sph_real e = (v[3 * i] - v[3 * j]) * b.dx[0][l] + (v[3 * i + 1] - v[3 * j + 1]) * b.dx[1][l] +
-                                   (v[3 * i + 2] - v[3 * j + 2]) * b.dx[2][l];
-                const sph_real cf = A[i] * b.F_i[l] + A[j] * b.F_j[l];
-                ci[l] = -m[j] * cf, cj[l] = m[i] * cf;
-                ei[l] = m[j] * A[i] * b.F_i[l] * e, ej[l] = m[i] * A[j] * b.F_j[l] * e;
-            }
+            pb_gradh_terms(i, &b, v, m, A, ci, cj, ei, ej); /* the arithmetic */
             for (l = 0; l < b.n; ++l) { /* j's share added to its row now, i's kept */
                 sph_real *oj = out + 4 * b.j[l];
                 for (a = 0; a < 3; ++a) oj[a] += cj[l] * b.dx[a][l], si[a] += ci[l] * b.dx[a][l];
@@ -294,16 +301,17 @@ static void pb_check_forces(void)
                Accuracy and Stability of Numerical Algorithms, 2nd ed., eq. 4.4), N eps sum |t| apart at most */
             const sph_off *ko = pr.half.offset, *to_off = pr.t_offset;
             const double nt = (double)(ko[i + 1] - ko[i] + to_off[i + 1] - to_off[i]);
-            double sum_abs = 0, ed = fabs((double)outd[4 * i + a] - (double)out[4 * i + a]);
+            double sum_abs = 0, bound, ed = fabs((double)outd[4 * i + a] - (double)out[4 * i + a]);
             sph_off k;
             for (k = ko[i]; k < ko[i + 1]; ++k) sum_abs += fabs((double)to[4 * k + a]);
             for (k = to_off[i]; k < to_off[i + 1]; ++k) sum_abs += fabs((double)to[4 * (pairs + k) + a]);
             TH_CHECK(e <= 4 * TH_EPS * big, "particle %d component %d: batches %.17g, sph_gradh_forces_pairs %.17g", i,
                      a, (double)out[4 * i + a], ref);
-            TH_CHECK(ed <= nt * TH_EPS * sum_abs, "particle %d component %d: added in the loop %.17g, buffers %.17g", i,
-                     a, (double)outd[4 * i + a], (double)out[4 * i + a]);
+            bound = nt * TH_EPS * sum_abs;
+            TH_CHECK(ed <= bound, "particle %d component %d: added in the loop %.17g, buffers %.17g", i, a,
+                     (double)outd[4 * i + a], (double)out[4 * i + a]);
             worst = e > worst ? e : worst;
-            if (nt * sum_abs > 0) worstd = ed / (nt * TH_EPS * sum_abs) > worstd ? ed / (nt * TH_EPS * sum_abs) : worstd;
+            if (bound > 0) worstd = ed / bound > worstd ? ed / bound : worstd;
         }
     printf("    largest |batches - sph_gradh_forces_pairs| = %.2f eps of the largest value; added in the loop against\n"
            "    the buffers: at most %.3f of the bound N eps sum |t|\n", worst / (TH_EPS * big), worstd);
