@@ -4979,10 +4979,186 @@ SPH_API int sph__nsearch_lists_ref(const sph_nsearch *g, sph_view xt, sph_idx n_
     return SPH_OK;
 }
 
+/* A list entry with its mark -1 - s undone to s. */
+SPH__INLINE sph_idx sph__ns_unmark(sph_idx v) { return v < 0 ? -1 - v : v; }
+
+/* Copies the c values below r to below w (w >= r: the ranges may overlap),
+ * 16 at a time through a buffer, from the top, marks -1 - s undone to s;
+ * returns w - c. */
+SPH__INLINE sph_idx *sph__ns_up(sph_idx *w, const sph_idx *r, sph_off c)
+{
+    sph_idx buf[16];
+    int k;
+    for (; c >= 16; c -= 16) {
+        for (k = 0; k < 16; ++k) buf[k] = sph__ns_unmark(r[k - 16]);
+        for (k = 0; k < 16; ++k) w[k - 16] = buf[k];
+        r -= 16, w -= 16;
+    }
+    while (c-- > 0) *--w = sph__ns_unmark(*--r);
+    return w;
+}
+
+/* One pass over the gather rows (row j len[j] entries, one after another
+ * from index[0]): marks[j] = the marks in row j, at[s] += the marks -1 - s,
+ * and the marks themselves in row order into P while room lasts (P may be
+ * NULL). Returns how many. The marks of up to 512 entries are counted in a
+ * loop of their own, where the increments scattered over at overlap one
+ * another instead of each waiting behind a mispredicted branch. */
+SPH_API sph_off sph__nsearch_sym_scan(sph_idx n, const sph_idx *len, const sph_idx *index, sph_idx *marks,
+                                      sph_off *at, sph_idx *P, sph_off room)
+{
+    enum { C = 512 };
+    sph_idx buf[C + 32], j, e;
+    sph_off c = 0, src = 0;
+    int b = 0;
+    for (j = 0; j < n; src += len[j++]) {
+        const sph_idx *row = index + src;
+        const sph_off c0 = c + b;
+        for (e = 0; e < len[j]; e += 32) {
+            unsigned m = sph__ns_signs(row + e, len[j] - e < 32 ? (int)(len[j] - e) : 32);
+            for (; m != 0; m &= m - 1) buf[b++] = row[e + sph__ns_ctz(m)];
+            if (b >= C || (j == n - 1 && e + 32 >= len[j])) { /* the increments, and into P */
+                int k;
+                for (k = 0; k < b; ++k) ++at[-1 - buf[k]];
+                P = P != NULL && c + b <= room ? P : NULL;
+                for (k = 0; P != NULL && k < b; ++k) P[c + k] = buf[k];
+                c += b, b = 0;
+            }
+        }
+        marks[j] = (sph_idx)(c + b - c0);
+    }
+    for (e = 0; e < b; ++e) ++at[-1 - buf[e]]; /* a last row without entries */
+    return c + b;
+}
+
+#if SPH__NS_COMPRESS
+/* 16 indices with their marks -1 - s undone to s. */
+SPH__INLINE __m512i sph__ns_unmark16(__m512i v) { return _mm512_xor_si512(v, _mm512_srai_epi32(v, 31)); }
+
+/* How many of row[0 .. t-1] (ascending once unmarked) lie below v, given
+ * that none from t on does: 16 at a time down from t. */
+SPH__INLINE sph_off sph__ns_below16(const sph_idx *row, sph_off t, sph_idx v)
+{
+    for (;;) {
+        const sph_off lo = t >= 16 ? t - 16 : 0;
+        const __mmask16 live = (__mmask16)(t - lo == 16 ? 0xFFFFu : (1u << (t - lo)) - 1u);
+        const __m512i x = sph__ns_unmark16(_mm512_maskz_loadu_epi32(live, (const void *)(row + lo)));
+        const int above = __builtin_popcount(_mm512_mask_cmpgt_epi32_mask(live, x, _mm512_set1_epi32(v)));
+        if (above < t - lo || lo == 0) return t - above;
+        t = lo;
+    }
+}
+#endif
+
+#if SPH__NS_COMPRESS
+/* The lanes of out's chunks of 16 (from out[0]) that come from ext, for a
+ * row of at most 16 NCH entries (NCH a constant: the row stays in
+ * registers): ext[c] goes to c + the row's entries below it. */
+SPH__INLINE void sph__ns_ext_lanes(unsigned short *in_ext, const sph_idx *row, sph_off L, const sph_idx *ext,
+                                   sph_off e, const int NCH)
+{
+    __m512i x[8];
+    sph_off c;
+    int t;
+    for (t = 0; t < NCH; ++t) {
+        const sph_off left = L - 16 * t;
+        const __mmask16 live = (__mmask16)(left >= 16 ? 0xFFFFu : left > 0 ? (1u << left) - 1u : 0u);
+        x[t] = sph__ns_unmark16(_mm512_mask_loadu_epi32(_mm512_set1_epi32(INT32_MAX), live, (const void *)(row + 16 * t)));
+    }
+    for (c = 0; c <= (L + e - 1) / 16; ++c) in_ext[c] = 0;
+    for (c = 0; c < e; ++c) {
+        const __m512i v = _mm512_set1_epi32(ext[c]);
+        sph_off below = c;
+        for (t = 0; t < NCH; ++t) below += __builtin_popcount(_mm512_cmplt_epi32_mask(x[t], v));
+        in_ext[below / 16] = (unsigned short)(in_ext[below / 16] | 1u << (below % 16));
+    }
+}
+#endif
+
+/* out[0 .. L+e-1] = row[0 .. L-1] (marks undone) merged with ext[0 .. e-1],
+ * both ascending, no value in both; out >= row (the two may overlap), ext
+ * apart. Written from the top, never below what is still to be read: with
+ * AVX-512 16 at a time, each chunk's entries from ext expanded into their
+ * lanes and the row's into the others; else one entry at a time. */
+SPH__INLINE void sph__ns_merge_row(sph_idx *out, const sph_idx *row, sph_off L, const sph_idx *ext, sph_off e)
+{
+#if SPH__NS_COMPRESS
+    unsigned short in_ext[16];      /* per chunk of 16 of out, the lanes from ext: rows of up to 128 and ext of up to 128 */
+    const int short_row = L <= 128 && e <= 128;
+    sph_off o = L + e, r = L, k = e, q = e > 0 && !short_row ? sph__ns_below16(row, L, ext[e - 1]) + e - 1 : -1;
+    if (L <= 64 && e <= 128)
+        sph__ns_ext_lanes(in_ext, row, L, ext, e, 4);
+    else if (short_row)
+        sph__ns_ext_lanes(in_ext, row, L, ext, e, 8);
+    while (o > 0) { /* out[lo .. o-1], lo a multiple of 16; q: where ext[k-1] goes */
+        const sph_off lo = (o - 1) / 16 * 16;
+        const __mmask16 live = (__mmask16)(o - lo == 16 ? 0xFFFFu : (1u << (o - lo)) - 1u);
+        unsigned m = 0;
+        int from_ext, from_row;
+        __m512i d;
+        if (short_row)
+            m = in_ext[lo / 16];
+        else
+            for (; q >= lo; q = k > 0 ? sph__ns_below16(row, r, ext[k - 1]) + k - 1 : -1) m |= 1u << (q - lo), --k;
+        from_ext = __builtin_popcount(m);
+        from_row = (int)(o - lo) - from_ext;
+        k -= short_row ? from_ext : 0;
+        d = _mm512_maskz_loadu_epi32((__mmask16)((1u << from_row) - 1u), (const void *)(row + r - from_row));
+        d = sph__ns_unmark16(_mm512_maskz_expand_epi32((__mmask16)(live & ~m), d));
+        d = _mm512_mask_expand_epi32(
+            d, (__mmask16)m, _mm512_maskz_loadu_epi32((__mmask16)((1u << from_ext) - 1u), (const void *)(ext + k)));
+        _mm512_mask_storeu_epi32((void *)(out + lo), live, d);
+        r -= from_row, o = lo;
+    }
+#else
+    sph_idx *w = out + L + e;
+    const sph_idx *r = row + L;
+    while (e > 0) { /* the row's entries above ext's last, then it */
+        const sph_idx v = ext[--e];
+        for (; r > row && sph__ns_unmark(r[-1]) > v; --r) *--w = sph__ns_unmark(r[-1]);
+        *--w = v;
+    }
+    sph__ns_up(w, r, r - row);
+#endif
+}
+
+/* Completes the symmetric rows from the scan (sph__nsearch_sym_scan) when
+ * index has room for the marks twice past the gather lists: gather rows one
+ * after another from index[0] (row i len[i] entries, marks[i] of them
+ * marked; its final segment offset[i] .. offset[i+1] - 1), the marks in row
+ * order at P, at[i] how many name source i. Each E_i is laid out ascending
+ * at index[offset[n] ..] (a counting sort of P); then each row, last first,
+ * is merged with its E_i from the back into its final segment, marks undone
+ * on the way (a row only moves up, over rows already done; P lies below the
+ * final end, E past it). */
+SPH_API void sph__nsearch_sym_past(sph_idx n, const sph_off *offset, const sph_idx *len, const sph_idx *marks,
+                                   sph_off *at, sph_idx *index, const sph_idx *P)
+{
+    sph_idx i, j, e;
+    sph_off src = 0, c = offset[n];
+    for (i = 0; i < n; ++i) { /* at[i]: where E_i starts */
+        const sph_off k = at[i];
+        at[i] = c;
+        c += k;
+    }
+    for (j = 0; j < n; src += len[j++])
+        for (e = 0; e < marks[j]; ++e) index[at[-1 - *P++]++] = j;
+    for (i = n - 1; i >= 0; --i) { /* at[i]: where E_i ends */
+        const sph_off x = offset[i + 1] - offset[i] - len[i]; /* |E_i| */
+        src -= len[i];
+        if (offset[i] != src || x != 0 || marks[i] != 0)
+            sph__ns_merge_row(index + offset[i], index + src, len[i], index + at[i] - x, x);
+    }
+}
+
 /* sph_nsearch_lists in symmetric mode from the gather lists (sph__nsearch_sym_ok
  * holds): the gather lists into index, marked, their marks counted per
- * source, the final offsets from the row lengths, the gather rows moved up to their final segments (last row
- * first: a row only moves up, over rows already moved) and the marks of each counted on the way, then completed.
+ * source and kept in row order past them (sph__nsearch_sym_scan), the final
+ * offsets from the row lengths; with room for the marks past the final
+ * lists, completed in one pass (sph__nsearch_sym_past), else the gather rows
+ * moved up to their final segments (last row first: a row only moves up,
+ * over rows already moved), then completed in place
+ * (sph__nsearch_sym_finish).
  * SPH_ESIZE, offsets complete, when index cannot hold the symmetric lists; when
  * it cannot hold even the gather ones, the offsets come from the direct
  * search (sph__nsearch_lists_ref). */
@@ -4990,33 +5166,26 @@ SPH_API int sph__nsearch_sym_lists(const sph_nsearch *g, sph_view xt, sph_idx n,
                                    sph_real kappa, sph_off *offset, sph_idx *index, sph_off capacity, sph_off *pairs)
 {
     sph_idx *len = g->sym, *marks = g->sym + g->n_padded, i, k;
-    sph_off src, *at = g->sym_at;
+    sph_off src, M, *at = g->sym_at;
     int st;
     st = sph__nsearch_lists_ref(g, xt, n, ht, h, kappa, SPH__NS_MARK, offset, index, capacity, pairs);
     if (st == SPH_ESIZE)
         return sph__nsearch_lists_ref(g, xt, n, ht, h, kappa, SPH_NSEARCH_SYMMETRIC, offset, index, capacity, pairs);
     if (st != SPH_OK) return st;
     for (i = 0; i < n; ++i) at[i] = 0;
-#ifdef _OPENMP
-#pragma omp parallel for schedule(static) if (offset[n] >= 65536)
-#endif
-    for (k = 0; k < (sph_idx)((offset[n] + 65535) / 65536); ++k) /* chunks of the gather lists */
-        sph__nsearch_sym_count(index + (sph_off)k * 65536,
-                               offset[n] - (sph_off)k * 65536 < 65536 ? offset[n] - (sph_off)k * 65536 : 65536, at);
     for (i = 0; i < n; ++i) len[i] = (sph_idx)(offset[i + 1] - offset[i]);
     src = offset[n];
+    M = sph__nsearch_sym_scan(n, len, index, marks, at, index + src, capacity - src);
     for (i = 0; i < n; ++i) offset[i + 1] = offset[i] + len[i] + at[i];
     *pairs = offset[n];
     if (offset[n] > capacity) return SPH_ESIZE;
-    for (i = n - 1; i >= 0; --i) {
-        unsigned c = 0;
+    if (capacity - offset[n] >= M) { /* P at the gather lists' end, E past the final ones */
+        sph__nsearch_sym_past(n, offset, len, marks, at, index, index + src);
+        return SPH_OK;
+    }
+    for (i = n - 1; i >= 0; --i) { /* up: last first */
         src -= len[i];
-        for (k = len[i] - 1; k >= 0; --k) { /* up: last first */
-            const sph_idx v = index[src + k];
-            index[offset[i] + k] = v;
-            c += (unsigned)v >> 31;
-        }
-        marks[i] = (sph_idx)c;
+        for (k = len[i] - 1; k >= 0; --k) index[offset[i] + k] = index[src + k];
         at[i] = offset[i + 1];
     }
     sph__nsearch_sym_finish(n, offset, len, marks, at, index);

@@ -1274,6 +1274,33 @@ static void test_sym_from_gather(void)
             TH_CHECK(st == SPH_OK, "fill after SPH_ESIZE: %d", st);
             nb_same("fill after SPH_ESIZE", &ref, n, offset, index);
         }
+        { /* the completion with room for the marks past the lists (index of 2 S - G: E laid out there, rows
+             merged 16 at a time where AVX-512 is, rows of up to 64, up to 128 and more entries) and one short */
+            tp_list gref;
+            int kind[3] = {0, 0, 0};
+            sph_idx *roomy;
+            TH_CHECK(tp_brute_list(3, x, n, x, n, 0, h, h, 2, SPH_NSEARCH_GATHER, p.box, &gref) == 0 &&
+                         gref.offset[n] == G, "gather reference");
+            for (i = 0; i < n; ++i) { /* rows that take marks, by their gather length */
+                const sph_off L = gref.offset[i + 1] - gref.offset[i];
+                if (ref.offset[i + 1] - ref.offset[i] > L) ++kind[L <= 64 ? 0 : L <= 128 ? 1 : 2];
+            }
+            TH_CHECK(box_kind == 2 || (kind[0] > 0 && kind[1] > 0 && kind[2] > 0),
+                     "rows with marks of up to 64, 128 and more entries: %d %d %d", kind[0], kind[1], kind[2]);
+            for (cap = 2 * S - G; cap >= 2 * S - G - 1; --cap) {
+                roomy = (sph_idx *)malloc(sizeof(sph_idx) * (size_t)cap); /* exactly: a write past it is caught */
+                if (roomy == NULL) break;
+                pairs = -1;
+                st = sph_nsearch_lists(&g, sph_view_interleaved(x, 3), n, sph_view_soa(h, NULL, NULL), 0, 2,
+                                       SPH_NSEARCH_SYMMETRIC, offset, roomy, cap, &pairs);
+                TH_CHECK(st == SPH_OK && pairs == S, "lists, capacity %ld = 2 S - G%s: status %d, %ld pairs", (long)cap,
+                         cap < 2 * S - G ? " - 1" : "", st, (long)pairs);
+                nb_same(cap < 2 * S - G ? "lists, capacity 2 S - G - 1" : "lists, capacity 2 S - G", &ref, n, offset,
+                        roomy);
+                free(roomy);
+            }
+            tp_free_list(&gref);
+        }
         offset[n / 2] += 1; /* a wrong length: refused */
         st = sph_nsearch_fill(&g, sph_view_interleaved(x, 3), n, sph_view_soa(h, NULL, NULL), 0, 2,
                               SPH_NSEARCH_SYMMETRIC, offset, index, S);
