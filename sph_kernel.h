@@ -3814,6 +3814,18 @@ SPH__INLINE unsigned sph__nsearch_mask16(const sph_nsearch *g, sph__probe *p, sp
 }
 #endif
 
+/* Set bits of m. */
+SPH_API int sph__ns_popcount(unsigned m)
+{
+#if defined(__GNUC__) && !defined(__CUDA_ARCH__) /* the builtin is host code under nvcc */
+    return __builtin_popcount(m);
+#else
+    int k = 0;
+    for (; m != 0; m &= m - 1) ++k;
+    return k;
+#endif
+}
+
 /* Lowest set bit of m != 0. */
 SPH_API int sph__ns_ctz(unsigned m)
 {
@@ -4913,6 +4925,23 @@ SPH_API sph_idx sph__nsearch_block(const sph_nsearch *g, sph_view xt, sph_view h
     return bad;
 }
 
+/* Blocks of targets the one-pass search splits n_targets into: one without
+ * OpenMP or with one thread, else up to four per thread of at least 1024
+ * targets each, at most max_blocks. */
+SPH_API int sph__nsearch_blocks(sph_idx n_targets, int max_blocks)
+{
+    int nb = 1;
+#ifdef _OPENMP
+    nb = omp_get_max_threads();
+    nb = nb > 1 ? 4 * nb : 1; /* one thread: one block, nothing to move */
+    nb = nb < max_blocks ? nb : max_blocks;
+    nb = n_targets / 1024 < nb ? (int)(n_targets / 1024) : nb;
+    nb = nb > 1 ? nb : 1;
+#endif
+    (void)n_targets, (void)max_blocks;
+    return nb;
+}
+
 /* Count and fill in one search per target (eq. (N1)/(N2)): offset[0..nt]
  * and index[] exactly as sph_nsearch_count then sph_nsearch_fill give them;
  * index holds capacity entries, *pairs = offset[nt] (the entries needed).
@@ -4938,14 +4967,7 @@ SPH_API int sph__nsearch_lists_ref(const sph_nsearch *g, sph_view xt, sph_idx n_
     if (st != SPH_OK) return st;
     if (offset == NULL || pairs == NULL || (index == NULL && capacity > 0)) return SPH_ENULL;
     if (capacity < 0) return SPH_ECOUNT;
-    nb = 1;
-#ifdef _OPENMP
-    nb = omp_get_max_threads();
-    nb = nb > 1 ? 4 * nb : 1; /* one thread: one block, nothing to move */
-    nb = nb < MAX_BLOCKS ? nb : MAX_BLOCKS;
-    nb = n_targets / 1024 < nb ? (int)(n_targets / 1024) : nb;
-    nb = nb > 1 ? nb : 1;
-#endif
+    nb = sph__nsearch_blocks(n_targets, MAX_BLOCKS);
     for (b = 0; b <= nb; ++b) { /* block b: targets lo[b].., index from s0[b] */
         lo[b] = (sph_idx)((double)n_targets * b / nb);
         s0[b] = (sph_off)((double)capacity * b / nb);
@@ -5030,6 +5052,62 @@ SPH_API sph_off sph__nsearch_sym_scan(sph_idx n, const sph_idx *len, const sph_i
     }
     for (e = 0; e < b; ++e) ++at[-1 - buf[e]]; /* a last row without entries */
     return c + b;
+}
+
+/* sph__nsearch_sym_scan on up to 64 contiguous blocks of rows, one per
+ * thread at a time (under OpenMP): each block's marks counted per row, then,
+ * from the block's place in P (a prefix over the blocks), stored there in
+ * row order, at[s] counted atomically. The same marks, at and P. */
+SPH_API sph_off sph__nsearch_sym_scan_blocks(sph_idx n, const sph_off *offset, const sph_idx *index, sph_idx *marks,
+                                             sph_off *at, sph_idx *P, sph_off room, int nb)
+{
+    enum { MAX_BLOCKS = 64 };
+    sph_off c[MAX_BLOCKS + 1];
+    int b;
+    nb = nb < MAX_BLOCKS ? nb : MAX_BLOCKS;
+#ifdef _OPENMP
+#pragma omp parallel for schedule(static) if (nb > 1)
+#endif
+    for (b = 0; b < nb; ++b) { /* each row's marks */
+        const sph_idx lo = (sph_idx)((double)n * b / nb), hi = (sph_idx)((double)n * (b + 1) / nb);
+        sph_idx j;
+        sph_off e, sum = 0;
+        for (j = lo; j < hi; ++j) {
+            const sph_off len = offset[j + 1] - offset[j];
+            int k = 0;
+            for (e = 0; e < len; e += 32)
+                k += sph__ns_popcount(sph__ns_signs(index + offset[j] + e, len - e < 32 ? (int)(len - e) : 32));
+            marks[j] = k;
+            sum += k;
+        }
+        c[b + 1] = sum;
+    }
+    for (c[0] = 0, b = 0; b < nb; ++b) c[b + 1] += c[b];
+    P = c[nb] <= room ? P : NULL;
+#ifdef _OPENMP
+#pragma omp parallel for schedule(static) if (nb > 1)
+#endif
+    for (b = 0; b < nb; ++b) { /* the marks into P from the block's place, and counted */
+        const sph_idx lo = (sph_idx)((double)n * b / nb), hi = (sph_idx)((double)n * (b + 1) / nb);
+        sph_idx j;
+        sph_off e, w = c[b];
+        for (j = lo; j < hi; ++j) {
+            const sph_off len = offset[j + 1] - offset[j];
+            const sph_idx *row = index + offset[j];
+            for (e = 0; marks[j] > 0 && e < len; e += 32) {
+                unsigned m = sph__ns_signs(row + e, len - e < 32 ? (int)(len - e) : 32);
+                for (; m != 0; m &= m - 1) {
+                    const sph_idx v = row[e + sph__ns_ctz(m)];
+                    if (P != NULL) P[w++] = v;
+#ifdef _OPENMP
+#pragma omp atomic
+#endif
+                    ++at[-1 - v];
+                }
+            }
+        }
+    }
+    return c[nb];
 }
 
 #if SPH__NS_COMPRESS
@@ -5168,7 +5246,7 @@ SPH_API int sph__nsearch_sym_lists(const sph_nsearch *g, sph_view xt, sph_idx n,
 {
     sph_idx *len = g->sym, *marks = g->sym + g->n_padded, i, k;
     sph_off src, M, *at = g->sym_at;
-    int st;
+    int st, nb;
     st = sph__nsearch_lists_ref(g, xt, n, ht, h, kappa, SPH__NS_MARK, offset, index, capacity, pairs);
     if (st == SPH_ESIZE)
         return sph__nsearch_lists_ref(g, xt, n, ht, h, kappa, SPH_NSEARCH_SYMMETRIC, offset, index, capacity, pairs);
@@ -5176,7 +5254,9 @@ SPH_API int sph__nsearch_sym_lists(const sph_nsearch *g, sph_view xt, sph_idx n,
     for (i = 0; i < n; ++i) at[i] = 0;
     for (i = 0; i < n; ++i) len[i] = (sph_idx)(offset[i + 1] - offset[i]);
     src = offset[n];
-    M = sph__nsearch_sym_scan(n, len, index, marks, at, index + src, capacity - src);
+    nb = sph__nsearch_blocks(n, 64);
+    M = nb > 1 ? sph__nsearch_sym_scan_blocks(n, offset, index, marks, at, index + src, capacity - src, nb)
+               : sph__nsearch_sym_scan(n, len, index, marks, at, index + src, capacity - src);
     for (i = 0; i < n; ++i) offset[i + 1] = offset[i] + len[i] + at[i];
     *pairs = offset[n];
     if (offset[n] > capacity) return SPH_ESIZE;
