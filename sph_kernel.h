@@ -4256,15 +4256,14 @@ SPH_API int sph__nsearch_axes(sph_nsearch *g, int dim, const sph_real *L, const 
 
 /* Modelled cost of a target of radius x cell widths (docs/neighbours.md,
  * "Varying h"): rows of cells, weighted by the cost of a row against a
- * neighbour check (4 checks a row where the checks go 8 at a time, 16 where
- * AVX-512 takes a block of 16 in one go; ~60, 20, 5 neighbours in 3-, 2-,
- * 1-D), plus candidate checks per neighbour, (1 + 0.7 / x)^dim (2.41 at
- * cells of R/2 in 3-D; 2.45 measured). */
+ * neighbour check (4 checks a row, ~60, 20, 5 neighbours in 3-, 2-, 1-D),
+ * plus candidate checks per neighbour, (1 + 0.7 / x)^dim (2.41 at cells
+ * of R/2 in 3-D; 2.45 measured). */
 SPH_API double sph__nsearch_model(int dim, double x)
 {
     const double rows = dim == 3 ? 3.14159265358979 * (x + 0.5) * (x + 0.5) : dim == 2 ? 2 * x + 1 : 1;
-    const double c = 1 + 0.7 / x, row = SPH__NS_COMPRESS ? 16 : 4;
-    return rows * row / (dim == 3 ? 60 : dim == 2 ? 20 : 5) + (dim == 3 ? c * c * c : dim == 2 ? c * c : c);
+    const double c = 1 + 0.7 / x;
+    return rows * (dim == 3 ? 4.0 / 60 : dim == 2 ? 4.0 / 20 : 4.0 / 5) + (dim == 3 ? c * c * c : dim == 2 ? c * c : c);
 }
 
 /* Quarter octaves j (h_ref = h_max 2^(-j/4)) below the largest source h at
