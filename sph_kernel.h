@@ -5049,7 +5049,11 @@ SPH_API sph_off sph__nsearch_sym_scan(sph_idx n, const sph_idx *len, const sph_i
         }
         marks[j] = (sph_idx)(c + b - c0);
     }
-    for (e = 0; e < b; ++e) ++at[-1 - buf[e]]; /* a last row without entries */
+    P = P != NULL && c + b <= room ? P : NULL; /* what a last row without entries left */
+    for (e = 0; e < b; ++e) {
+        ++at[-1 - buf[e]];
+        if (P != NULL) P[c + e] = buf[e];
+    }
     return c + b;
 }
 
