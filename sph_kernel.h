@@ -4012,9 +4012,46 @@ SPH__INLINE int sph__nsearch_row(const sph_nsearch *g, sph__probe *p, int nr, in
     return n;
 }
 
+#if SPH__NS_COMPRESS
+/* 16 indices with their marks -1 - s undone to s. */
+SPH__INLINE __m512i sph__ns_unmark16(__m512i v)
+{
+    return _mm512_xor_si512(v, _mm512_maskz_srai_epi32((__mmask16)0xFFFF, v, 31));
+}
+
+/* Sorts n <= 16 NCH distinct indices ascending (NCH a constant: the list
+ * stays in registers; MK 1: by source, a mark -1 - i as i): each entry
+ * goes to its rank, the number of entries below it, counted for 16 entries
+ * at a time against every entry in turn, without a branch on the data. */
+SPH__INLINE void sph__ns_rank_sort(sph_idx *v, sph_off n, const int MK, const int NCH)
+{
+    __m512i val[8], key[8], rank[8];
+    sph_off k;
+    int t;
+    for (t = 0; t < NCH; ++t) {
+        const sph_off left = n - 16 * t;
+        const __mmask16 live = (__mmask16)(left >= 16 ? 0xFFFFu : left > 0 ? (1u << left) - 1u : 0u);
+        val[t] = _mm512_maskz_loadu_epi32(live, (const void *)(v + 16 * t));
+        key[t] = MK ? sph__ns_unmark16(val[t]) : val[t];
+        rank[t] = _mm512_setzero_si512();
+    }
+    for (k = 0; k < n; ++k) {
+        const __m512i u = _mm512_set1_epi32(MK && v[k] < 0 ? -1 - v[k] : v[k]);
+        for (t = 0; t < NCH; ++t)
+            rank[t] = _mm512_mask_sub_epi32(rank[t], _mm512_cmplt_epi32_mask(u, key[t]), rank[t], _mm512_set1_epi32(-1));
+    }
+    for (t = 0; t < NCH; ++t) {
+        const sph_off left = n - 16 * t;
+        const __mmask16 live = (__mmask16)(left >= 16 ? 0xFFFFu : left > 0 ? (1u << left) - 1u : 0u);
+        _mm512_mask_i32scatter_epi32((void *)v, live, rank[t], val[t], 4);
+    }
+}
+#endif
+
 /* Sorts n distinct indices ascending: nothing to do for a sorted run (the
- * usual case on cell-sorted particles), else Shell sort with gaps
- * g' = floor(2.25 g) + 1 (Tokuda 1992). */
+ * usual case on cell-sorted particles); with AVX-512 up to 128 by rank
+ * (sph__ns_rank_sort); else Shell sort with gaps g' = floor(2.25 g) + 1
+ * (Tokuda 1992). */
 SPH__INLINE void sph__ns_sort_as(sph_idx *v, sph_off n, const int MK)
 {
 #define SPH__NS_KEY(x) (MK && (x) < 0 ? -1 - (x) : (x))
@@ -4022,6 +4059,12 @@ SPH__INLINE void sph__ns_sort_as(sph_idx *v, sph_off n, const int MK)
     int ng = 0, unsorted = 0;
     for (i = 1; i < n; ++i) unsorted |= SPH__NS_KEY(v[i - 1]) >= SPH__NS_KEY(v[i]); /* no early exit: a vector loop */
     if (!unsorted) return;
+#if SPH__NS_COMPRESS
+    if (n <= 128) {
+        n <= 32 ? sph__ns_rank_sort(v, n, MK, 2) : n <= 64 ? sph__ns_rank_sort(v, n, MK, 4) : sph__ns_rank_sort(v, n, MK, 8);
+        return;
+    }
+#endif
     while (gap < n && ng < 64) {
         gaps[ng++] = gap;
         gap = (sph_off)(2.25 * (double)gap) + 1;
@@ -5116,9 +5159,6 @@ SPH_API sph_off sph__nsearch_sym_scan_blocks(sph_idx n, const sph_off *offset, c
 }
 
 #if SPH__NS_COMPRESS
-/* 16 indices with their marks -1 - s undone to s. */
-SPH__INLINE __m512i sph__ns_unmark16(__m512i v) { return _mm512_xor_si512(v, _mm512_srai_epi32(v, 31)); }
-
 /* How many of row[0 .. t-1] (ascending once unmarked) lie below v, given
  * that none from t on does: 16 at a time down from t. */
 SPH__INLINE sph_off sph__ns_below16(const sph_idx *row, sph_off t, sph_idx v)

@@ -1316,6 +1316,43 @@ static void test_sym_from_gather(void)
     }
 }
 
+/* The row sort (sph__ns_sort) of every length class: 0..300 distinct
+ * indices in random order, some marked -1 - i, sorted by source and
+ * compared with an insertion sort written here; rows of 1..32, 33..64,
+ * 65..128 and beyond (the rank sort's three widths with AVX-512, Shell sort
+ * past them and without it), already sorted and reversed among them. */
+static void test_row_sort(void)
+{
+    enum { NMAX = 300 };
+    sph_idx v[NMAX], ref[NMAX];
+    tp_rng rng = {77};
+    int n, mk, order, bad = 0, k, j;
+    th_begin("row sort, 0..%d entries, marked and not", NMAX);
+    for (n = 0; n <= NMAX; ++n)
+        for (mk = 0; mk < 2; ++mk)
+            for (order = 0; order < 3; ++order) {
+                for (k = 0; k < n; ++k) { /* distinct: 3 k + a random 0..2 */
+                    const sph_idx s = (sph_idx)(3 * k + (int)(3 * tp_uniform(&rng)) % 3);
+                    v[order == 2 ? n - 1 - k : k] = mk && tp_uniform(&rng) < 0.3 ? -1 - s : s;
+                }
+                for (k = n - 1; order == 1 && k > 0; --k) { /* shuffled */
+                    const int r = (int)(tp_uniform(&rng) * (k + 1)) % (k + 1);
+                    const sph_idx t = v[k];
+                    v[k] = v[r], v[r] = t;
+                }
+                memcpy(ref, v, sizeof(sph_idx) * (size_t)n);
+                for (k = 1; k < n; ++k) { /* insertion sort by source */
+                    const sph_idx t = ref[k], kt = t < 0 ? -1 - t : t;
+                    for (j = k; j > 0 && (ref[j - 1] < 0 ? -1 - ref[j - 1] : ref[j - 1]) > kt; --j) ref[j] = ref[j - 1];
+                    ref[j] = t;
+                }
+                sph__ns_sort(v, n, mk);
+                bad += memcmp(v, ref, sizeof(sph_idx) * (size_t)n) != 0;
+            }
+    TH_CHECK(bad == 0, "%d of %d rows sorted wrong", bad, 6 * (NMAX + 1));
+    th_end();
+}
+
 int main(void)
 {
     test_clouds();
@@ -1338,5 +1375,6 @@ int main(void)
     test_strong_h();
     test_push_reach();
     test_sym_from_gather();
+    test_row_sort();
     return th_summary();
 }
