@@ -4736,16 +4736,20 @@ SPH_API int sph__nsearch_sym_ok(const sph_nsearch *g, sph_view xt, sph_idx nt, s
 /* Bit k set when v[k] < 0 (a mark), k < w <= 32: one word per 32 list
  * entries, so that the loops over marks branch per set bit of a word, not
  * per entry; a whole word from the sign bits of 16 or 4 entries per
- * instruction where the build has AVX-512 or SSE2. */
+ * instruction where the build has AVX-512 (a row's last word too, by masked
+ * loads) or SSE2. */
 SPH_API unsigned sph__ns_signs(const sph_idx *v, int w)
 {
+#if SPH__NS_COMPRESS
+    const __mmask16 lo = (__mmask16)(w >= 16 ? 0xFFFFu : (1u << w) - 1u),
+                    hi = (__mmask16)(w >= 32 ? 0xFFFFu : w > 16 ? (1u << (w - 16)) - 1u : 0u);
+    return (unsigned)_mm512_cmplt_epi32_mask(_mm512_maskz_loadu_epi32(lo, (const void *)v), _mm512_setzero_si512()) |
+           (unsigned)_mm512_cmplt_epi32_mask(_mm512_maskz_loadu_epi32(hi, (const void *)(v + 16)), _mm512_setzero_si512())
+               << 16;
+#else
     unsigned m = 0;
     int k;
-#if SPH__NS_COMPRESS
-    if (w == 32)
-        return (unsigned)_mm512_cmplt_epi32_mask(_mm512_loadu_si512((const void *)v), _mm512_setzero_si512()) |
-               (unsigned)_mm512_cmplt_epi32_mask(_mm512_loadu_si512((const void *)(v + 16)), _mm512_setzero_si512()) << 16;
-#elif SPH__SQRT_SIMD
+#if SPH__SQRT_SIMD
     if (w == 32) {
         for (k = 0; k < 8; ++k)
             m |= (unsigned)_mm_movemask_ps(_mm_castsi128_ps(_mm_loadu_si128((const __m128i *)(const void *)(v + 4 * k))))
@@ -4758,6 +4762,7 @@ SPH_API unsigned sph__ns_signs(const sph_idx *v, int w)
     else
         for (k = 0; k < w; ++k) m |= ((unsigned)v[k] >> 31) << k;
     return m;
+#endif
 }
 
 /* Counts into ext[i] the marks -1 - i of list entries row[0 .. n-1]
@@ -5090,11 +5095,23 @@ SPH_API sph_off sph__nsearch_sym_scan(sph_idx n, const sph_idx *len, const sph_i
     for (j = 0; j < n; src += len[j++]) {
         const sph_idx *row = index + src;
         const sph_off c0 = c + b;
+#if SPH__NS_COMPRESS
+        for (e = 0; e < len[j]; e += 16) { /* the marks of 16 entries compressed into buf, without a branch */
+            const sph_off left = len[j] - e;
+            const __mmask16 live = (__mmask16)(left >= 16 ? 0xFFFFu : (1u << left) - 1u);
+            const __m512i v = _mm512_maskz_loadu_epi32(live, (const void *)(row + e));
+            const __mmask16 m = _mm512_cmplt_epi32_mask(v, _mm512_setzero_si512());
+            _mm512_storeu_si512((void *)(buf + b), _mm512_maskz_compress_epi32(m, v));
+            b += __builtin_popcount(m);
+            if (b >= C) c = sph__ns_put_marks(buf, b, at, &P, c, room), b = 0;
+        }
+#else
         for (e = 0; e < len[j]; e += 32) {
             unsigned m = sph__ns_signs(row + e, len[j] - e < 32 ? (int)(len[j] - e) : 32);
             for (; m != 0; m &= m - 1) buf[b++] = row[e + sph__ns_ctz(m)];
             if (b >= C) c = sph__ns_put_marks(buf, b, at, &P, c, room), b = 0;
         }
+#endif
         marks[j] = (sph_idx)(c + b - c0);
     }
     return sph__ns_put_marks(buf, b, at, &P, c, room); /* what the last rows left */
