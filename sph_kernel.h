@@ -3422,6 +3422,9 @@ typedef struct {
     sph_off *sym_at;      /* [n_padded] the sources reaching it from beyond it: their count, then the
                              next place for one (the symmetric lists from the gather ones,
                              sph__nsearch_sym_lists); both NULL without hcell */
+    float *hf;            /* [n_padded] h rounded to float, for the own radius of the AVX-512 marked search in double
+                             (half the bytes of h to load), NaN where h lies outside 1e-30..1e30 (decided from h
+                             itself); NULL without hcell or AVX-512, and in float */
 } sph_nsearch;
 
 /* Candidates are checked in blocks of SPH__NS_BLOCK consecutive sorted
@@ -3773,12 +3776,17 @@ SPH__INLINE unsigned sph__nsearch_mask16(const sph_nsearch *g, sph__probe *p, sp
             r2 = _mm512_fmadd_pd(d, d, r2);
             wide |= _mm512_mask_cmp_pd_mask(lv, _mm512_abs_pd(d), _mm512_set1_pd((double)g->image_ok[a]), _CMP_GT_OQ);
         }
-        if (HV == 2) { /* the source's own radius: r^2 < (kappa h_i)^2, decided as below */
-            const __m512d Ri = _mm512_mul_pd(_mm512_set1_pd((double)p->kappa), sph__load8(g->h + b + 8 * half));
+        if (HV == 2) { /* the source's own radius: r^2 < (kappa h_i)^2, decided as below; in double h_i from hf,
+                          (kappa h_i)^2 then within 2^-22 of the double's: a band of 2^-20, a NaN in it */
+            const int hf = sizeof(sph_real) == sizeof(double);
+            const double band = hf ? 1.0 / 1048576 : eps;
+            const __m512d Ri = _mm512_mul_pd(_mm512_set1_pd((double)p->kappa),
+                                             hf ? _mm512_maskz_cvtps_pd(SPH__ALL8, _mm256_loadu_ps(g->hf + b + 8 * half))
+                                                : sph__load8(g->h + b + 8 * half));
             const __m512d Ri2 = _mm512_mul_pd(Ri, Ri);
-            const __mmask8 own8 = _mm512_mask_cmp_pd_mask(lv, r2, _mm512_mul_pd(Ri2, _mm512_set1_pd(1 - eps)), _CMP_LT_OQ);
+            const __mmask8 own8 = _mm512_mask_cmp_pd_mask(lv, r2, _mm512_mul_pd(Ri2, _mm512_set1_pd(1 - band)), _CMP_LT_OQ);
             own |= (unsigned)own8 << (8 * half);
-            near_own |= (unsigned)(_mm512_mask_cmp_pd_mask(lv, r2, _mm512_mul_pd(Ri2, _mm512_set1_pd(1 + eps)), _CMP_LT_OQ) &
+            near_own |= (unsigned)(_mm512_mask_cmp_pd_mask(lv, r2, _mm512_mul_pd(Ri2, _mm512_set1_pd(1 + band)), _CMP_NGE_UQ) &
                                    (__mmask8)~own8) << (8 * half);
         }
         if (HV == 1) {
@@ -4420,6 +4428,8 @@ SPH_API double sph__nsearch_layout(sph_nsearch *g, int with_h, char *base)
     const double hreach = pyr ? sph__nsearch_line((double)sizeof(sph_real) * 2 * (double)g->n_cells) : 0;
     const double hs = (with_h != 0) * reals;
     const double sym = pyr ? 2 * order : 0, sym_at = pyr ? sph__nsearch_line((double)sizeof(sph_off) * padded) : 0;
+    const double hf = pyr && SPH__NS_COMPRESS && sizeof(sph_real) == sizeof(double)
+                          ? sph__nsearch_line((double)sizeof(float) * padded) : 0;
     if (base != NULL) {
         base += (64 - (size_t)((uintptr_t)base % 64)) % 64;
         g->cell_start = (sph_idx *)(void *)base;
@@ -4430,8 +4440,9 @@ SPH_API double sph__nsearch_layout(sph_nsearch *g, int with_h, char *base)
         g->hreach = pyr ? (sph_real *)(void *)(base + (size_t)(cells + order + xyz + hs + hcell)) : NULL;
         g->sym = pyr ? (sph_idx *)(void *)(base + (size_t)(cells + order + xyz + hs + hcell + hreach)) : NULL;
         g->sym_at = pyr ? (sph_off *)(void *)(base + (size_t)(cells + order + xyz + hs + hcell + hreach + sym)) : NULL;
+        g->hf = hf > 0 ? (float *)(void *)(base + (size_t)(cells + order + xyz + hs + hcell + hreach + sym + sym_at)) : NULL;
     }
-    return 63 + cells + order + xyz + hs + hcell + hreach + sym + sym_at;
+    return 63 + cells + order + xyz + hs + hcell + hreach + sym + sym_at + hf;
 }
 
 /* Steps of the reach push (sph__nsearch_hbuild): cells whose reach spans
@@ -4595,6 +4606,8 @@ SPH_API int sph__nsearch_build_as(sph_nsearch *g, int dim, sph_view xs, sph_idx 
     for (c = g->n_cells; c > 0; --c) g->cell_start[c] = g->cell_start[c - 1];
     g->cell_start[0] = 0;
     if (g->hcell != NULL) sph__nsearch_hbuild(g);
+    for (i = 0; g->hf != NULL && i < g->n_padded; ++i) /* (kappa h)^2 within float's normal range, else NaN */
+        g->hf[i] = g->h[i] >= (sph_real)1e-30 && g->h[i] <= (sph_real)1e30 ? (float)g->h[i] : (float)NAN;
     return SPH_OK;
 }
 
@@ -5267,30 +5280,25 @@ SPH__INLINE void sph__ns_merge_row(sph_idx *out, const sph_idx *row, sph_off L, 
  * index has room for the marks twice past the gather lists: gather rows one
  * after another from index[0] (row i len[i] entries, marks[i] of them
  * marked, G entries in all; its final segment offset[i] .. offset[i+1] - 1),
- * the marks in row order right after them, at[i] how many name source i.
- * Each E_i is laid out ascending at index[offset[n] ..] (a counting sort of
- * the marks); then each row, last first, is merged with its E_i from the
- * back into its final segment, marks undone on the way (a row only moves
- * up, over rows already done; the marks lie below the final end, E past
- * it). */
+ * the marks in row order right after them, at[i] where E_i starts past the
+ * final lists (from offset[n]). Each E_i is laid out ascending there (a
+ * counting sort of the marks); then each row, last first, is merged with its
+ * E_i from the back into its final segment, marks undone on the way (a row
+ * only moves up, over rows already done; the marks lie below the final end,
+ * E past it). */
 SPH_API void sph__nsearch_sym_past(sph_idx n, const sph_off *offset, const sph_idx *len, const sph_idx *marks,
                                    sph_off *at, sph_idx *index, sph_off G)
 {
     const sph_idx *P = index + G;
-    sph_idx i, j, e;
-    sph_off src = G, c = offset[n];
-    for (i = 0; i < n; ++i) { /* at[i]: where E_i starts */
-        const sph_off k = at[i];
-        at[i] = c;
-        c += k;
-    }
+    sph_idx *E = index + offset[n], i, j, e;
+    sph_off src = G;
     for (j = 0; j < n; ++j)
-        for (e = 0; e < marks[j]; ++e) index[at[-1 - *P++]++] = j;
+        for (e = 0; e < marks[j]; ++e) E[at[-1 - *P++]++] = j;
     for (i = n - 1; i >= 0; --i) { /* at[i]: where E_i ends */
         const sph_off x = offset[i + 1] - offset[i] - len[i]; /* |E_i| */
         src -= len[i];
         if (offset[i] != src || x != 0 || marks[i] != 0)
-            sph__ns_merge_row(index + offset[i], index + src, len[i], index + at[i] - x, x);
+            sph__ns_merge_row(index + offset[i], index + src, len[i], E + at[i] - x, x);
     }
 }
 
@@ -5309,19 +5317,23 @@ SPH_API int sph__nsearch_sym_lists(const sph_nsearch *g, sph_view xt, sph_idx n,
                                    sph_real kappa, sph_off *offset, sph_idx *index, sph_off capacity, sph_off *pairs)
 {
     sph_idx *len = g->sym, *marks = g->sym + g->n_padded, i, k;
-    sph_off src, M, *at = g->sym_at;
+    sph_off src, M, G0, *at = g->sym_at;
     int st, nb;
     st = sph__nsearch_lists_ref(g, xt, n, ht, h, kappa, SPH__NS_MARK, offset, index, capacity, pairs);
     if (st == SPH_ESIZE)
         return sph__nsearch_lists_ref(g, xt, n, ht, h, kappa, SPH_NSEARCH_SYMMETRIC, offset, index, capacity, pairs);
     if (st != SPH_OK) return st;
-    for (i = 0; i < n; ++i) at[i] = 0;
-    for (i = 0; i < n; ++i) len[i] = (sph_idx)(offset[i + 1] - offset[i]);
+    for (i = 0; i < n; ++i) at[i] = 0, len[i] = (sph_idx)(offset[i + 1] - offset[i]);
     src = offset[n];
     nb = sph__nsearch_blocks(n, 64);
     M = nb > 1 ? sph__nsearch_sym_scan_blocks(n, offset, index, marks, at, index + src, capacity - src, nb)
                : sph__nsearch_sym_scan(n, len, index, marks, at, index + src, capacity - src);
-    for (i = 0; i < n; ++i) offset[i + 1] = offset[i] + len[i] + at[i];
+    for (G0 = 0, i = 0; i < n; ++i) { /* at[i] from the count of E_i to where it starts past the final lists */
+        const sph_off k = at[i];
+        at[i] = offset[i] - G0;
+        G0 += len[i];
+        offset[i + 1] = offset[i] + len[i] + k;
+    }
     *pairs = offset[n];
     if (offset[n] > capacity) return SPH_ESIZE;
     if (capacity - offset[n] >= M) { /* P at the gather lists' end, E past the final ones */

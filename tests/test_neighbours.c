@@ -1316,6 +1316,52 @@ static void test_sym_from_gather(void)
     }
 }
 
+/* The own radius of the marked search (symmetric lists from the gather
+ * ones) from h rounded to float, as double builds with AVX-512 load it:
+ * pairs whose target lies exactly on its source's own radius kappa h_j,
+ * with h_j = 1 -/+ 2^-28..-32 (float rounds it up / down to 1), listed as
+ * the brute force lists them; in double the same scene scaled by 2^135
+ * and 2^-135 (h beyond float's range: hf NaN, each source decided from its
+ * double h). */
+static void test_marks_float_h(void)
+{
+    enum { N = 64 };
+    int s;
+    for (s = 0; s < (TH_IS_FLOAT ? 1 : 3); ++s) {
+        const double scale = s == 0 ? 1 : ldexp(1, s == 1 ? 135 : -135);
+        sph_real *x = nb_alloc(N), h[N];
+        nb_problem p;
+        sph_nsearch g;
+        void *work;
+        tp_list got;
+        int i, st, fast, want_hf, nan = 0;
+        for (i = 0; i < N / 2; ++i) { /* source 2i + 1 at 10 i, its target 2i at kappa h_j (kappa 2) along x */
+            h[2 * i + 1] = (sph_real)(scale * (1 + (i % 2 ? 1 : -1) * ldexp(1, -28 - i % 5)));
+            h[2 * i] = (sph_real)(1.5 * scale);
+            x[3 * (2 * i + 1)] = (sph_real)(10 * i * scale);
+            x[3 * (2 * i)] = x[3 * (2 * i + 1)] + 2 * h[2 * i + 1];
+        }
+        p = nb_make(3, x, N, 0, 2, (sph_real)(1.5 * scale));
+        p.hs = h;
+        p.ht = h;
+        p.mode = SPH_NSEARCH_SYMMETRIC;
+        th_begin("symmetric from the gather lists, targets on their sources' own radius, scale %g", scale);
+        nb_compare(&p);
+        st = nb_search(&p, &g, &work, &got);
+        fast = st == SPH_OK && sph__nsearch_sym_ok(&g, sph_view_interleaved(x, 3), N, sph_view_soa(h, NULL, NULL), 2,
+                                                   SPH_NSEARCH_SYMMETRIC);
+        want_hf = SPH__NS_COMPRESS && !SPH__NS_PLAIN && !TH_IS_FLOAT;
+        for (i = 0; st == SPH_OK && g.hf != NULL && i < N; ++i) nan += g.hf[i] != g.hf[i];
+        TH_CHECK(st == SPH_OK && fast == !SPH__NS_PLAIN, "search %d, transposed path taken: %d", st, fast);
+        TH_CHECK((g.hf != NULL) == want_hf && nan == (want_hf && s > 0 ? N : 0), "h as float: %d (expected %d), %d NaN",
+                 g.hf != NULL, want_hf, nan);
+        th_end();
+        tp_free_list(&got);
+        free(work);
+        free(x);
+    }
+}
+
 /* The row sort (sph__ns_sort) of every length class: 0..300 distinct
  * indices in random order, some marked -1 - i, sorted by source and
  * compared with an insertion sort written here; rows of 1..32, 33..64,
@@ -1376,5 +1422,6 @@ int main(void)
     test_push_reach();
     test_sym_from_gather();
     test_row_sort();
+    test_marks_float_h();
     return th_summary();
 }
