@@ -4020,7 +4020,16 @@ SPH__INLINE int sph__nsearch_row(const sph_nsearch *g, sph__probe *p, int nr, in
     return n;
 }
 
+/* A list entry with its mark -1 - s undone to s. */
+SPH__INLINE sph_idx sph__ns_unmark(sph_idx v) { return v < 0 ? -1 - v : v; }
+
 #if SPH__NS_COMPRESS
+/* The first `left` lanes of 16 (none for left <= 0, all from 16 on). */
+SPH__INLINE __mmask16 sph__ns_live16(sph_off left)
+{
+    return (__mmask16)(left >= 16 ? 0xFFFFu : left > 0 ? (1u << left) - 1u : 0u);
+}
+
 /* 16 indices with their marks -1 - s undone to s. */
 SPH__INLINE __m512i sph__ns_unmark16(__m512i v)
 {
@@ -4037,22 +4046,16 @@ SPH__INLINE void sph__ns_rank_sort(sph_idx *v, sph_off n, const int MK, const in
     sph_off k;
     int t;
     for (t = 0; t < NCH; ++t) {
-        const sph_off left = n - 16 * t;
-        const __mmask16 live = (__mmask16)(left >= 16 ? 0xFFFFu : left > 0 ? (1u << left) - 1u : 0u);
-        val[t] = _mm512_maskz_loadu_epi32(live, (const void *)(v + 16 * t));
+        val[t] = _mm512_maskz_loadu_epi32(sph__ns_live16(n - 16 * t), (const void *)(v + 16 * t));
         key[t] = MK ? sph__ns_unmark16(val[t]) : val[t];
         rank[t] = _mm512_setzero_si512();
     }
     for (k = 0; k < n; ++k) {
-        const __m512i u = _mm512_set1_epi32(MK && v[k] < 0 ? -1 - v[k] : v[k]);
+        const __m512i u = _mm512_set1_epi32(MK ? sph__ns_unmark(v[k]) : v[k]);
         for (t = 0; t < NCH; ++t)
             rank[t] = _mm512_mask_sub_epi32(rank[t], _mm512_cmplt_epi32_mask(u, key[t]), rank[t], _mm512_set1_epi32(-1));
     }
-    for (t = 0; t < NCH; ++t) {
-        const sph_off left = n - 16 * t;
-        const __mmask16 live = (__mmask16)(left >= 16 ? 0xFFFFu : left > 0 ? (1u << left) - 1u : 0u);
-        _mm512_mask_i32scatter_epi32((void *)v, live, rank[t], val[t], 4);
-    }
+    for (t = 0; t < NCH; ++t) _mm512_mask_i32scatter_epi32((void *)v, sph__ns_live16(n - 16 * t), rank[t], val[t], 4);
 }
 #endif
 
@@ -4754,10 +4757,9 @@ SPH_API int sph__nsearch_sym_ok(const sph_nsearch *g, sph_view xt, sph_idx nt, s
 SPH_API unsigned sph__ns_signs(const sph_idx *v, int w)
 {
 #if SPH__NS_COMPRESS
-    const __mmask16 lo = (__mmask16)(w >= 16 ? 0xFFFFu : (1u << w) - 1u),
-                    hi = (__mmask16)(w >= 32 ? 0xFFFFu : w > 16 ? (1u << (w - 16)) - 1u : 0u);
-    return (unsigned)_mm512_cmplt_epi32_mask(_mm512_maskz_loadu_epi32(lo, (const void *)v), _mm512_setzero_si512()) |
-           (unsigned)_mm512_cmplt_epi32_mask(_mm512_maskz_loadu_epi32(hi, (const void *)(v + 16)), _mm512_setzero_si512())
+    const __m512i zero = _mm512_setzero_si512();
+    return (unsigned)_mm512_cmplt_epi32_mask(_mm512_maskz_loadu_epi32(sph__ns_live16(w), (const void *)v), zero) |
+           (unsigned)_mm512_cmplt_epi32_mask(_mm512_maskz_loadu_epi32(sph__ns_live16(w - 16), (const void *)(v + 16)), zero)
                << 16;
 #else
     unsigned m = 0;
@@ -5062,9 +5064,6 @@ SPH_API int sph__nsearch_lists_ref(const sph_nsearch *g, sph_view xt, sph_idx n_
     return SPH_OK;
 }
 
-/* A list entry with its mark -1 - s undone to s. */
-SPH__INLINE sph_idx sph__ns_unmark(sph_idx v) { return v < 0 ? -1 - v : v; }
-
 /* Copies the c values below r to below w (w >= r: the ranges may overlap),
  * 16 at a time through a buffer, from the top, marks -1 - s undone to s;
  * returns w - c. */
@@ -5110,9 +5109,7 @@ SPH_API sph_off sph__nsearch_sym_scan(sph_idx n, const sph_idx *len, const sph_i
         const sph_off c0 = c + b;
 #if SPH__NS_COMPRESS
         for (e = 0; e < len[j]; e += 16) { /* the marks of 16 entries compressed into buf, without a branch */
-            const sph_off left = len[j] - e;
-            const __mmask16 live = (__mmask16)(left >= 16 ? 0xFFFFu : (1u << left) - 1u);
-            const __m512i v = _mm512_maskz_loadu_epi32(live, (const void *)(row + e));
+            const __m512i v = _mm512_maskz_loadu_epi32(sph__ns_live16(len[j] - e), (const void *)(row + e));
             const __mmask16 m = _mm512_cmplt_epi32_mask(v, _mm512_setzero_si512());
             _mm512_storeu_si512((void *)(buf + b), _mm512_maskz_compress_epi32(m, v));
             b += __builtin_popcount(m);
@@ -5195,7 +5192,7 @@ SPH__INLINE sph_off sph__ns_below16(const sph_idx *row, sph_off t, sph_idx v)
 {
     for (;;) {
         const sph_off lo = t >= 16 ? t - 16 : 0;
-        const __mmask16 live = (__mmask16)(t - lo == 16 ? 0xFFFFu : (1u << (t - lo)) - 1u);
+        const __mmask16 live = sph__ns_live16(t - lo);
         const __m512i x = sph__ns_unmark16(_mm512_maskz_loadu_epi32(live, (const void *)(row + lo)));
         const int above = __builtin_popcount(_mm512_mask_cmpgt_epi32_mask(live, x, _mm512_set1_epi32(v)));
         if (above < t - lo || lo == 0) return t - above;
@@ -5215,9 +5212,8 @@ SPH__INLINE void sph__ns_ext_lanes(unsigned short *in_ext, const sph_idx *row, s
     sph_off c;
     int t;
     for (t = 0; t < NCH; ++t) {
-        const sph_off left = L - 16 * t;
-        const __mmask16 live = (__mmask16)(left >= 16 ? 0xFFFFu : left > 0 ? (1u << left) - 1u : 0u);
-        x[t] = sph__ns_unmark16(_mm512_mask_loadu_epi32(_mm512_set1_epi32(INT32_MAX), live, (const void *)(row + 16 * t)));
+        x[t] = sph__ns_unmark16(
+            _mm512_mask_loadu_epi32(_mm512_set1_epi32(INT32_MAX), sph__ns_live16(L - 16 * t), (const void *)(row + 16 * t)));
     }
     for (c = 0; c <= (L + e - 1) / 16; ++c) in_ext[c] = 0;
     for (c = 0; c < e; ++c) {
@@ -5246,7 +5242,7 @@ SPH__INLINE void sph__ns_merge_row(sph_idx *out, const sph_idx *row, sph_off L, 
         sph__ns_ext_lanes(in_ext, row, L, ext, e, 8);
     while (o > 0) { /* out[lo .. o-1], lo a multiple of 16; q: where ext[k-1] goes */
         const sph_off lo = (o - 1) / 16 * 16;
-        const __mmask16 live = (__mmask16)(o - lo == 16 ? 0xFFFFu : (1u << (o - lo)) - 1u);
+        const __mmask16 live = sph__ns_live16(o - lo);
         unsigned m = 0;
         int from_ext, from_row;
         __m512i d;
