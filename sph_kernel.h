@@ -5325,10 +5325,10 @@ SPH_API int sph__nsearch_sym_lists(const sph_nsearch *g, sph_view xt, sph_idx n,
     M = nb > 1 ? sph__nsearch_sym_scan_blocks(n, offset, index, marks, at, index + src, capacity - src, nb)
                : sph__nsearch_sym_scan(n, len, index, marks, at, index + src, capacity - src);
     for (G0 = 0, i = 0; i < n; ++i) { /* at[i] from the count of E_i to where it starts past the final lists */
-        const sph_off k = at[i];
+        const sph_off e = at[i];
         at[i] = offset[i] - G0;
         G0 += len[i];
-        offset[i + 1] = offset[i] + len[i] + k;
+        offset[i + 1] = offset[i] + len[i] + e;
     }
     *pairs = offset[n];
     if (offset[n] > capacity) return SPH_ESIZE;
@@ -6269,7 +6269,7 @@ SPH_API int sph_time_step(const sph_dt_input *in, int dim, sph_idx n, sph_real *
 
 /* Per-particle outcome of sph_h_solve. */
 enum {
-    SPH_H_CONVERGED = 0,     /* |h_next - h| <= tol h within max_iter density sums */
+    SPH_H_CONVERGED = 0,     /* a Newton step within the list <= tol h, or a sign change of f bracketed to tol h */
     SPH_H_NOT_CONVERGED = 1, /* max_iter sums without meeting tol: h, rho, Omega of the last sum */
     SPH_H_BEYOND_LIST = 2    /* the solution lies beyond kappa h_list_i: h holds a larger estimate; search again */
 };
@@ -6543,14 +6543,17 @@ SPH_API int sph__h_particle(const sph_hctx *c, const sph__kdim *kd, const sph__p
             break;
         }
         xn = fp > 0 ? x - f / fp : lo; /* (H3) Newton step; lo forces the bracket below */
-        if (fp > 0 && (xn > x ? xn - x : x - xn) <= c->tol * x) { /* also a step below the rounding of x */
+        if (fp > 0 && xn <= hl && (xn > x ? xn - x : x - xn) <= c->tol * x) { /* also a step below the rounding of x */
             state = SPH_H_CONVERGED;
             break;
         }
         if (!(xn > lo && xn < hi)) xn = hi_known ? (lo + hi) / 2 : xn >= hi ? hl : (lo + hl) / 2;
-        if ((xn > x ? xn - x : x - xn) <= c->tol * x) { /* a bracket narrower than tol */
-            state = SPH_H_CONVERGED;
-            break;
+        if ((xn > x ? xn - x : x - xn) <= c->tol * x) {
+            if (hi_known) { /* a bracket of a sign change narrower than tol */
+                state = SPH_H_CONVERGED;
+                break;
+            }
+            xn = hl; /* f < 0 everywhere seen: only the sum at h_list tells whether the root lies in the list */
         }
         x = xn;
     }

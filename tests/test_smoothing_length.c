@@ -3,9 +3,10 @@
  * 1e-6 relative (double) in a few density sums on lattices and on a Gaussian
  * clump, against densities and Omega summed independently here over every
  * particle with the scalar kernel functions; the beyond-the-list status and
- * its re-search; non-convergence reported; bad input refused; h, rho and
- * Omega written through an array-of-structs view are bitwise those of
- * separate arrays.
+ * its re-search, and that status (never a converged h) from any guess near
+ * the list's radius when the solution lies beyond it; non-convergence
+ * reported; bad input refused; h, rho and Omega written through an
+ * array-of-structs view are bitwise those of separate arrays.
  */
 #include "harness.h"
 #include "support/particles.h"
@@ -180,6 +181,105 @@ static void beyond_case(void)
              "after the re-search: %d beyond, %d not converged, max %d sums", (int)rep.n_beyond_list,
              (int)rep.n_not_converged, rep.max_iterations);
     tp_free_list(&L);
+    th_end();
+}
+
+/* A guess within tol below h_list while the solution lies beyond the list
+ * (docs/smoothing_length.md, "Lists that grow with h"): the first sum gives
+ * f < 0 and the step is clamped to h_list; the state must be
+ * SPH_H_BEYOND_LIST, not a converged h. 1-D lattice of spacing 1, m = 1,
+ * cubic, h_list = 1: the B-spline's partition of unity gives rho(h_list) = 1
+ * exactly, so the estimate eta (m / rho)^(1/d) is eta = 1.2. */
+static void beyond_guess_lattice_case(void)
+{
+    enum { N = 64 };
+    const double eta = 1.2, tol = TOL;
+    const double guess[] = {0.9, 1 - tol / 4, 1 - tol, 1, 1 + tol / 4, 1.1};
+    sph_real x[3 * N], m[N], h[N], rho[N], om[N];
+    sph_box box = {{0, 0, 0}, {N, 0, 0}, {1, 0, 0}};
+    int state[N], i, g;
+    tp_list L;
+    sph_hctx c;
+    sph_hreport rep;
+    th_begin("h solve: 1D lattice, list to h 1, solution 1.2: beyond the list from every guess near h_list");
+    tp_lattice(1, N, 1, x);
+    for (i = 0; i < N; ++i) m[i] = 1;
+    TH_CHECK(tp_brute_list(1, x, N, x, N, 1, NULL, NULL, 2, TP_GATHER, &box, &L) == 0, "out of memory");
+    c = sph_hctx_init(SPH_KERNEL_CUBIC, 1, &L.list, sph_view_interleaved(x, 3), sph_view_soa(m, NULL, NULL), 1);
+    c.box = &box;
+    c.tol = (sph_real)tol;
+    for (g = 0; g < (int)(sizeof guess / sizeof guess[0]); ++g) {
+        int bad = 0;
+        for (i = 0; i < N; ++i) h[i] = (sph_real)guess[g];
+        TH_CHECK(sph_h_solve(&c, th_out1(h), th_out1(rho), th_out1(om), NULL, state, &rep) == SPH_OK, "status");
+        for (i = 0; i < N; ++i)
+            bad += !(state[i] == SPH_H_BEYOND_LIST && fabs((double)h[i] - eta) <= 8 * TH_EPS * eta &&
+                     fabs((double)rho[i] - 1) <= 8 * TH_EPS);
+        TH_CHECK(bad == 0 && rep.n_beyond_list == N,
+                 "guess %.9g h_list: %d of %d wrong, particle 0 state %d h %.9g rho %.9g (expected beyond, h %g, rho 1)",
+                 guess[g], bad, N, state[0], (double)h[0], (double)rho[0], eta);
+    }
+    tp_free_list(&L);
+    th_end();
+}
+
+/* The same in 3-D on a random cloud, each particle's solution h* found
+ * first on long lists with tol / 16: lists to 0.95 h* and guesses at, just
+ * below and just above h_list, and lists to h* / (1 + tol / 2) (the root a
+ * Newton step of 3/4 tol beyond the list) must all give SPH_H_BEYOND_LIST
+ * with an h above h_list; lists to 1.05 h* and a guess just below h_list
+ * converge to (H1). */
+static void beyond_guess_cloud_case(void)
+{
+    enum { N = 1000 };
+    const double tol = TOL, L0 = 10;
+    const double list[] = {1.05, 0.95, 0.95, 0.95, 0.95, 1 / (1 + tol / 2)};
+    const double guess[] = {1 - tol / 4, 1 - tol / 4, 1 - tol, 1, 1 + tol / 4, 1 - tol / 4};
+    sph_real *x = malloc(sizeof(sph_real) * 3 * N), *m = malloc(sizeof(sph_real) * N);
+    sph_real *h = malloc(sizeof(sph_real) * N), *hs = malloc(sizeof(sph_real) * N), *hl = malloc(sizeof(sph_real) * N);
+    sph_real *rho = malloc(sizeof(sph_real) * N), *om = malloc(sizeof(sph_real) * N);
+    int *state = malloc(sizeof(int) * N), i, g;
+    sph_box box = {{0, 0, 0}, {(sph_real)L0, (sph_real)L0, (sph_real)L0}, {1, 1, 1}};
+    tp_rng rng = {777};
+    tp_list L;
+    sph_hctx c;
+    sph_hreport rep;
+    double res, erho, eom;
+    th_begin("h solve: 3D random cloud, lists short of the solution: beyond the list from guesses at, below and above h_list");
+    tp_uniform_cloud(3, N, L0, &rng, x);
+    for (i = 0; i < N; ++i) m[i] = 1, hs[i] = (sph_real)1.2;
+    /* the solutions, on lists to h 2.4 (twice the mean h): every particle converged */
+    TH_CHECK(tp_brute_list(3, x, N, x, N, (sph_real)2.4, NULL, NULL, 2, TP_GATHER, &box, &L) == 0, "out of memory");
+    c = sph_hctx_init(SPH_KERNEL_CUBIC, 3, &L.list, sph_view_interleaved(x, 3), sph_view_soa(m, NULL, NULL),
+                      (sph_real)2.4);
+    c.box = &box;
+    c.tol = (sph_real)(tol / 16);
+    TH_CHECK(sph_h_solve(&c, th_out1(hs), th_out1(rho), th_out1(om), NULL, NULL, &rep) == SPH_OK &&
+                 rep.n_not_converged == 0 && rep.n_beyond_list == 0,
+             "long lists: %d not converged, %d beyond", (int)rep.n_not_converged, (int)rep.n_beyond_list);
+    tp_free_list(&L);
+    c.tol = (sph_real)tol;
+    for (g = 0; g < (int)(sizeof guess / sizeof guess[0]); ++g) {
+        int bad = 0;
+        for (i = 0; i < N; ++i) hl[i] = (sph_real)(list[g] * (double)hs[i]);
+        TH_CHECK(tp_brute_list(3, x, N, x, N, 0, hl, NULL, 2, TP_GATHER, &box, &L) == 0, "out of memory");
+        c.list = &L.list;
+        c.h_list = sph_view_soa(hl, NULL, NULL);
+        for (i = 0; i < N; ++i) h[i] = (sph_real)(guess[g] * (double)hl[i]);
+        TH_CHECK(sph_h_solve(&c, th_out1(h), th_out1(rho), th_out1(om), NULL, state, &rep) == SPH_OK, "status");
+        if (list[g] > 1) {
+            residuals(SPH_KERNEL_CUBIC, 3, x, m, N, &box, 1.2, h, rho, om, &res, &erho, &eom);
+            TH_CHECK(rep.n_not_converged == 0 && rep.n_beyond_list == 0 && res < RES,
+                     "lists 5 %% long: %d not converged, %d beyond, residual of (H1) %.3g", (int)rep.n_not_converged,
+                     (int)rep.n_beyond_list, res);
+        } else {
+            for (i = 0; i < N; ++i) bad += !(state[i] == SPH_H_BEYOND_LIST && h[i] > hl[i]);
+            TH_CHECK(bad == 0, "lists to %.9g h*, guess %.9g h_list: %d of %d particles not beyond their list with h > h_list",
+                     list[g], guess[g], bad, N);
+        }
+        tp_free_list(&L);
+    }
+    free(x), free(m), free(h), free(hs), free(hl), free(rho), free(om), free(state);
     th_end();
 }
 
@@ -366,6 +466,8 @@ int main(void)
     lattice_case(SPH_KERNEL_QUINTIC, 3, 12);
     clump_case();
     beyond_case();
+    beyond_guess_lattice_case();
+    beyond_guess_cloud_case();
     bad_input_case();
     sl_layout_case();
     for (k = 0; k < SPH_KERNEL_COUNT; ++k)
