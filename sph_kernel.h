@@ -71,6 +71,14 @@
  *   SPH_BATCH   lanes of a pair batch (sph_batch_fill, section 9): a power of
  *               two, 4..64; default 16 (one AVX-512 register of floats, two of
  *               doubles). Changes speed, not results.
+ *   SPH_FP_CONTRACT  leave the header's a * b + c to the unit's contraction
+ *               setting. Default: under clang (and compilers built on it)
+ *               the header's own code is compiled with contraction off
+ *               (#pragma STDC FP_CONTRACT OFF, DEFAULT at its end), so
+ *               that the fast loops equal the reference loops bit for bit
+ *               as under gcc -std=c99; gcc cannot be told so per header
+ *               without losing inlining (docs/testing.md, "Floating-point
+ *               contraction": what holds in its GNU modes).
  *   SPH_ONLY_KERNELS   sections 1-3 only: the scalar kernel functions.
  *   SPH_ONLY_PAIRS     sections 1-5: kernels, views and pair terms, for a
  *               solver with its own neighbour loop (no operators, no search),
@@ -365,6 +373,16 @@ typedef SPH_REAL sph_real;
 extern "C" {
 #endif
 
+/* The header's arithmetic as written, a * b + c a rounded product and a
+ * rounded sum (SPH_FP_CONTRACT above): clang decides contraction per source
+ * expression, so this holds wherever its functions are inlined, unless the
+ * unit asks -ffp-contract=fast (which disregards the pragma). At the end of
+ * the header DEFAULT gives the code after it the unit's own setting again. */
+#if !defined(SPH_FP_CONTRACT) && defined(__clang__) && !defined(__CUDACC__)
+#pragma STDC FP_CONTRACT OFF
+#define SPH__FP_PUSHED 1
+#endif
+
 /* libm in the precision of sph_real (the sizeof test folds at compile time). */
 SPH_API sph_real sph__sqrt(sph_real x)
 {
@@ -378,6 +396,42 @@ SPH_API sph_real sph__floor(sph_real x)
 
 /* 1 when x is finite (neither NaN nor +-Inf), without isfinite's double promotion. */
 SPH_API int sph__finite(sph_real x) { return x >= -SPH__REAL_MAX && x <= SPH__REAL_MAX; }
+
+/* a * b rounded to sph_real before anything is added to it, whatever the
+ * unit's contraction (gcc's GNU modes fuse a * b + c across statements):
+ * the product passes through an empty asm the compiler cannot see into, or
+ * a CUDA rounded multiply. For scalar code that decides on a rounded value
+ * (the neighbour criterion, section 7); it keeps a loop from vectorising. */
+SPH__INLINE sph_real sph__mul_rn(sph_real a, sph_real b)
+{
+#if defined(__CUDA_ARCH__)
+    return sizeof(sph_real) == sizeof(float) ? (sph_real)__fmul_rn((float)a, (float)b)
+                                             : (sph_real)__dmul_rn((double)a, (double)b);
+#else
+    sph_real p = a * b;
+#if defined(__GNUC__) && (defined(__x86_64__) || (defined(__i386__) && defined(__SSE2__)))
+    __asm__("" : "+x"(p));
+#elif defined(__GNUC__) && defined(__aarch64__)
+    __asm__("" : "+w"(p));
+#elif defined(__GNUC__)
+    __asm__("" : "+g"(p));
+#endif
+    return p;
+#endif
+}
+
+/* 1 when this unit fuses the header's a * b + c into one rounding (gcc's
+ * GNU modes or -ffp-contract=fast where the target has FMA; clang only
+ * under -ffp-contract=fast or SPH_FP_CONTRACT): what the fast loops then
+ * promise is agreement with the reference loops to round-off, not bit for
+ * bit (docs/testing.md). (1 + 2^-27)^2 - 1 is 2^-26 rounded, 2^-26 + 2^-54
+ * fused; the volatile keeps the compiler from folding it. */
+SPH_API int sph__fp_contracted(void)
+{
+    volatile double v = 1 + 1.0 / 134217728;
+    const double a = v;
+    return a * a - 1 != 1.0 / 67108864;
+}
 
 /* r[0..n) = sqrt(r[0..n)), n a multiple of 8 (zero padded): IEEE square roots,
  * bit for bit those of sph__sqrt, without the errno test that keeps compilers
@@ -3447,6 +3501,10 @@ SPH__INLINE __m512d sph__load8(const sph_real *p)
 #define SPH__NS_BLOCK 8
 #endif
 #define SPH__NS_RUNS 32
+/* The vector loops' r^2 (contracted or not, summed in another order) lies
+ * within a few ulp of the criterion's: beyond this relative band around R^2
+ * they decide, inside it sph__nsearch_in does. */
+#define SPH__NS_EDGE (16 * (sizeof(sph_real) == sizeof(float) ? (sph_real)FLT_EPSILON : (sph_real)DBL_EPSILON))
 
 /* SPH_NSEARCH_PLAIN: the plain reference search (docs/neighbours.md,
  * "Varying h"), tested equal to the default. */
@@ -3643,14 +3701,15 @@ SPH_API void sph__ns_offsets(const sph_nsearch *g, int code, sph_real *s)
 }
 
 /* r_ij^2 of eq. (N3) from target position xt to sorted source k, summed in
- * axis order: the one distance every decision of the search rests on. */
+ * axis order, every square rounded before it is added (sph__mul_rn: under
+ * any contraction): the one distance every decision of the search rests on. */
 SPH__INLINE sph_real sph__nsearch_r2(const sph_nsearch *g, const sph_real *xt, sph_idx k, const int dim)
 {
     sph_real r2 = 0;
     int a;
     for (a = 0; a < dim; ++a) {
         const sph_real d = sph__nsearch_delta(g, a, xt[a] - g->x[(ptrdiff_t)a * g->n_padded + k]);
-        r2 += d * d;
+        r2 += sph__mul_rn(d, d);
     }
     return r2;
 }
@@ -3696,32 +3755,51 @@ SPH__NOINLINE int sph__nsearch_far(const sph_nsearch *g, const sph__probe *p, sp
  * the axes of the blocks that pass it. HV: R per source (symmetric with
  * per-source h); HV 2 also sets mw[k] to -1 where r^2 >= (kappa h_j)^2,
  * else 0 (the mark ~j = j ^ mw[k], stored without a branch); dim, HV, IMG
- * constants once inlined. */
+ * constants once inlined. The loop's r^2 is the compiler's to contract (it
+ * may fuse d^2 + r^2 into FMAs): it decides the sources farther than
+ * SPH__NS_EDGE from R^2 (relative), and sph__nsearch_in, the rest. */
 SPH__INLINE unsigned sph__nsearch_mask(const sph_nsearch *g, sph__probe *p, sph_idx b, sph_idx k1,
                                        const sph_real *s, const int dim, const int HV, const int IMG, sph_idx *mw)
 {
     const sph_real *x = g->x + b;
     const ptrdiff_t stride = g->n_padded;
-    unsigned mask = 0;
+    const sph_real lo = 1 - SPH__NS_EDGE, hi = 1 + SPH__NS_EDGE;
+    unsigned mask = 0, edge = 0, edge_own = 0;
     int k, a, wide = 0;
     for (k = 0; k < SPH__NS_BLOCK; ++k) {
         sph_real r2 = 0, R2 = p->R2;
+        const unsigned live = b + k < k1;
         for (a = 0; a < dim; ++a) {
             const sph_real d = IMG ? (p->xt[a] - x[a * stride + k]) - s[a] : p->xt[a] - x[a * stride + k];
             r2 += d * d;
         }
-        wide |= (r2 > g->quarter2) & (b + k < k1);
+        wide |= (r2 > g->quarter2) & live;
         if (HV == 1) {
             const sph_real hj = g->h[b + k], R = p->kappa * (hj > p->hi ? hj : p->hi);
             R2 = R * R;
         }
         if (HV == 2) {
-            const sph_real Ri = p->kappa * g->h[b + k];
-            mw[k] = -(sph_idx)!(r2 < Ri * Ri);
+            const sph_real Ri = p->kappa * g->h[b + k], Ri2 = Ri * Ri;
+            const unsigned own = r2 < Ri2 * lo;
+            mw[k] = -(sph_idx)!own;
+            edge_own |= ((r2 < Ri2 * hi) & !own & live) << k;
         }
-        mask |= (unsigned)((r2 < R2) & (b + k < k1)) << k;
+        {
+            const unsigned in = r2 < R2 * lo;
+            mask |= (in & live) << k;
+            edge |= ((r2 < R2 * hi) & !in & live) << k;
+        }
     }
     if (wide) wide = sph__nsearch_far(g, p, b, k1, s, dim, IMG);
+    if (!wide) { /* near R: the criterion's own r^2 decides (a wide block is redone whole below) */
+        for (k = 0; edge != 0; ++k, edge >>= 1)
+            if (edge & 1u) mask |= (unsigned)sph__nsearch_in(g, p, b + k, dim) << k;
+        for (k = 0; edge_own != 0; ++k, edge_own >>= 1)
+            if (edge_own & 1u) {
+                const sph_real Ri = p->kappa * g->h[b + k];
+                mw[k] = -(sph_idx)!(sph__nsearch_r2(g, p->xt, b + k, dim) < Ri * Ri);
+            }
+    }
     if (wide) {
         ++p->redone;
         for (mask = 0, k = 0; k < SPH__NS_BLOCK && b + k < k1; ++k) {
@@ -3758,7 +3836,7 @@ SPH__INLINE __m512d sph__nsearch_round8(__m512d v)
 SPH__INLINE unsigned sph__nsearch_mask16(const sph_nsearch *g, sph__probe *p, sph_idx b, sph_idx k1,
                                          const sph_real *s, const int dim, const int HV, const int IMG, unsigned *mk)
 {
-    const double eps = 16 * (sizeof(sph_real) == sizeof(float) ? (double)FLT_EPSILON : DBL_EPSILON);
+    const double eps = (double)SPH__NS_EDGE;
     const ptrdiff_t stride = g->n_padded;
     const unsigned live = k1 - b >= 16 ? 0xFFFFu : (1u << (k1 - b)) - 1u;
     unsigned in = 0, near_edge = 0, wide = 0, mask, own = 0, near_own = 0;
@@ -5485,7 +5563,7 @@ SPH__INLINE sph_off sph__prune_row(const sph_neighbours *list, const sph_box *bx
         for (a = 0; a < dim; ++a) {
             sph_real d = xi[a] - sph__ns_at(x, a, j);
             if ((d < 0 ? -d : d) > q[a]) d = sph_box_delta(bx, a, d);
-            r2 += d * d;
+            r2 += sph__mul_rn(d, d); /* the criterion's r^2 (sph__nsearch_r2) */
         }
         if (r2 < R * R) {
             if (index != NULL) index[k] = j;
@@ -7311,6 +7389,11 @@ SPH_API int sph_batch_fill(const sph_batch_src *S, sph_idx i, sph_off *next, sph
 
 #endif /* section 9 */
 #endif /* sections 4-9 */
+
+#if defined(SPH__FP_PUSHED)
+#pragma STDC FP_CONTRACT DEFAULT
+#undef SPH__FP_PUSHED
+#endif
 
 #ifdef __cplusplus
 }

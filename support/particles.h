@@ -186,14 +186,19 @@ static inline void tp_free_list(tp_list *l)
     l->index = NULL;
 }
 
-/* r^2 between target position xt (3 slots) and source position xs. */
+/* r^2 between target position xt (3 slots) and source position xs, summed
+ * in axis order with every square rounded before it is added, whatever the
+ * unit's floating-point contraction (the volatile keeps the compiler from
+ * fusing d^2 + r^2): the search's criterion (N3), which its lists must meet
+ * exactly, for pairs on the radius too. */
 static inline sph_real tp_r2(int dim, const sph_real *xt, const sph_real *xs, const sph_box *box)
 {
     sph_real r2 = 0;
     int a;
     for (a = 0; a < dim; ++a) {
-        sph_real d = sph_box_delta(box, a, xt[a] - xs[a]);
-        r2 += d * d;
+        const sph_real d = sph_box_delta(box, a, xt[a] - xs[a]);
+        volatile sph_real d2 = d * d;
+        r2 += d2;
     }
     return r2;
 }

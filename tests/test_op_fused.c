@@ -192,7 +192,8 @@ static void check_pair_sums(sph_kernel k, int dim, int periodic, int soa)
  * (ctx.loops = SPH_LOOPS_REFERENCE), every view SoA so that the one-pass
  * loop reads them all at the offsets of x, and once with h interleaved with
  * another stride. Bitwise where the fast loops promise it (no OpenMP, no
- * AVX-512), else within HTOL of the largest |value|. */
+ * AVX-512, no contraction: sph__fp_contracted), else within HTOL of the
+ * largest |value|. */
 #if defined(_OPENMP) || (!defined(SPH_OP_REFERENCE) && SPH__OP_AVX512)
 #define HV_BITWISE 0
 #else
@@ -208,8 +209,9 @@ static void check_hv_twins(sph_kernel k, int dim, int periodic, int h_strided)
     sph_real *hs, *h2;
     double big[4] = {0, 0, 0, 0};
     int i, a, v, st = SPH_OK;
+    const int bitwise = HV_BITWISE && !sph__fp_contracted();
     for (a = 0; a < 3; ++a) box.lo[a] = 0, box.length[a] = 1, box.periodic[a] = periodic;
-    th_begin("fused, h varying 0.5..1 h: fast = reference loops%s, %s %dD, %s, h %s", HV_BITWISE ? " (bitwise)" : "",
+    th_begin("fused, h varying 0.5..1 h: fast = reference loops%s, %s %dD, %s, h %s", bitwise ? " (bitwise)" : "",
              sph_kernel_name(k), dim, periodic ? "periodic" : "no box", h_strided ? "strided" : "SoA");
     ts_lattice(&s, k, dim, 8, 0.125, 1.3, 0.2, 5u + (uint64_t)dim, periodic ? &box : NULL);
     fz_alloc(&d, &s, dim);
@@ -230,8 +232,8 @@ static void check_hv_twins(sph_kernel k, int dim, int periodic, int h_strided)
         for (a = 0; a < dim; ++a) big[1 + a] = fmax(big[1 + a], fabs((double)d.g[1][a][i]));
     }
     for (i = 0; i < s.n; ++i) {
-        TH_CLOSE(d.rho[0][i], d.rho[1][i], HV_BITWISE ? 0 : HTOL * big[0]);
-        for (a = 0; a < dim; ++a) TH_CLOSE(d.g[0][a][i], d.g[1][a][i], HV_BITWISE ? 0 : HTOL * big[1 + a]);
+        TH_CLOSE(d.rho[0][i], d.rho[1][i], bitwise ? 0 : HTOL * big[0]);
+        for (a = 0; a < dim; ++a) TH_CLOSE(d.g[0][a][i], d.g[1][a][i], bitwise ? 0 : HTOL * big[1 + a]);
     }
     fz_free(&d);
     free(hs), free(h2);

@@ -401,8 +401,9 @@ static void sl_layout_case(void)
  * against the reference loop, one pair at a time: every kernel in 1-3 D, a
  * perturbed periodic lattice, masses and h varying per particle (0.7 to 1.4
  * dx), a list longer than the support of most of them. Bitwise where the fast
- * loops promise it (no OpenMP, the chunked loop), else to round-off: rho
- * relative, drho relative to its scale d rho / h. */
+ * loops promise it (no OpenMP, the chunked loop, no contraction:
+ * sph__fp_contracted), else to round-off: rho relative, drho relative to its
+ * scale d rho / h. */
 #if defined(_OPENMP) || SPH__OP_AVX512 || SPH__OP_AVX2
 #define HS_BITWISE 0
 #else
@@ -412,7 +413,7 @@ static void fast_sums_case(sph_kernel k, int dim)
 {
     const int n1 = dim == 1 ? 40 : dim == 2 ? 12 : 7, n = tp_lattice_count(dim, n1);
     const double kappa = (double)sph_kernel_support(k), hmax = 1.4, tol = TH_IS_FLOAT ? 1e-5 : 1e-13;
-    const int bitwise = HS_BITWISE;
+    const int bitwise = HS_BITWISE && !sph__fp_contracted();
     sph_real *x = malloc(sizeof(sph_real) * 3 * (size_t)n), *m = malloc(sizeof(sph_real) * (size_t)n);
     sph_box box = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
     const sph__kdim *kd = sph__kd(k, dim);
