@@ -18,7 +18,7 @@
 # and the clock and median of the timing programs; docs/ the reference pages.
 # Every program includes "sph_kernel.h" with -I.
 CC      ?= cc
-CFLAGS  ?= -O2 -std=c99 -Wall -Wextra -pedantic -Werror
+CFLAGS  ?= -O2 -std=c99 -Wall -Wextra -pedantic -Wshadow -Werror
 LDLIBS  ?= -lm
 PREFIX  ?= /usr/local
 VERSION := $(shell sed -n 's/^\#define SPH_KERNEL_VERSION_STRING "\(.*\)"/\1/p' sph_kernel.h)

@@ -816,11 +816,11 @@ static double compare(FILE *md, const char *what, double n, double a, const seri
                     what, count, lo, hi, front ? " (lag: measured T minus the T at which the simulated front got there)" : "",
                     front ? " lag in T |" : "", front ? "---:|" : "");
     for (k = 0; k < m->n; ++k) {
-        double sim;
+        double simulated;
         if (m->tau[k] > h->tau[h->n - 1]) continue;
-        sim = interp(h->tau, val, h->n, m->tau[k]);
-        printf("    %8.3f %8.3f %10.3f %10.3f %8.1f", m->tau[k], n * m->tau[k], m->val[k], sim,
-               100 * (sim - m->val[k]) / m->val[k]);
+        simulated = interp(h->tau, val, h->n, m->tau[k]);
+        printf("    %8.3f %8.3f %10.3f %10.3f %8.1f", m->tau[k], n * m->tau[k], m->val[k], simulated,
+               100 * (simulated - m->val[k]) / m->val[k]);
         if (front) {
             lags[nlag] = n * (m->tau[k] - reach_time(h, val, m->val[k]));
             printf(" %8.3f", lags[nlag]);
@@ -828,8 +828,8 @@ static double compare(FILE *md, const char *what, double n, double a, const seri
         }
         printf("\n");
         if (md) {
-            fprintf(md, "| %.3f | %.3f | %.3f | %.3f | %+.1f %% |", m->tau[k], n * m->tau[k], m->val[k], sim,
-                    100 * (sim - m->val[k]) / m->val[k]);
+            fprintf(md, "| %.3f | %.3f | %.3f | %.3f | %+.1f %% |", m->tau[k], n * m->tau[k], m->val[k], simulated,
+                    100 * (simulated - m->val[k]) / m->val[k]);
             if (front) fprintf(md, " %.3f |", n * (m->tau[k] - reach_time(h, val, m->val[k])));
             fprintf(md, "\n");
         }
@@ -1307,9 +1307,9 @@ static double outside(double x, double lo, double hi) { return x < lo ? lo - x :
 /* Prints the figures of the measured series and of the simulation, with the
  * targets against the range of the measured ones; writes the simulated
  * series to csv (when not NULL). Returns the number of targets missed. */
-static int probe_report(FILE *md, const pseries *meas, int nm, const pseries *sim)
+static int probe_report(FILE *md, const pseries *meas, int nm, const pseries *simulated)
 {
-    probe_figures fm[PROBE_SERIES], fs = figures(sim);
+    probe_figures fm[PROBE_SERIES], fs = figures(simulated);
     double lo[FIGURES], hi[FIGURES];
     int k, q, missed = 0;
     static const char *what[FIGURES] = {"impact: first p >= 0.2 rho g H, t sqrt(g/H)", "first peak p / (rho g H)",
@@ -1359,7 +1359,7 @@ static int probe_report(FILE *md, const pseries *meas, int nm, const pseries *si
     return missed;
 }
 
-static void probe_csv(const char *dir, const params *pm, const pseries *sim)
+static void probe_csv(const char *dir, const params *pm, const pseries *simulated)
 {
     char path[1200];
     FILE *f;
@@ -1372,7 +1372,7 @@ static void probe_csv(const char *dir, const params *pm, const pseries *sim)
     fprintf(f, "# dam break of Buchner (2002), column 2H x H, H = %g m, tank %g H; pressure at P1 (far wall, %g .. %g m), "
                "averaged over bins of %g\nT_t_sqrt_g_over_H,p_over_rhogH\n",
             BUCHNER_H, BUCHNER_TANK, pm->probe_y0, pm->probe_y1, PROBE_BIN);
-    for (k = 0; k < sim->n; ++k) fprintf(f, "%.4f,%.5f\n", sim->T[k], sim->p[k]);
+    for (k = 0; k < simulated->n; ++k) fprintf(f, "%.4f,%.5f\n", simulated->T[k], simulated->p[k]);
     fclose(f);
     printf("wrote %s\n", path);
 }
@@ -1504,7 +1504,7 @@ int main(int argc, char **argv)
         return 1;
     }
     if (probe) {
-        pseries meas[PROBE_SERIES], sim;
+        pseries meas[PROBE_SERIES], simulated;
         history h;
         const int moved = probe_top != BUCHNER_P1_TOP; /* the sensor off Buchner's P1 */
         char top_arg[64];
@@ -1539,7 +1539,7 @@ int main(int argc, char **argv)
         memset(&h, 0, sizeof h);
         run(&pm, 0.5, &h, 0);
         printf("%d particles (%d fluid), %ld steps, %.1f s\n", h.particles, h.fluid, h.steps, h.seconds);
-        probe_series(&h, &sim);
+        probe_series(&h, &simulated);
         if (report && (md = fopen(report, "w")) == NULL) {
             fprintf(stderr, "dam_break: cannot write %s\n", report);
             return 2;
@@ -1548,14 +1548,14 @@ int main(int argc, char **argv)
             fprintf(md, "Written by `dam_break --probe --probe-res %d%s%s`: %d particles across H, %ld steps, %.1f s on %d "
                         "thread(s).\n",
                     probe_res, pm.stokes ? "" : " --stokes 0", top_arg, probe_res, h.steps, h.seconds, threads);
-        fail = probe_report(md, meas, nm, &sim);
+        fail = probe_report(md, meas, nm, &simulated);
         /* the surge front (measure) within one spacing (a / res) of the far wall's face */
         arrival = sqrt(2.0) * reach_time(&h, h.Z, h.wall - 1.0 / pm.res);
         printf("surge front within one spacing of the far wall at t sqrt(g/H) = %.3f\n", arrival);
         if (md) fprintf(md, "\nThe surge front (the layer's furthest particle on the floor) comes within one particle spacing "
                             "of the far wall at t sqrt(g/H) = %.3f.\n", arrival);
         if (md) fclose(md);
-        if (pm.out) probe_csv(pm.out, &pm, &sim);
+        if (pm.out) probe_csv(pm.out, &pm, &simulated);
         history_free(&h);
         return fail ? 1 : 0;
     }

@@ -32,7 +32,9 @@ RES=$OUT/results
 rm -rf "$RES" "$OUT/units"
 mkdir -p "$OUT" "$RES" "$OUT/units"
 JOBS=${JOBS:-$(nproc 2> /dev/null || echo 2)}
-WARN="-std=c99 -Wall -Wextra -pedantic -Werror -I."
+# the test build's warnings; the language mode comes from the configuration
+# (-std=c99 unless its flags say +gnu)
+WARN="-Wall -Wextra -pedantic -Wshadow -Werror -I."
 # threads that wait sleep instead of spinning: the jobs share the cores
 export OMP_WAIT_POLICY=${OMP_WAIT_POLICY:-passive}
 
@@ -56,6 +58,12 @@ clang-float      | clang | float  | -O0 +san                     |              
 clang-omp        | clang | double | -O2 +omp                     | OMP_NUM_THREADS=2 | test_extremes test_op_dispatch test_op_fused test_op_omp test_op_reference test_pair_once | -
 gcc-reference    | gcc   | double | -O1 -DSPH_OP_REFERENCE       |                   | test_op_* !test_op_reference | -
 gcc-nsearch-plain| gcc   | double | -O2 -DSPH_NSEARCH_PLAIN      |                   | test_neighbours test_box   | -
+gcc-gnu-native   | gcc   | double | -O2 +gnu +native +omp        | OMP_NUM_THREADS=2 | test_*                     | -
+gcc-gnu-znver3   | gcc   | float  | -O2 +gnu -march=znver3       |                   | test_op_* test_pair_batch test_neighbours test_smoothing_length | -
+clang-avx2       | clang | double | -O2 +avx2                    |                   | test_*                     | -
+clang-float-avx2 | clang | float  | -O2 +avx2                    |                   | test_op_* test_pair_batch test_smoothing_length | -
+aarch64-gcc      | aarch64-linux-gnu-gcc | double | -O2 +gnu +aarch64 | | test_* !test_neighbours    | -
+aarch64-clang    | clang | float  | -O2 +aarch64                 |                   | test_* !test_neighbours    | -
 '
 # make check: every test, sanitised, for the host CPU, but the fused pass
 # (built by gcc -O2 instead: 39 s of CPU against 106 s); the header checks.
@@ -85,6 +93,17 @@ gcc-nsearch-plain| gcc   | double | -O2 -DSPH_NSEARCH_PLAIN      |              
 #   gcc-reference     the operator tests on the reference loops alone (SPH_OP_REFERENCE)
 #   gcc-nsearch-plain the neighbour tests on the plain search alone (SPH_NSEARCH_PLAIN:
 #                     one cell size, one radius kappa max(h_i, h_max))
+#   The builds users make (no -std, the compilers' default contraction of a * b + c
+#   into FMA: docs/testing.md, "Floating-point contraction"):
+#   gcc-gnu-native    gcc's GNU mode (-ffp-contract=fast) for the host CPU, OpenMP on 2 threads
+#   gcc-gnu-znver3    the same on the AVX2 paths, in float, tuned as a Zen 3 user's
+#                     -march=native (znver tuning fuses other sums than generic's)
+#   clang-avx2        clang's default (-ffp-contract=on) with AVX2 and FMA, every test
+#   clang-float-avx2  the same in float, the loops that promise bitwise equality
+#   aarch64-gcc       aarch64-linux-gnu-gcc in GNU mode, run under qemu-aarch64 (every
+#                     test but test_neighbours: 3 minutes of CPU under emulation)
+#   aarch64-clang     clang --target=aarch64-linux-gnu (what Apple-silicon Macs compile
+#                     with), float, under qemu-aarch64
 # Where the time goes: the operator tests are minutes of compiling and seconds
 # of running, and the sanitizers' instrumentation of the always-inlined
 # operator loops is most of it (gcc -O1, tests/test_op_dispatch.c, CPU seconds:
@@ -132,12 +151,13 @@ probe() { # probe key command...: 0 when the command succeeds (cached per key)
     [ "${PROBED[$key]}" = yes ]
 }
 
-builds_and_runs() { # builds_and_runs cc flags...: a trivial program builds and runs
+builds_and_runs() { # builds_and_runs cc flags...: a trivial program builds and runs (under $PROBE_RUNNER)
     local cc=$1 tag
     shift
     tag=$(printf '%s' "$cc $*" | tr -c 'A-Za-z0-9' _)
     printf '#include <stdio.h>\nint main(void){return 0;}\n' > "$OUT/probe_$tag.c"
-    "$cc" "$@" "$OUT/probe_$tag.c" -o "$OUT/probe_$tag" && "$OUT/probe_$tag"
+    # shellcheck disable=SC2086 # the runner is words
+    "$cc" "$@" "$OUT/probe_$tag.c" -o "$OUT/probe_$tag" && ${PROBE_RUNNER:-} "$OUT/probe_$tag"
 }
 
 openmp_runs() { # openmp_runs cc
@@ -145,15 +165,35 @@ openmp_runs() { # openmp_runs cc
     "$1" -fopenmp "$OUT/probe_omp_$1.c" -o "$OUT/probe_omp_$1" && "$OUT/probe_omp_$1"
 }
 
-# expand_flags cc words...: EXPANDED = the compiler flags of the flags column;
-# returns 1 with REASON set when the configuration cannot be built here, and
-# adds to NOTES what is built without
+# The cross sysroot and emulator of the aarch64 configurations (Debian's
+# gcc-aarch64-linux-gnu and qemu-user, which .ci/run installs).
+AARCH64_RUNNER="qemu-aarch64 -L /usr/aarch64-linux-gnu"
+
+# expand_flags cc words...: EXPANDED = the compiler flags of the flags column
+# (-std=c99 first, unless +gnu), RUNNER = what runs the programs (empty:
+# natively); returns 1 with REASON set when the configuration cannot be built
+# here, and adds to NOTES what is built without
 expand_flags() {
-    local cc=$1 w
+    local cc=$1 w std=-std=c99
     shift
-    EXPANDED="" REASON="" NOTES=""
+    EXPANDED="" REASON="" NOTES="" RUNNER=""
     for w in "$@"; do
         case $w in
+        +gnu) std="" ;; # the compiler's default mode (gnu17): gcc contracts a*b + c into FMA across statements
+        +aarch64)
+            # cross-compiled for aarch64 (clang: --target), run under qemu-aarch64
+            command -v qemu-aarch64 > /dev/null 2>&1 || { REASON="qemu-aarch64 is not installed (Debian: qemu-user)"; return 1; }
+            case $cc in clang*) EXPANDED="$EXPANDED --target=aarch64-linux-gnu" ;; esac
+            # shellcheck disable=SC2086 # the target flag is words
+            PROBE_RUNNER=$AARCH64_RUNNER probe "$cc aarch64" builds_and_runs "$cc" $EXPANDED ||
+                { REASON="$cc does not build for aarch64 here, or qemu-aarch64 does not run it (Debian: gcc-aarch64-linux-gnu)"; return 1; }
+            RUNNER=$AARCH64_RUNNER
+            ;;
+        esac
+    done
+    for w in "$@"; do
+        case $w in
+        +gnu | +aarch64) ;;
         +san)
             # ASan checks through calls rather than inline code: the same
             # checks, a third less to compile in the operator loops
@@ -178,6 +218,10 @@ expand_flags() {
             probe "$cc avx2" builds_and_runs "$cc" -march=x86-64-v3 || { REASON="$cc -march=x86-64-v3 does not build or run here"; return 1; }
             EXPANDED="$EXPANDED -march=x86-64-v3"
             ;;
+        -march=*)
+            probe "$cc $w" builds_and_runs "$cc" "$w" || { REASON="$cc $w does not build or run here"; return 1; }
+            EXPANDED="$EXPANDED $w"
+            ;;
         +omp)
             probe "$cc omp" openmp_runs "$cc" || { REASON="$cc -fopenmp does not build here"; return 1; }
             EXPANDED="$EXPANDED -fopenmp"
@@ -186,7 +230,7 @@ expand_flags() {
         *) EXPANDED="$EXPANDED $w" ;;
         esac
     done
-    EXPANDED=$(trim "$EXPANDED")
+    EXPANDED=$(trim "$std $EXPANDED")
 }
 
 # ---- the jobs ----------------------------------------------------------------
@@ -240,8 +284,8 @@ build_failed() {
 run_report() {
     local id=$1 group=$2 label=$3 how=$4 bin=$5 btime=$6 envs=$7 status p f out=$RES/$1.out
     shift 7
-    # shellcheck disable=SC2086 # envs are NAME=value words
-    timed "$out" env $envs timeout 900 "$bin" "$@"
+    # shellcheck disable=SC2086 # envs are NAME=value words, the runner is words
+    timed "$out" env $envs timeout 900 ${RUNNERS[$group]:-} "$bin" "$@"
     status=$?
     {
         if [ "$how" = one ]; then
@@ -258,7 +302,7 @@ run_report() {
             sed 's/^/    | /' "$out" | tail -n 20
         fi
         # a failure says how to rebuild and rerun it (add -g for the sanitizers' line numbers)
-        [ "$f" -eq 0 ] || echo "    built by: $(cat "$bin.cmd"); run: ${envs:+$envs }$bin $*"
+        [ "$f" -eq 0 ] || echo "    built by: $(cat "$bin.cmd"); run: ${envs:+$envs }${RUNNERS[$group]:+${RUNNERS[$group]} }$bin $*"
         echo "$group|$label|$p|$f|$btime|$(cat "$out.time")" > "$RES/$id.res"
     } > "$RES/$id.txt"
 }
@@ -308,7 +352,7 @@ example_job() {
     mkdir -p "$OUT/examples"
     bin=$OUT/examples/$(basename "$src" .c)
     if probe "gcc omp" openmp_runs gcc; then omp=-fopenmp; fi
-    if build "$bin" "gcc -O2 -std=c99 -Wall -Wextra -pedantic -Werror $omp -I. $src -o $bin -lm"; then
+    if build "$bin" "gcc -O2 -std=c99 -Wall -Wextra -pedantic -Wshadow -Werror $omp -I. $src -o $bin -lm"; then
         run_report "$id" examples "$src $*" one "$bin" "$(cat "$bin.build.time")" "" "$@"
     else
         build_failed "$id" examples "$src $*" "$bin"
@@ -344,7 +388,7 @@ header_check() {
             bin=$OUT/c11_check_${cc}_${real}_$i
             echo "== $cc -std=c11 -DSPH_REAL=$real ${HEADER_VARIANTS[$i]}"
             # shellcheck disable=SC2086 # the variant's flags are words
-            $cc -std=c11 -Wall -Wextra -pedantic -Werror $FLOAT_WARN ${HEADER_VARIANTS[$i]} -DSPH_REAL="$real" -I. \
+            $cc -std=c11 -Wall -Wextra -pedantic -Wshadow -Werror $FLOAT_WARN ${HEADER_VARIANTS[$i]} -DSPH_REAL="$real" -I. \
                 tests/compile_check.c -o "$bin" -lm && "$bin" || return 1
         done
     done
@@ -354,7 +398,7 @@ header_check() {
 cxx_check() { # cxx_check real [options]: tests/compile_check.cpp (the operators' loops) with g++ -std=c++11
     local opts=${2:-} bin
     bin=$OUT/cpp_check_$1$(printf '%s' "$opts" | tr -c 'A-Za-z0-9' _)
-    g++ -std=c++11 $opts -Wall -Wextra -pedantic -Werror $CXX_WARN -DSPH_REAL="$1" -I. tests/compile_check.cpp \
+    g++ -std=c++11 $opts -Wall -Wextra -pedantic -Wshadow -Werror $CXX_WARN -DSPH_REAL="$1" -I. tests/compile_check.cpp \
         -o "$bin" && "$bin"
 }
 
@@ -490,7 +534,7 @@ enqueue_programs() {
     done
 }
 
-declare -A TITLE
+declare -A TITLE RUNNERS
 wanted() { # wanted name list: name is in the space-separated list (empty list: all)
     [ -z "$2" ] && return 0
     case " $2 " in *" $1 "*) return 0 ;; esac
@@ -515,7 +559,8 @@ while IFS='|' read -r name cc real flags envs test_progs check_progs; do
         continue
     fi
     [ -n "$NOTES" ] && echo "note: $name$NOTES"
-    TITLE[$name]="== $name: $cc $real $EXPANDED${envs:+ ($envs)}"
+    RUNNERS[$name]=$RUNNER
+    TITLE[$name]="== $name: $cc $real $EXPANDED${envs:+ ($envs)}${RUNNER:+, run by $RUNNER}"
     # the programs: globs, then !name (left out) and name:flag (added flag)
     declare -A extra=()
     skip=" "
@@ -570,7 +615,7 @@ if [ "${EXTRAS:-1}" != 0 ]; then
                 case $opts in *-march=native*) probe "g++ native" builds_and_runs g++ -march=native -x c++ || continue ;; esac
                 n=cxx-$real$(printf '%s' "${opts:+ $opts}" | tr -d - | tr -c 'A-Za-z0-9' -)
                 enqueue "$(estimate "checks/$n" 100)" "checks/$n" checks check \
-                    "C++11 $real (g++ -std=c++11${opts:+ $opts} -Wall -Wextra -pedantic -Werror $CXX_WARN)" \
+                    "C++11 $real (g++ -std=c++11${opts:+ $opts} -Wall -Wextra -pedantic -Wshadow -Werror $CXX_WARN)" \
                     cxx_check $real "$opts"
             done
         done
@@ -587,8 +632,8 @@ if [ "${EXTRAS:-1}" != 0 ]; then
         # the timed build of make bench (-O3, where gcc's flow warnings differ from -O2's)
         if probe "gcc omp" openmp_runs gcc; then
             enqueue "$(estimate checks/bench 200)" checks/bench checks check \
-                "make bench's build (gcc -O3 -march=native -fopenmp $WARN bench/benchmark.c)" \
-                gcc -O3 -march=native -fopenmp $WARN -DBENCH_LINK_PARTS -c bench/benchmark.c -o "$OUT/bench_check.o"
+                "make bench's build (gcc -O3 -march=native -fopenmp -std=c99 $WARN bench/benchmark.c)" \
+                gcc -O3 -march=native -fopenmp -std=c99 $WARN -DBENCH_LINK_PARTS -c bench/benchmark.c -o "$OUT/bench_check.o"
         else
             echo "SKIPPED: make bench's build (gcc -fopenmp does not build here)"
         fi

@@ -32,7 +32,7 @@ typedef struct {
     sph_neighbours list;
 } lattice;
 
-static const double dx = 1.0 / NS, rho0 = 1000;
+static const double bx_dx = 1.0 / NS, bx_rho0 = 1000;
 
 /* The lattice in [0, 1)^3, periodic on every axis, and its gather list of
  * radius kappa hl (uniform; per particle from hv when hv is given),
@@ -44,10 +44,10 @@ static int lattice_make(lattice *s, const sph_box *search_box, sph_real hl, sph_
     size_t bytes;
     int i, a, st;
     for (i = 0; i < N; ++i) {
-        s->x[3 * i] = (sph_real)(dx * (i % NS));
-        s->x[3 * i + 1] = (sph_real)(dx * (i / NS % NS));
-        s->x[3 * i + 2] = (sph_real)(dx * (i / (NS * NS)));
-        s->m[i] = (sph_real)(rho0 * dx * dx * dx);
+        s->x[3 * i] = (sph_real)(bx_dx * (i % NS));
+        s->x[3 * i + 1] = (sph_real)(bx_dx * (i / NS % NS));
+        s->x[3 * i + 2] = (sph_real)(bx_dx * (i / (NS * NS)));
+        s->m[i] = (sph_real)(bx_rho0 * bx_dx * bx_dx * bx_dx);
     }
     for (a = 0; a < 3; ++a) s->box.lo[a] = 0, s->box.length[a] = 1, s->box.periodic[a] = 1;
     if ((st = sph_nsearch_workspace_size(3, xv, N, hv, cell, search_box, &bytes)) != SPH_OK) return st;
@@ -71,19 +71,19 @@ static void lattice_free(lattice *s)
  * of the infinite lattice, computed without a box or a list. */
 static double lattice_density(sph_real h)
 {
-    const int K = (int)ceil(2 * (double)h / dx);
+    const int K = (int)ceil(2 * (double)h / bx_dx);
     double s = 0;
     int i, j, k;
     for (i = -K; i <= K; ++i)
         for (j = -K; j <= K; ++j)
             for (k = -K; k <= K; ++k)
-                s += (double)sph_kernel_w(SPH_KERNEL_CUBIC, 3, (sph_real)(dx * sqrt((double)(i * i + j * j + k * k))), h);
-    return rho0 * dx * dx * dx * s;
+                s += (double)sph_kernel_w(SPH_KERNEL_CUBIC, 3, (sph_real)(bx_dx * sqrt((double)(i * i + j * j + k * k))), h);
+    return bx_rho0 * bx_dx * bx_dx * bx_dx * s;
 }
 
 static void operators_case(void)
 {
-    const sph_real h = (sph_real)(1.3 * dx);
+    const sph_real h = (sph_real)(1.3 * bx_dx);
     lattice s;
     sph_box other;
     sph_neighbours own;
@@ -149,7 +149,7 @@ static int solve(const sph_hctx *c, lattice *s)
 {
     sph_hreport rep;
     int i, st;
-    for (i = 0; i < N; ++i) s->h[i] = (sph_real)(1.2 * dx);
+    for (i = 0; i < N; ++i) s->h[i] = (sph_real)(1.2 * bx_dx);
     st = sph_h_solve(c, th_out1(s->h), th_out1(s->rho), th_out1(s->om), NULL, NULL, &rep);
     if (st == SPH_OK && rep.n_not_converged + rep.n_beyond_list > 0) return SPH_EH;
     for (i = 0; i < N; ++i) s->A[i] = sph_gradh_factor(s->rho[i], s->rho[i], s->om[i]);
@@ -234,7 +234,7 @@ static void gather_pairs_case(void)
     sph_idx *hidx;
     int i, st;
     th_begin("sph_pairs_build: a gather list with per-particle h is SPH_ENOTSYMMETRIC");
-    for (i = 0; i < N; ++i) hv[i] = (sph_real)(dx * (1.1 + 0.3 * (i % 3)));
+    for (i = 0; i < N; ++i) hv[i] = (sph_real)(bx_dx * (1.1 + 0.3 * (i % 3)));
     st = lattice_make(&s, &s.box, 0, sph_view_soa(hv, NULL, NULL));
     hidx = (sph_idx *)malloc(sizeof(sph_idx) * (size_t)s.off[N]);
     tslot = (sph_off *)malloc(sizeof(sph_off) * (size_t)s.off[N]);

@@ -88,7 +88,7 @@ static int numdiff(const fn1 *f, sph_real t0, double d, double *out)
     return 1;
 }
 
-static double worst[D_COUNT];
+static double kd_worst[D_COUNT];
 
 static void compare(int which, double got, double num, double peak, double where)
 {
@@ -96,7 +96,7 @@ static void compare(int which, double got, double num, double peak, double where
     const double e = fabs(got - num) / scale;
     TH_CHECK(e <= TOL, "%s at %g: header %.17g, numerical %.17g, err %.3g of scale %.3g", dname[which], where, got,
              num, e, scale);
-    if (e > worst[which]) worst[which] = e;
+    if (e > kd_worst[which]) kd_worst[which] = e;
 }
 
 static double peak_of(sph_real (*g)(sph_kernel, int, sph_real, sph_real), sph_kernel k, int dim, sph_real h)
@@ -211,7 +211,7 @@ int main(void)
         }
     }
     for (i = 0; i < D_COUNT; ++i)
-        printf("info [%s]: worst relative error of %s vs Richardson difference: %.3g (bound %.0e)\n", TH_PRECISION,
-               dname[i], worst[i], TOL);
+        printf("info [%s]: kd_worst relative error of %s vs Richardson difference: %.3g (bound %.0e)\n", TH_PRECISION,
+               dname[i], kd_worst[i], TOL);
     return th_summary();
 }

@@ -19,9 +19,9 @@ typedef struct {
     tp_list L;
     sph_box box;
     sph_ctx c;
-} cloud;
+} oc_cloud;
 
-static void cloud_make(cloud *s, int dim, int n, int periodic, uint64_t seed)
+static void cloud_make(oc_cloud *s, int dim, int n, int periodic, uint64_t seed)
 {
     tp_rng g;
     int i, a;
@@ -54,7 +54,7 @@ static void cloud_make(cloud *s, int dim, int n, int periodic, uint64_t seed)
     s->c.box = periodic ? &s->box : NULL;
 }
 
-static void cloud_free(cloud *s)
+static void cloud_free(oc_cloud *s)
 {
     int a;
     free(s->x), free(s->m), free(s->rho), free(s->V), free(s->p), free(s->h);
@@ -63,7 +63,7 @@ static void cloud_free(cloud *s)
 }
 
 /* sum_i w_i g_i against sum_i |w_i g_i| (w = m_i / rho_i = V_i for both forms). */
-static void check_total(cloud *s, const char *what)
+static void check_total(oc_cloud *s, const char *what)
 {
     int i, a;
     for (a = 0; a < s->dim; ++a) {
@@ -83,7 +83,7 @@ static void test_momentum(void)
     for (dim = 2; dim <= 3; ++dim)
         for (periodic = 0; periodic <= 1; ++periodic)
             for (sc = 0; sc < 2; ++sc) {
-                cloud s;
+                oc_cloud s;
                 int st;
                 const sph_scheme scheme = sc ? SPH_SCHEME_SYMMETRIC : SPH_SCHEME_PRESSURE;
                 th_begin("total force of the %s form vanishes: %dD random cloud, per-particle h, %s",
@@ -101,7 +101,7 @@ static void test_momentum(void)
 static void test_heat(void)
 {
     /* sum_i V_i lap f_i = 0 and sum_i V_i div(k grad f)_i = 0 (antisymmetric pairs). */
-    cloud s;
+    oc_cloud s;
     sph_real *k = NULL, *L1 = NULL, *L2 = NULL;
     double t1 = 0, t2 = 0, m1 = 0, m2 = 0;
     int i, st;

@@ -242,7 +242,7 @@ static void build_errors_case(void)
     sph_off offset[4], t_offset[4], t_slot[9], pairs = -1;
     sph_idx index[9];
     sph_pairs P;
-    sph_real to_i[3] = {1, 2, 4}, to_j[3] = {8, 16, 32}, out[3];
+    sph_real to_i[3] = {1, 2, 4}, to_j[3] = {8, 16, 32}, out[3] = {0, 0, 0};
     int st;
     th_begin("pairs: non-symmetric list refused, short arrays report the count, reduce order");
     st = sph_pairs_build(&full, offset, index, 9, t_offset, t_slot, &pairs, &P);

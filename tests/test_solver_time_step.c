@@ -123,7 +123,7 @@ static void test_cfl_rule(void)
     sph_real x[N], m[N], rho[N], v[N], cs[N], acc[N], vs[N], speed[N], dt = 0;
     sph_off off[N + 1];
     sph_idx idx[N * N], which = -9;
-    sph_neighbours list;
+    sph_neighbours list = SPH_NEIGHBOURS_INIT(N, N, NULL, NULL); /* box_known 0: no box of its own */
     sph_ctx c;
     sph_dt_input in = sph_dt_input_init(h);
     const sph_av av = {SPH_AV_SIGNAL, 1, 3};
@@ -136,7 +136,7 @@ static void test_cfl_rule(void)
         for (j = 0; j < N; ++j) idx[i * N + j] = (sph_idx)j;
     }
     off[N] = (sph_off)N * N;
-    list.n_targets = list.n_sources = N, list.offset = off, list.index = idx;
+    list.offset = off, list.index = idx;
     c = sph_ctx_init(SPH_KERNEL_CUBIC, 1, h, &list, sph_view_soa(x, NULL, NULL));
     c.m = sph_view_soa(m, NULL, NULL);
     c.rho = sph_view_soa(rho, NULL, NULL);
