@@ -3503,8 +3503,16 @@ SPH__INLINE __m512d sph__load8(const sph_real *p)
 #define SPH__NS_RUNS 32
 /* The vector loops' r^2 (contracted or not, summed in another order) lies
  * within a few ulp of the criterion's: beyond this relative band around R^2
- * they decide, inside it sph__nsearch_in does. */
+ * they decide, inside it sph__nsearch_in does. SPH__NS_BAND: whether the
+ * portable block loop needs the band, i.e. whether the compiler may fuse its
+ * d^2 + r^2: not on x86 without FMA (a plain -O2 build), where that loop is
+ * the criterion's arithmetic bit for bit and the band cost 20-45 %. */
 #define SPH__NS_EDGE (16 * (sizeof(sph_real) == sizeof(float) ? (sph_real)FLT_EPSILON : (sph_real)DBL_EPSILON))
+#if (defined(__x86_64__) || defined(__i386__)) && !defined(__FMA__) && !defined(__AVX512F__)
+#define SPH__NS_BAND 0
+#else
+#define SPH__NS_BAND 1
+#endif
 
 /* SPH_NSEARCH_PLAIN: the plain reference search (docs/neighbours.md,
  * "Varying h"), tested equal to the default. */
@@ -3763,7 +3771,7 @@ SPH__INLINE unsigned sph__nsearch_mask(const sph_nsearch *g, sph__probe *p, sph_
 {
     const sph_real *x = g->x + b;
     const ptrdiff_t stride = g->n_padded;
-    const sph_real lo = 1 - SPH__NS_EDGE, hi = 1 + SPH__NS_EDGE;
+    const sph_real lo = SPH__NS_BAND ? 1 - SPH__NS_EDGE : 1, hi = SPH__NS_BAND ? 1 + SPH__NS_EDGE : 1;
     unsigned mask = 0, edge = 0, edge_own = 0;
     int k, a, wide = 0;
     for (k = 0; k < SPH__NS_BLOCK; ++k) {
@@ -3782,12 +3790,12 @@ SPH__INLINE unsigned sph__nsearch_mask(const sph_nsearch *g, sph__probe *p, sph_
             const sph_real Ri = p->kappa * g->h[b + k], Ri2 = Ri * Ri;
             const unsigned own = r2 < Ri2 * lo;
             mw[k] = -(sph_idx)!own;
-            edge_own |= ((r2 < Ri2 * hi) & !own & live) << k;
+            if (SPH__NS_BAND) edge_own |= ((r2 < Ri2 * hi) & !own & live) << k;
         }
         {
             const unsigned in = r2 < R2 * lo;
             mask |= (in & live) << k;
-            edge |= ((r2 < R2 * hi) & !in & live) << k;
+            if (SPH__NS_BAND) edge |= ((r2 < R2 * hi) & !in & live) << k;
         }
     }
     if (wide) wide = sph__nsearch_far(g, p, b, k1, s, dim, IMG);
