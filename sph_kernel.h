@@ -3731,6 +3731,14 @@ SPH_API int sph__nsearch_in(const sph_nsearch *g, const sph__probe *p, sph_idx k
     return r2 < R * R;
 }
 
+/* 1 when sorted source k lies within its own radius, r^2 < (kappa h_k)^2,
+ * r^2 as sph__nsearch_in takes it: the mark of the symmetric lists. */
+SPH_API int sph__nsearch_in_own(const sph_nsearch *g, const sph__probe *p, sph_idx k, const int dim)
+{
+    const sph_real Ri = p->kappa * g->h[k];
+    return sph__nsearch_r2(g, p->xt, k, dim) < Ri * Ri;
+}
+
 /* 1 when some source b + k of the block (k < SPH__NS_BLOCK, b + k < k1) has
  * |d_a| = |(x_t - x_j) - s_a| beyond image_ok_a on some axis: there the
  * run's image offset need not be the minimum image (eq. (N7)). Asked only
@@ -3803,19 +3811,13 @@ SPH__INLINE unsigned sph__nsearch_mask(const sph_nsearch *g, sph__probe *p, sph_
         for (k = 0; edge != 0; ++k, edge >>= 1)
             if (edge & 1u) mask |= (unsigned)sph__nsearch_in(g, p, b + k, dim) << k;
         for (k = 0; edge_own != 0; ++k, edge_own >>= 1)
-            if (edge_own & 1u) {
-                const sph_real Ri = p->kappa * g->h[b + k];
-                mw[k] = -(sph_idx)!(sph__nsearch_r2(g, p->xt, b + k, dim) < Ri * Ri);
-            }
+            if (edge_own & 1u) mw[k] = -(sph_idx)!sph__nsearch_in_own(g, p, b + k, dim);
     }
     if (wide) {
         ++p->redone;
         for (mask = 0, k = 0; k < SPH__NS_BLOCK && b + k < k1; ++k) {
             mask |= (unsigned)sph__nsearch_in(g, p, b + k, dim) << k;
-            if (HV == 2) {
-                const sph_real Ri = p->kappa * g->h[b + k];
-                mw[k] = -(sph_idx)!(sph__nsearch_r2(g, p->xt, b + k, dim) < Ri * Ri);
-            }
+            if (HV == 2) mw[k] = -(sph_idx)!sph__nsearch_in_own(g, p, b + k, dim);
         }
     }
     return mask;
@@ -3898,10 +3900,7 @@ SPH__INLINE unsigned sph__nsearch_mask16(const sph_nsearch *g, sph__probe *p, sp
         if (near_edge & 1u) mask |= (unsigned)sph__nsearch_in(g, p, b + k, dim) << k;
     if (HV == 2) {
         for (k = 0; near_own != 0; ++k, near_own >>= 1)
-            if (near_own & 1u) {
-                const sph_real Ri = p->kappa * g->h[b + k];
-                own |= (unsigned)(sph__nsearch_r2(g, p->xt, b + k, dim) < Ri * Ri) << k;
-            }
+            if (near_own & 1u) own |= (unsigned)sph__nsearch_in_own(g, p, b + k, dim) << k;
         *mk = mask & ~own;
     }
     return mask;
