@@ -56,13 +56,30 @@
  *               density and gradient where the target has it), tested equal
  *               to the reference loops, which ctx.loops = SPH_LOOPS_REFERENCE
  *               also selects at run time.
+ *   SPH_NO_DISPATCH  no run-time dispatch: the fast loops run at the level
+ *               the build's flags give (-march), not at the CPU's. Default
+ *               on x86-64 under gcc 8+ or clang 8+ (not clang with OpenMP):
+ *               sections 5-9 are compiled once more for each level above
+ *               the build's, AVX2 + FMA and AVX-512 (a target pragma, names
+ *               suffixed _avx2 / _avx512), and the public functions with a
+ *               hot loop run the level chosen once from the CPU (sph_isa;
+ *               sph_isa_set forces one). Saves about two thirds of the
+ *               compile time and code of a unit that calls the operators
+ *               (`make compile-cost`); costs 1.5-3x in speed on a CPU
+ *               with AVX2 or AVX-512 in a build without -march.
+ *   SPH_NO_DISPATCH_AVX512  run-time dispatch without the AVX-512 pass:
+ *               the AVX2 loops on every CPU that has AVX2 (or the build's
+ *               level), about half the passes' compile time and code.
+ *   SPH_SELF    the name under which the header includes itself for the
+ *               run-time passes; default "sph_kernel.h" (define it when the
+ *               file is renamed, or SPH_NO_DISPATCH).
  *   SPH_NO_INTRINSICS  use only portable C: no SSE/AVX square-root helper in
- *               the operator loops, no AVX-512 one-pass loop for the density
- *               and difference gradient, no AVX-512 or AVX2 one for
+ *               the operator loops, no AVX-512 or AVX2 one-pass loop for the
+ *               density and difference gradient, none for
  *               sph_h_solve's density sums (results within 1e-13 of the pair
  *               sum either way, tested; the order of the sum over j
  *               differs) and no AVX-512 compress in the neighbour fill
- *               (same lists); slower.
+ *               (same lists), no run-time dispatch; slower.
  *   SPH_NSEARCH_PLAIN  the plain neighbour search: cells of the given edge
  *               and, in symmetric mode, one radius kappa max(h_i, h_max) for
  *               every target. Default: cells refined to the sources' h and a
@@ -99,8 +116,10 @@
  * Each needs only the sections before it that it names; a vendor may delete
  * a section that nothing after it needs (or leave it out with the switches
  * above):
- *   1. configuration        macros, sph_real, libm wrappers: every section
- *   2. status codes         SPH_OK and the errors: every section
+ *   1. configuration        macros, sph_real, libm wrappers, instruction-set
+ *                           levels: every section
+ *   2. status codes         SPH_OK and the errors, the level the fast loops
+ *      and instruction sets run at (sph_isa): every section
  *   3. kernels              1, 2: W, F and their derivatives, the kernel tables
  *   4. particle data        1, 2: views, CSR neighbour lists, periodic box
  *   5. pair terms           1-4: one neighbour's contribution to each operator
@@ -114,8 +133,12 @@
  *
  * ==== API AT A GLANCE (every public function; k kernel, dim 1..3) ==========
  * Names with a double underscore (sph__, SPH__) are internal.
- * 2. Status codes
+ * 2. Status codes, instruction sets
  *   sph_strerror(status)                         a sentence for a status code
+ *   sph_isa()                                    level the fast loops run at: SPH_ISA_PORTABLE, _AVX2, _AVX512
+ *   sph_isa_has(isa), sph_isa_set(isa)           whether this unit and CPU have a level; force one (tests)
+ *   sph_isa_name(isa), sph_isa_dispatch()        "portable", "avx2", "avx512"; 1 with run-time dispatch
+ *   SPH_TARGET_AVX2, SPH_TARGET_AVX512           attributes compiling a caller's own loop for a level
  * 3. Kernels: scalar functions return 0 for invalid input
  *   sph_kernel_check(k, dim)                     SPH_OK, SPH_EKERNEL or SPH_EDIM
  *   sph_check_h(h)                               SPH_OK or SPH_EH
@@ -300,52 +323,104 @@ typedef SPH_REAL sph_real;
 #if defined(__CUDACC__)
 #define SPH__NOINLINE static __noinline__ SPH_HOSTDEV
 #elif defined(__GNUC__) || defined(__clang__)
-#define SPH__NOINLINE static __attribute__((noinline, unused))
+/* inline: a unit that does not call it does not compile it, at -O0 too (a
+ * plain static function is emitted there, every run-time pass's with it);
+ * gcc's -Wattributes calls inline with noinline a contradiction: silenced
+ * for the header's own code (SPH__DIAG_PUSHED, popped at its end). */
+#define SPH__NOINLINE static inline __attribute__((noinline, unused))
+#if !defined(__clang__)
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wattributes"
+#define SPH__DIAG_PUSHED 1
+#endif
 #else
 #define SPH__NOINLINE static inline
 #endif
 
-/* Vector square roots for the operator loops (section 6), and the sign
- * words of the symmetric lists' completion (section 7): AVX (2), SSE2 (1),
- * none (0: portable loop). */
+/* Instruction sets. The fast loops of sections 5-9 are written once and
+ * compiled for one level at a time: 0 the build's own target (portable C,
+ * with SSE2 or AVX square roots where it has them), 1 AVX2 + FMA
+ * (x86-64-v3), 2 AVX-512 F, VL, BW, DQ, CD (x86-64-v4). SPH__ISA_BUILD is
+ * the level the unit's flags give; SPH__ISA the level of the code being
+ * compiled: the build's, or that of a run-time pass (below, SPH__DISPATCH).
+ * SPH__SQRT_SIMD: square roots in AVX (2) or SSE2 (1) registers, or none
+ * (0: portable loop); it also picks the sign words of the symmetric lists'
+ * completion (section 7). */
 #if !defined(SPH_NO_INTRINSICS) && !defined(__CUDACC__) && (defined(__GNUC__) || defined(__clang__)) && \
     (defined(__AVX__) || defined(__SSE2__))
 #include <immintrin.h>
 #if defined(__AVX__)
-#define SPH__SQRT_SIMD 2
+#define SPH__SQRT_SIMD_BUILD 2
 #else
-#define SPH__SQRT_SIMD 1
+#define SPH__SQRT_SIMD_BUILD 1
 #endif
 #else
-#define SPH__SQRT_SIMD 0
+#define SPH__SQRT_SIMD_BUILD 0
+#endif
+#if SPH__SQRT_SIMD_BUILD == 2 && defined(__AVX512F__) && defined(__AVX512VL__)
+#define SPH__ISA_BUILD 2
+#elif SPH__SQRT_SIMD_BUILD == 2 && defined(__AVX2__) && defined(__FMA__)
+#define SPH__ISA_BUILD 1
+#else
+#define SPH__ISA_BUILD 0
+#endif
+#define SPH__ISA SPH__ISA_BUILD
+#define SPH__SQRT_SIMD (SPH__ISA >= 1 ? 2 : SPH__SQRT_SIMD_BUILD)
+/* AVX-512 in the operator loops (section 6: the density and the difference
+ * gradient, 8 pairs per step in one pass; with SPH_REAL float the values are
+ * read as float and the terms computed in double, the sums rounded to float
+ * once), in sph_h_solve's density sums (section 9) and in the neighbour fill
+ * (section 7: a VL compress of a block's accepted source indices). */
+#define SPH__OP_AVX512 (SPH__ISA == 2)
+#define SPH__NS_COMPRESS (SPH__ISA == 2)
+/* The same register loops in AVX2 + FMA, 4 pairs per step in double as
+ * the AVX-512 ones' 8 (level 1): the density and difference gradient in one
+ * pass, sph_h_solve's density sums. */
+#define SPH__OP_AVX2 (SPH__ISA == 1)
+
+/* Run-time dispatch (SPH_NO_DISPATCH compiles it out): on x86-64 under gcc
+ * or clang, sections 5-9 are compiled once more for each level above the
+ * build's (the header includes itself with SPH__LV set, under a target
+ * pragma, its function names suffixed _avx2 or _avx512), and the public
+ * functions with hot loops go to the level chosen once from the CPU's
+ * features (sph_isa, section 2). Not with nvcc, MSVC or other targets,
+ * which keep the build's loops; clang with OpenMP neither, as its outlined
+ * parallel regions do not take a function's target (sph_isa_dispatch says
+ * whether a unit has it). */
+#if !defined(SPH_NO_DISPATCH) && SPH__SQRT_SIMD_BUILD != 0 && SPH__ISA_BUILD < 2 && defined(__x86_64__) && \
+    ((defined(__clang__) && __clang_major__ >= 8 && !defined(_OPENMP)) || (!defined(__clang__) && __GNUC__ >= 8))
+/* the passes: AVX-512 unless SPH_NO_DISPATCH_AVX512, AVX2 below an AVX2 build */
+#if defined(SPH_NO_DISPATCH_AVX512)
+#define SPH__PASS_AVX512 0
+#else
+#define SPH__PASS_AVX512 1
+#endif
+#define SPH__PASS_AVX2 (SPH__ISA_BUILD < 1)
+#else
+#define SPH__PASS_AVX512 0
+#define SPH__PASS_AVX2 0
+#endif
+#if SPH__PASS_AVX512 || SPH__PASS_AVX2
+#define SPH__DISPATCH 1
+#else
+#define SPH__DISPATCH 0
+#endif
+/* The target of each pass: the features sph__isa_cpu checks. A caller's
+ * own hot loop (its pair arithmetic) can be compiled for a level the same
+ * way: SPH_TARGET_AVX2 / SPH_TARGET_AVX512 are the function attributes,
+ * defined where this unit has that pass (docs/testing.md, "Instruction
+ * sets"; examples/sod_shock.c, sd_rows). */
+#define SPH__TARGET_AVX2 "avx,avx2,fma,bmi,bmi2,popcnt"
+#define SPH__TARGET_AVX512 "avx,avx2,fma,bmi,bmi2,popcnt,avx512f,avx512vl,avx512bw,avx512dq,avx512cd"
+#define SPH__PRAGMA_(...) _Pragma(#__VA_ARGS__)
+#define SPH__PRAGMA(...) SPH__PRAGMA_(__VA_ARGS__)
+#if SPH__PASS_AVX512
+#define SPH_TARGET_AVX512 __attribute__((target(SPH__TARGET_AVX512)))
+#endif
+#if SPH__PASS_AVX2
+#define SPH_TARGET_AVX2 __attribute__((target(SPH__TARGET_AVX2)))
 #endif
 
-/* Neighbour fill (section 7): AVX-512 VL compress of a block's accepted
- * source indices (1), or the portable store-all-and-advance loop (0). */
-#if SPH__SQRT_SIMD == 2 && defined(__AVX512VL__) && defined(__AVX512F__)
-#define SPH__NS_COMPRESS 1
-#else
-#define SPH__NS_COMPRESS 0
-#endif
-
-/* Operator pair loops (section 6): the density and the difference gradient
- * in AVX-512 registers, 8 pairs per step in one pass (1), or the portable
- * chunked loops only (0). Both precisions: with SPH_REAL float the values
- * are read as float and the pair terms computed in double (8 lanes), then
- * the sums rounded to float once. */
-#if SPH__SQRT_SIMD == 2 && defined(__AVX512F__) && defined(__AVX512VL__)
-#define SPH__OP_AVX512 1
-#else
-#define SPH__OP_AVX512 0
-#endif
-/* sph_h_solve's density sums (section 9) in AVX2 + FMA registers, 4 pairs
- * per step in double as the AVX-512 loop's 8, where the build has AVX2 and
- * FMA but not AVX-512 (1); else the AVX-512 loop or the chunked one (0). */
-#if SPH__SQRT_SIMD == 2 && !SPH__OP_AVX512 && defined(__AVX2__) && defined(__FMA__)
-#define SPH__OP_AVX2 1
-#else
-#define SPH__OP_AVX2 0
-#endif
 
 /* Every lane of 8. The AVX-512 code calls the maskz_ form, with SPH__ALL8,
  * of each intrinsic whose plain form passes a formally undefined vector as
@@ -365,6 +440,10 @@ typedef SPH_REAL sph_real;
 /* An exact rational (or decimal) constant, rounded once to sph_real. */
 #define SPH__Q(n, d) ((sph_real)((double)(n) / (double)(d)))
 #define SPH__C(x) ((sph_real)(x))
+
+/* Token pasting after expansion (the names of the run-time passes). */
+#define SPH__CAT_(a, b) a##b
+#define SPH__CAT(a, b) SPH__CAT_(a, b)
 
 /* Largest finite sph_real, whatever SPH_REAL is. */
 #define SPH__REAL_MAX (sizeof(sph_real) == sizeof(float) ? (sph_real)FLT_MAX : (sph_real)DBL_MAX)
@@ -420,132 +499,6 @@ SPH__INLINE sph_real sph__mul_rn(sph_real a, sph_real b)
 #endif
 }
 
-/* 1 when this unit fuses the header's a * b + c into one rounding (gcc's
- * GNU modes or -ffp-contract=fast where the target has FMA; clang only
- * under -ffp-contract=fast or SPH_FP_CONTRACT): what the fast loops then
- * promise is agreement with the reference loops to round-off, not bit for
- * bit (docs/testing.md). (1 + 2^-27)^2 - 1 is 2^-26 rounded, 2^-26 + 2^-54
- * fused; the volatile keeps the compiler from folding it. */
-SPH_API int sph__fp_contracted(void)
-{
-    volatile double v = 1 + 1.0 / 134217728;
-    const double a = v;
-    return a * a - 1 != 1.0 / 67108864;
-}
-
-/* r[0..n) = sqrt(r[0..n)), n a multiple of 8 (zero padded): IEEE square roots,
- * bit for bit those of sph__sqrt, without the errno test that keeps compilers
- * from vectorising sqrt() (the operators of section 6, sph_batch_fill).
- * With AVX-512 in 512-bit registers: a lane loop compiled for AVX-512 reads
- * the lanes with 512-bit loads, which the store buffer does not forward
- * from two 256-bit stores (they wait for the cache instead; docs/smoothing_length.md).
- * SPH_NO_INTRINSICS selects the portable loop. */
-SPH__INLINE void sph__sqrt_chunk(sph_real *r, int n)
-{
-    int k = 0;
-#if SPH__OP_AVX512
-    if (sizeof(sph_real) == sizeof(double)) {
-        for (; k + 8 <= n; k += 8)
-            _mm512_storeu_pd((double *)r + k, _mm512_maskz_sqrt_pd(SPH__ALL8, _mm512_loadu_pd((const double *)r + k)));
-    } else {
-        for (; k + 16 <= n; k += 16)
-            _mm512_storeu_ps((float *)r + k, _mm512_maskz_sqrt_ps((__mmask16)0xFFFF, _mm512_loadu_ps((const float *)r + k)));
-    }
-#endif
-#if SPH__SQRT_SIMD == 2
-    if (sizeof(sph_real) == sizeof(double)) {
-        for (; k < n; k += 4)
-            _mm256_storeu_pd((double *)r + k, _mm256_sqrt_pd(_mm256_loadu_pd((const double *)r + k)));
-    } else {
-        for (; k < n; k += 8)
-            _mm256_storeu_ps((float *)r + k, _mm256_sqrt_ps(_mm256_loadu_ps((const float *)r + k)));
-    }
-#elif SPH__SQRT_SIMD == 1
-    if (sizeof(sph_real) == sizeof(double)) {
-        for (; k < n; k += 2)
-            _mm_storeu_pd((double *)r + k, _mm_sqrt_pd(_mm_loadu_pd((const double *)r + k)));
-    } else {
-        for (; k < n; k += 4)
-            _mm_storeu_ps((float *)r + k, _mm_sqrt_ps(_mm_loadu_ps((const float *)r + k)));
-    }
-#else
-    for (; k < n; ++k) r[k] = sph__sqrt(r[k]);
-#endif
-}
-
-/* e[0..n) -= L floor(e[0..n) / L + 1/2) with 1/L given: sph__pair's minimum
- * image, bit for bit, in vector registers (AVX-512 first, as sph__sqrt_chunk;
- * AVX: its vector floor; SSE2: by the int32 conversion) where the compilers
- * leave floor() in a loop scalar (the operators of section 6, sph_batch_fill). */
-SPH__INLINE void sph__image_chunk(sph_real *e, int n, sph_real L, sph_real iL)
-{
-    int k = 0;
-#if SPH__OP_AVX512
-    if (sizeof(sph_real) == sizeof(double)) {
-        const __m512d vL = _mm512_set1_pd((double)L), viL = _mm512_set1_pd((double)iL), h = _mm512_set1_pd(0.5);
-        for (; k + 8 <= n; k += 8) {
-            const __m512d v = _mm512_loadu_pd((const double *)e + k);
-            const __m512d f = _mm512_maskz_roundscale_pd(SPH__ALL8, _mm512_add_pd(_mm512_mul_pd(v, viL), h),
-                                                         _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC);
-            _mm512_storeu_pd((double *)e + k, _mm512_sub_pd(v, _mm512_mul_pd(vL, f)));
-        }
-    } else {
-        const __m512 vL = _mm512_set1_ps((float)L), viL = _mm512_set1_ps((float)iL), h = _mm512_set1_ps(0.5f);
-        for (; k + 16 <= n; k += 16) {
-            const __m512 v = _mm512_loadu_ps((const float *)e + k);
-            const __m512 f = _mm512_maskz_roundscale_ps((__mmask16)0xFFFF, _mm512_add_ps(_mm512_mul_ps(v, viL), h),
-                                                        _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC);
-            _mm512_storeu_ps((float *)e + k, _mm512_sub_ps(v, _mm512_mul_ps(vL, f)));
-        }
-    }
-#endif
-#if SPH__SQRT_SIMD == 2
-    if (sizeof(sph_real) == sizeof(double)) {
-        const __m256d vL = _mm256_set1_pd((double)L), viL = _mm256_set1_pd((double)iL), h = _mm256_set1_pd(0.5);
-        for (; k + 4 <= n; k += 4) {
-            const __m256d v = _mm256_loadu_pd((const double *)e + k);
-            const __m256d f = _mm256_floor_pd(_mm256_add_pd(_mm256_mul_pd(v, viL), h));
-            _mm256_storeu_pd((double *)e + k, _mm256_sub_pd(v, _mm256_mul_pd(vL, f)));
-        }
-    } else {
-        const __m256 vL = _mm256_set1_ps((float)L), viL = _mm256_set1_ps((float)iL), h = _mm256_set1_ps(0.5f);
-        for (; k + 8 <= n; k += 8) {
-            const __m256 v = _mm256_loadu_ps((const float *)e + k);
-            const __m256 f = _mm256_floor_ps(_mm256_add_ps(_mm256_mul_ps(v, viL), h));
-            _mm256_storeu_ps((float *)e + k, _mm256_sub_ps(v, _mm256_mul_ps(vL, f)));
-        }
-    }
-#elif SPH__SQRT_SIMD == 1
-    /* SSE2 has no vector floor: floor(t) = trunc(t) - (trunc(t) > t), trunc by
-     * the conversion to int32, where |t| < 2^31 in every lane (t = -0 never
-     * occurs: t = x + 1/2); otherwise the scalar loop below */
-    if (sizeof(sph_real) == sizeof(double)) {
-        const __m128d vL = _mm_set1_pd((double)L), viL = _mm_set1_pd((double)iL), h = _mm_set1_pd(0.5);
-        const __m128d one = _mm_set1_pd(1.0), big = _mm_set1_pd(2147483648.0), sgn = _mm_set1_pd(-0.0);
-        for (; k + 2 <= n; k += 2) {
-            const __m128d v = _mm_loadu_pd((const double *)e + k), t = _mm_add_pd(_mm_mul_pd(v, viL), h);
-            __m128d f;
-            if (_mm_movemask_pd(_mm_cmpge_pd(_mm_andnot_pd(sgn, t), big)) != 0) break;
-            f = _mm_cvtepi32_pd(_mm_cvttpd_epi32(t));
-            f = _mm_sub_pd(f, _mm_and_pd(_mm_cmpgt_pd(f, t), one));
-            _mm_storeu_pd((double *)e + k, _mm_sub_pd(v, _mm_mul_pd(vL, f)));
-        }
-    } else {
-        const __m128 vL = _mm_set1_ps((float)L), viL = _mm_set1_ps((float)iL), h = _mm_set1_ps(0.5f);
-        const __m128 one = _mm_set1_ps(1.0f), big = _mm_set1_ps(2147483648.0f), sgn = _mm_set1_ps(-0.0f);
-        for (; k + 4 <= n; k += 4) {
-            const __m128 v = _mm_loadu_ps((const float *)e + k), t = _mm_add_ps(_mm_mul_ps(v, viL), h);
-            __m128 f;
-            if (_mm_movemask_ps(_mm_cmpge_ps(_mm_andnot_ps(sgn, t), big)) != 0) break;
-            f = _mm_cvtepi32_ps(_mm_cvttps_epi32(t));
-            f = _mm_sub_ps(f, _mm_and_ps(_mm_cmpgt_ps(f, t), one));
-            _mm_storeu_ps((float *)e + k, _mm_sub_ps(v, _mm_mul_ps(vL, f)));
-        }
-    }
-#endif
-    for (; k < n; ++k) e[k] -= L * sph__floor(e[k] * iL + (sph_real)0.5);
-}
-
 /* ======================================================================== */
 /* 2. Status codes                                                           */
 /* ======================================================================== */
@@ -591,7 +544,10 @@ SPH__INLINE void sph__image_chunk(sph_real *e, int n, sph_real L, sph_real iL)
     X(SPH_EVALUE, -19, \
       "input value out of range: a density not positive, a coordinate beyond sqrt(REAL_MAX)/4, or a " \
       "time-step h or rate negative or not finite") \
-    X(SPH_ENOGRID, -20, "neighbour grid not built: sph_nsearch_build must return SPH_OK first")
+    X(SPH_ENOGRID, -20, "neighbour grid not built: sph_nsearch_build must return SPH_OK first") \
+    X(SPH_EISA, -21, \
+      "instruction set not available: this unit has no loops for it (run-time dispatch compiled out, or a " \
+      "build for a higher level) or the CPU lacks it")
 
 enum {
 #define SPH__STATUS_ENUM(name, value, sentence) name = value,
@@ -610,6 +566,102 @@ SPH_API const char *sph_strerror(int status)
     default: return "unknown status code";
     }
 }
+
+/* ---- Instruction sets of the fast loops (section 1: levels, SPH__DISPATCH) ---- */
+/* The levels sections 5-9 can run at: the build's own loops, or a run-time
+ * pass compiled for AVX2 + FMA or AVX-512 (x86-64 under gcc or clang). */
+#define SPH_ISA_LIST(X) \
+    X(SPH_ISA_PORTABLE, 0, "portable") \
+    X(SPH_ISA_AVX2, 1, "avx2") \
+    X(SPH_ISA_AVX512, 2, "avx512")
+enum {
+    SPH_ISA_AUTO = -1, /* sph_isa_set: back to the CPU's best */
+#define SPH__ISA_ENUM(name, value, id) name = value,
+    SPH_ISA_LIST(SPH__ISA_ENUM)
+#undef SPH__ISA_ENUM
+};
+
+/* "portable", "avx2", "avx512"; NULL for another value. */
+SPH_API const char *sph_isa_name(int isa)
+{
+    switch (isa) {
+#define SPH__ISA_CASE(name, value, id) \
+    case name: return id;
+        SPH_ISA_LIST(SPH__ISA_CASE)
+#undef SPH__ISA_CASE
+    default: return NULL;
+    }
+}
+
+#if SPH__DISPATCH
+/* The highest level this CPU runs, by the features each pass is compiled
+ * for (the CPUID bits and the OS's saving of the registers, read by the
+ * compiler's runtime). */
+SPH_API int sph__isa_cpu(void)
+{
+    __builtin_cpu_init();
+    if (!(__builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma") && __builtin_cpu_supports("bmi") &&
+          __builtin_cpu_supports("bmi2") && __builtin_cpu_supports("popcnt")))
+        return SPH_ISA_PORTABLE;
+    if (__builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512vl") && __builtin_cpu_supports("avx512bw") &&
+        __builtin_cpu_supports("avx512dq") && __builtin_cpu_supports("avx512cd"))
+        return SPH_ISA_AVX512;
+    return SPH_ISA_AVX2;
+}
+
+/* This unit's chosen level, -1 until the first sph_isa(). */
+SPH_API int *sph__isa_slot(void)
+{
+    static int isa = -1;
+    return &isa;
+}
+#endif
+
+/* 1 when this unit can run its fast loops at level isa on this CPU: the
+ * build's own level, or with run-time dispatch one above it the CPU has. */
+SPH_API int sph_isa_has(int isa)
+{
+#if SPH__DISPATCH
+    return isa >= SPH__ISA_BUILD && isa <= (SPH__PASS_AVX512 ? SPH_ISA_AVX512 : SPH_ISA_AVX2) && isa <= sph__isa_cpu();
+#else
+    return isa == SPH__ISA_BUILD;
+#endif
+}
+
+/* The level the fast loops of sections 5-9 run at in this unit: chosen
+ * once, the highest the CPU and the unit have, unless sph_isa_set forced one. */
+SPH_API int sph_isa(void)
+{
+#if SPH__DISPATCH
+    int *slot = sph__isa_slot(), isa = __atomic_load_n(slot, __ATOMIC_RELAXED);
+    if (isa < 0) {
+        isa = sph__isa_cpu();
+        isa = SPH__PASS_AVX512 || isa < SPH_ISA_AVX512 ? isa : SPH_ISA_AVX2; /* the highest level compiled */
+        isa = isa > SPH__ISA_BUILD ? isa : SPH__ISA_BUILD;
+        __atomic_store_n(slot, isa, __ATOMIC_RELAXED);
+    }
+    return isa;
+#else
+    return SPH__ISA_BUILD;
+#endif
+}
+
+/* Forces this unit's level (tests, comparisons; SPH_ISA_AUTO: the CPU's
+ * best again): SPH_OK, SPH_EOPTION for an unknown level, SPH_EISA when
+ * sph_isa_has(isa) is 0 (the level is left as it was). Set it before a
+ * search whose grid and lists are used at that level. */
+SPH_API int sph_isa_set(int isa)
+{
+    if (isa < SPH_ISA_AUTO || isa > SPH_ISA_AVX512) return SPH_EOPTION;
+    if (isa != SPH_ISA_AUTO && !sph_isa_has(isa)) return SPH_EISA;
+#if SPH__DISPATCH
+    __atomic_store_n(sph__isa_slot(), isa, __ATOMIC_RELAXED);
+#endif
+    return SPH_OK;
+}
+
+/* 1 when this unit was compiled with run-time dispatch (section 1). */
+SPH_API int sph_isa_dispatch(void) { return SPH__DISPATCH; }
 
 /* ======================================================================== */
 /* 3. Kernels                                                                */
@@ -1236,7 +1288,7 @@ SPH_API void sph_kernel_grad(sph_kernel k, int dim, const sph_real *dx, sph_real
     for (a = 0; a < dim; ++a) grad[a] = G != 0 ? G * s[a] : 0;
 }
 
-#if !defined(SPH_ONLY_KERNELS) /* sections 4-9 */
+#if !defined(SPH_ONLY_KERNELS) /* section 4 */
 
 /* ======================================================================== */
 /* 4. Particle data: strided views, neighbour lists, periodic box            */
@@ -1308,7 +1360,7 @@ SPH_API sph_real sph_box_delta(const sph_box *box, int a, sph_real dx)
     if (box == NULL || a < 0 || a > 2 || !box->periodic[a]) return dx;
     L = box->length[a];
     if (!(L > 0 && L <= SPH__REAL_MAX)) return dx;
-    d = dx - L * sph__floor(dx / L + (sph_real)0.5);
+    d = dx - sph__mul_rn(L, sph__floor(dx / L + (sph_real)0.5)); /* the product rounded: the same image in any unit */
     return sph__finite(d) ? d : dx;
 }
 
@@ -1525,9 +1577,230 @@ SPH_API int sph_share_next(sph_share *s, int t, int *u, sph_idx *lo, sph_idx *hi
     return 0;
 }
 
+#endif /* section 4 */
+
+/* ---- Run-time dispatch (section 1, SPH__DISPATCH): sections 5-9 once per level above the build's ---- */
+/* Each pass includes this file again with SPH__LV set: SPH__NAMES 1 first
+ * maps every function name of sections 5-9 to name_avx512 or name_avx2
+ * (SPH__SUFFIX; the list at the end of the file), a target pragma compiles
+ * the pass for its level, and SPH__NAMES 2 removes the names again before
+ * the build's own compile of sections 5-9. The types of sections 5-9 are
+ * defined in the first of these compiles (SPH__FIRST). SPH_SELF: this
+ * file's name as an #include finds it (default "sph_kernel.h"). */
+#if SPH__DISPATCH && !defined(SPH_ONLY_KERNELS)
+#ifndef SPH_SELF
+#define SPH_SELF "sph_kernel.h"
+#endif
+#define SPH__LN(name) SPH__CAT(name, SPH__SUFFIX)
+#define SPH__DISPATCH_TO(f, args)
+#define SPH__DISPATCH_VOID(f, args)
+#define SPH__NAMES 1
+#include SPH_SELF
+#undef SPH__NAMES
+#if SPH__PASS_AVX512
+#define SPH__LV 2 /* the pass itself: the start and end of sections 5-9 below */
+#include SPH_SELF
+#undef SPH__LV
+#endif
+#if SPH__PASS_AVX2
+#define SPH__LV 1
+#include SPH_SELF
+#undef SPH__LV
+#endif
+#define SPH__NAMES 2
+#include SPH_SELF
+#undef SPH__NAMES
+#define SPH__FIRST 0
+#undef SPH__DISPATCH_TO
+#undef SPH__DISPATCH_VOID
+/* The build's public functions with a hot loop start by handing their
+ * arguments to the level sph_isa() names, when that is not the build's. */
+#define SPH__DISPATCH_TO(f, args) \
+    switch (sph_isa()) { SPH__TO_AVX512(f, args) SPH__TO_AVX2(f, args) default: break; }
+#define SPH__DISPATCH_VOID(f, args) \
+    switch (sph_isa()) { SPH__TOV_AVX512(f, args) SPH__TOV_AVX2(f, args) default: break; }
+#if SPH__PASS_AVX512
+#define SPH__TO_AVX512(f, args) case SPH_ISA_AVX512: return f##_avx512 args;
+#define SPH__TOV_AVX512(f, args) case SPH_ISA_AVX512: f##_avx512 args; return;
+#else
+#define SPH__TO_AVX512(f, args)
+#define SPH__TOV_AVX512(f, args)
+#endif
+#if SPH__PASS_AVX2
+#define SPH__TO_AVX2(f, args) case SPH_ISA_AVX2: return f##_avx2 args;
+#define SPH__TOV_AVX2(f, args) case SPH_ISA_AVX2: f##_avx2 args; return;
+#else
+#define SPH__TO_AVX2(f, args)
+#define SPH__TOV_AVX2(f, args)
+#endif
+#else
+#define SPH__FIRST 1
+#define SPH__DISPATCH_TO(f, args)
+#define SPH__DISPATCH_VOID(f, args)
+#endif
+
+#endif /* SPH_KERNEL_H: sections 1-4 and the passes */
+
+/* Sections 5-9: in each pass (SPH__LV) and in the build's own compile, once. */
+#if !defined(SPH__NAMES) && (defined(SPH__LV) || !defined(SPH__BODY_DONE))
+#if defined(SPH__LV) /* a pass: its level, names, target; the types if it is the first */
+#undef SPH__ISA
+#define SPH__ISA SPH__LV
+#if SPH__LV == 2
+#define SPH__SUFFIX _avx512
+#define SPH__FIRST 1
+#else
+#define SPH__SUFFIX _avx2
+#define SPH__FIRST (!SPH__PASS_AVX512)
+#endif
+#if defined(__clang__) && SPH__LV == 2
+SPH__PRAGMA(clang attribute push(__attribute__((target(SPH__TARGET_AVX512))), apply_to = function))
+#elif defined(__clang__)
+SPH__PRAGMA(clang attribute push(__attribute__((target(SPH__TARGET_AVX2))), apply_to = function))
+#else
+#pragma GCC push_options
+#if SPH__LV == 2
+SPH__PRAGMA(GCC target(SPH__TARGET_AVX512))
+#else
+SPH__PRAGMA(GCC target(SPH__TARGET_AVX2))
+#endif
+#pragma GCC optimize("peel-loops")
+#endif
+#endif
+#if !defined(SPH_ONLY_KERNELS) /* sections 5-9 */
+
 /* ======================================================================== */
 /* 5. Pair terms                                                             */
 /* ======================================================================== */
+
+/* ---- compiled once per instruction-set level (SPH__ISA) from here to the end of section 9 ---- */
+
+/* 1 when this unit fuses the header's a * b + c into one rounding (gcc's
+ * GNU modes or -ffp-contract=fast where the target has FMA; clang only
+ * under -ffp-contract=fast or SPH_FP_CONTRACT): what the fast loops then
+ * promise is agreement with the reference loops to round-off, not bit for
+ * bit (docs/testing.md). (1 + 2^-27)^2 - 1 is 2^-26 rounded, 2^-26 + 2^-54
+ * fused; the volatile keeps the compiler from folding it. */
+SPH_API int sph__fp_contracted(void)
+{
+    SPH__DISPATCH_TO(sph__fp_contracted, ())
+    volatile double v = 1 + 1.0 / 134217728;
+    const double a = v;
+    return a * a - 1 != 1.0 / 67108864;
+}
+
+/* r[0..n) = sqrt(r[0..n)), n a multiple of 8 (zero padded): IEEE square roots,
+ * bit for bit those of sph__sqrt, without the errno test that keeps compilers
+ * from vectorising sqrt() (the operators of section 6, sph_batch_fill).
+ * With AVX-512 in 512-bit registers: a lane loop compiled for AVX-512 reads
+ * the lanes with 512-bit loads, which the store buffer does not forward
+ * from two 256-bit stores (they wait for the cache instead; docs/smoothing_length.md).
+ * SPH_NO_INTRINSICS selects the portable loop. */
+SPH__INLINE void sph__sqrt_chunk(sph_real *r, int n)
+{
+    int k = 0;
+#if SPH__OP_AVX512
+    if (sizeof(sph_real) == sizeof(double)) {
+        for (; k + 8 <= n; k += 8)
+            _mm512_storeu_pd((double *)r + k, _mm512_maskz_sqrt_pd(SPH__ALL8, _mm512_loadu_pd((const double *)r + k)));
+    } else {
+        for (; k + 16 <= n; k += 16)
+            _mm512_storeu_ps((float *)r + k, _mm512_maskz_sqrt_ps((__mmask16)0xFFFF, _mm512_loadu_ps((const float *)r + k)));
+    }
+#endif
+#if SPH__SQRT_SIMD == 2
+    if (sizeof(sph_real) == sizeof(double)) {
+        for (; k < n; k += 4)
+            _mm256_storeu_pd((double *)r + k, _mm256_sqrt_pd(_mm256_loadu_pd((const double *)r + k)));
+    } else {
+        for (; k < n; k += 8)
+            _mm256_storeu_ps((float *)r + k, _mm256_sqrt_ps(_mm256_loadu_ps((const float *)r + k)));
+    }
+#elif SPH__SQRT_SIMD == 1
+    if (sizeof(sph_real) == sizeof(double)) {
+        for (; k < n; k += 2)
+            _mm_storeu_pd((double *)r + k, _mm_sqrt_pd(_mm_loadu_pd((const double *)r + k)));
+    } else {
+        for (; k < n; k += 4)
+            _mm_storeu_ps((float *)r + k, _mm_sqrt_ps(_mm_loadu_ps((const float *)r + k)));
+    }
+#else
+    for (; k < n; ++k) r[k] = sph__sqrt(r[k]);
+#endif
+}
+
+/* e[0..n) -= L floor(e[0..n) / L + 1/2) with 1/L given: sph__pair's minimum
+ * image, bit for bit, in vector registers (AVX-512 first, as sph__sqrt_chunk;
+ * AVX: its vector floor; SSE2: by the int32 conversion) where the compilers
+ * leave floor() in a loop scalar (the operators of section 6, sph_batch_fill). */
+SPH__INLINE void sph__image_chunk(sph_real *e, int n, sph_real L, sph_real iL)
+{
+    int k = 0;
+#if SPH__OP_AVX512
+    if (sizeof(sph_real) == sizeof(double)) {
+        const __m512d vL = _mm512_set1_pd((double)L), viL = _mm512_set1_pd((double)iL), h = _mm512_set1_pd(0.5);
+        for (; k + 8 <= n; k += 8) {
+            const __m512d v = _mm512_loadu_pd((const double *)e + k);
+            const __m512d f = _mm512_maskz_roundscale_pd(SPH__ALL8, _mm512_add_pd(_mm512_mul_pd(v, viL), h),
+                                                         _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC);
+            _mm512_storeu_pd((double *)e + k, _mm512_sub_pd(v, _mm512_mul_pd(vL, f)));
+        }
+    } else {
+        const __m512 vL = _mm512_set1_ps((float)L), viL = _mm512_set1_ps((float)iL), h = _mm512_set1_ps(0.5f);
+        for (; k + 16 <= n; k += 16) {
+            const __m512 v = _mm512_loadu_ps((const float *)e + k);
+            const __m512 f = _mm512_maskz_roundscale_ps((__mmask16)0xFFFF, _mm512_add_ps(_mm512_mul_ps(v, viL), h),
+                                                        _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC);
+            _mm512_storeu_ps((float *)e + k, _mm512_sub_ps(v, _mm512_mul_ps(vL, f)));
+        }
+    }
+#endif
+#if SPH__SQRT_SIMD == 2
+    if (sizeof(sph_real) == sizeof(double)) {
+        const __m256d vL = _mm256_set1_pd((double)L), viL = _mm256_set1_pd((double)iL), h = _mm256_set1_pd(0.5);
+        for (; k + 4 <= n; k += 4) {
+            const __m256d v = _mm256_loadu_pd((const double *)e + k);
+            const __m256d f = _mm256_floor_pd(_mm256_add_pd(_mm256_mul_pd(v, viL), h));
+            _mm256_storeu_pd((double *)e + k, _mm256_sub_pd(v, _mm256_mul_pd(vL, f)));
+        }
+    } else {
+        const __m256 vL = _mm256_set1_ps((float)L), viL = _mm256_set1_ps((float)iL), h = _mm256_set1_ps(0.5f);
+        for (; k + 8 <= n; k += 8) {
+            const __m256 v = _mm256_loadu_ps((const float *)e + k);
+            const __m256 f = _mm256_floor_ps(_mm256_add_ps(_mm256_mul_ps(v, viL), h));
+            _mm256_storeu_ps((float *)e + k, _mm256_sub_ps(v, _mm256_mul_ps(vL, f)));
+        }
+    }
+#elif SPH__SQRT_SIMD == 1
+    /* SSE2 has no vector floor: floor(t) = trunc(t) - (trunc(t) > t), trunc by
+     * the conversion to int32, where |t| < 2^31 in every lane (t = -0 never
+     * occurs: t = x + 1/2); otherwise the scalar loop below */
+    if (sizeof(sph_real) == sizeof(double)) {
+        const __m128d vL = _mm_set1_pd((double)L), viL = _mm_set1_pd((double)iL), h = _mm_set1_pd(0.5);
+        const __m128d one = _mm_set1_pd(1.0), big = _mm_set1_pd(2147483648.0), sgn = _mm_set1_pd(-0.0);
+        for (; k + 2 <= n; k += 2) {
+            const __m128d v = _mm_loadu_pd((const double *)e + k), t = _mm_add_pd(_mm_mul_pd(v, viL), h);
+            __m128d f;
+            if (_mm_movemask_pd(_mm_cmpge_pd(_mm_andnot_pd(sgn, t), big)) != 0) break;
+            f = _mm_cvtepi32_pd(_mm_cvttpd_epi32(t));
+            f = _mm_sub_pd(f, _mm_and_pd(_mm_cmpgt_pd(f, t), one));
+            _mm_storeu_pd((double *)e + k, _mm_sub_pd(v, _mm_mul_pd(vL, f)));
+        }
+    } else {
+        const __m128 vL = _mm_set1_ps((float)L), viL = _mm_set1_ps((float)iL), h = _mm_set1_ps(0.5f);
+        const __m128 one = _mm_set1_ps(1.0f), big = _mm_set1_ps(2147483648.0f), sgn = _mm_set1_ps(-0.0f);
+        for (; k + 4 <= n; k += 4) {
+            const __m128 v = _mm_loadu_ps((const float *)e + k), t = _mm_add_ps(_mm_mul_ps(v, viL), h);
+            __m128 f;
+            if (_mm_movemask_ps(_mm_cmpge_ps(_mm_andnot_ps(sgn, t), big)) != 0) break;
+            f = _mm_cvtepi32_ps(_mm_cvttps_epi32(t));
+            f = _mm_sub_ps(f, _mm_and_ps(_mm_cmpgt_ps(f, t), one));
+            _mm_storeu_ps((float *)e + k, _mm_sub_ps(v, _mm_mul_ps(vL, f)));
+        }
+    }
+#endif
+    for (; k < n; ++k) e[k] -= L * sph__floor(e[k] * iL + (sph_real)0.5);
+}
 
 /* One neighbour's contribution to each operator of section 6, for solvers that
  * fuse several operators in their own neighbour loop (docs/operators.md,
@@ -1546,9 +1819,11 @@ SPH_API int sph_share_next(sph_share *s, int t, int *u, sph_idx *lo, sph_idx *hi
  * (identity). */
 
 /* The kernel at one pair: r = |dx|, q = r / h, W = W(r, h), F = (1/r) dW/dr. */
+#if SPH__FIRST
 typedef struct {
     sph_real r, q, W, F;
 } sph_pair;
+#endif /* SPH__FIRST */
 
 /* (O1) r, q, W and F of a pair from dx = x_i - x_j (dim components) and the
  * pair's h (the caller picks h_i, or (h_i + h_j) / 2 for symmetric terms).
@@ -1794,20 +2069,25 @@ SPH_API int sph_correction_invert(int dim, const sph_real *M, sph_real rcond_min
  * list must hold every source within kappa h of the target for the h used. */
 
 /* How much input checking an operator does before it runs. */
+#if SPH__FIRST
 enum {
     SPH_VALIDATE_FULL = 0, /* default: arguments, one pass over the list (sph_neighbours_check)
                               and one over every per-particle input array */
     SPH_VALIDATE_ARGS = 1  /* arguments only (O(1)): the caller has checked list and data */
 };
+#endif /* SPH__FIRST */
 
 /* Which loops an operator runs (the results agree to round-off, bitwise
  * without OpenMP and AVX-512; tests/test_op_reference.c). */
+#if SPH__FIRST
 enum {
     SPH_LOOPS_FAST = 0,     /* default: chunked vector loops (section 6, "Fast loops") */
     SPH_LOOPS_REFERENCE = 1 /* the plain reference loops, one pair at a time: to check a result */
 };
+#endif /* SPH__FIRST */
 
 /* Gradient, divergence and curl schemes (docs/operators.md (O4)-(O11), (O17)). */
+#if SPH__FIRST
 typedef enum {
     SPH_SCHEME_STANDARD,   /* sum V_j f_j grad_i W_ij                       */
     SPH_SCHEME_DIFFERENCE, /* sum V_j (f_j - f_i) grad_i W_ij                */
@@ -1815,10 +2095,12 @@ typedef enum {
     SPH_SCHEME_CORRECTED,  /* B_i sum V_j (f_j - f_i) grad_i W_ij            */
     SPH_SCHEME_PRESSURE    /* rho_i sum m_j (f_i/rho_i^2 + f_j/rho_j^2) grad_i W_ij (scalars) */
 } sph_scheme;
+#endif /* SPH__FIRST */
 
 /* What every operator reads besides its field. Fill with sph_ctx_init, then
  * set what the scene uses. Sources are indexed 0..n_sources-1 and targets
  * 0..n_targets-1; a view with p[0] == NULL is absent. */
+#if SPH__FIRST
 typedef struct {
     sph_kernel kernel;
     int dim;                    /* 1..3 */
@@ -1837,6 +2119,7 @@ typedef struct {
     int validate;               /* SPH_VALIDATE_FULL (default) or SPH_VALIDATE_ARGS */
     int loops;                  /* SPH_LOOPS_FAST (default) or SPH_LOOPS_REFERENCE */
 } sph_ctx;
+#endif /* SPH__FIRST */
 
 /* An absent view (every pointer NULL). */
 SPH_API sph_view sph_view_none(void) { return sph_view_soa(NULL, NULL, NULL); }
@@ -1872,10 +2155,13 @@ SPH_API sph_ctx sph_ctx_init(sph_kernel kernel, int dim, sph_real h, const sph_n
     X(LAPLACIAN, lap) X(DIFFUSION, lap)
 
 #define SPH__X(name, family) SPH__OP_##name,
+#if SPH__FIRST
 enum { SPH__OPS(SPH__X) SPH__OP_COUNT };
+#endif /* SPH__FIRST */
 #undef SPH__X
 
 /* Everything an operator loop reads, resolved and checked. */
+#if SPH__FIRST
 typedef struct {
     sph_kernel kernel;
     int op, dim, hv;        /* operator, dimension, per-particle h */
@@ -1890,6 +2176,7 @@ typedef struct {
     sph_real *T;
     ptrdiff_t Ts;
 } sph__args;
+#endif /* SPH__FIRST */
 
 /* The dimension and kernel of a loop: compile-time constants where SPH_DIM
  * and SPH_KERNEL pin them (the compiler then folds the kernel's pieces). The
@@ -1907,15 +2194,19 @@ typedef struct {
 #endif
 
 /* What a loop evaluates per pair: W (at h_i) and/or F (at h_ij). */
+#if SPH__FIRST
 enum { SPH__WANT_W = 1, SPH__WANT_F = 2 };
+#endif /* SPH__FIRST */
 
 /* One target: position, h_i, 1/h_i, the kernel's shape and alpha_d, and the
  * factors alpha h_i^-d (W) and alpha h_i^-(d+2) (F). */
+#if SPH__FIRST
 typedef struct {
     const sph__nshape *sh;
     int shape;
     sph_real xi[3], hi, hinv, alpha, cW, cF;
 } sph__tgt;
+#endif /* SPH__FIRST */
 
 SPH__INLINE void sph__tinit(const sph__args *A, sph_idx i, sph__tgt *t)
 {
@@ -2188,8 +2479,8 @@ SPH_API sph_idx sph__run_reference(const sph__args *A)
  * evaluated by one function per shape (its pieces folded to constants there)
  * called once per chunk, so the operators need no copy per kernel. The
  * density and the difference gradient, the hot loops of most solvers, have
- * a loop per shape of their own instead: one pass in AVX-512 registers
- * (sph__dg8), or elsewhere two passes per chunk (sph__dgc). */
+ * a loop per shape of their own instead: one pass in AVX-512 or AVX2 registers
+ * (sph__dgv), or elsewhere two passes per chunk (sph__dgc). */
 #if !defined(SPH_OP_REFERENCE)
 /* the fast loops are compiled (sph_h_solve's density sums use them too) */
 #define SPH__FAST_LOOPS 1
@@ -2219,6 +2510,7 @@ SPH_API sph_idx sph__run_reference(const sph__args *A)
 #endif
 
 /* The pairs of one chunk (positions k = 0..n-1 of the target's list). */
+#if SPH__FIRST
 typedef struct {
     sph_real dx[3][SPH__CHUNK]; /* x_i - x_j, minimum image */
     sph_real r[SPH__CHUNK];     /* r^2, then r (zero padded to a multiple of 8) */
@@ -2227,6 +2519,7 @@ typedef struct {
     sph_real u[3][SPH__CHUNK];  /* scratch: v_j - v_i (divergence, curl) */
     sph_idx j[SPH__CHUNK];
 } sph__chunk;
+#endif /* SPH__FIRST */
 
 /* One axis of a chunk: d[k] = x_i - x_j of the n sources j[k] (positions x,
  * stride s), with the minimum image where the axis has a period L, and
@@ -2284,7 +2577,9 @@ SPH__INLINE void sph__shape_run(const sph__nshape *s, const sph_real *q, sph_rea
 }
 
 #define SPH__SHAPE_IDS(X) X(0) X(1) X(2) X(3) X(4) X(5) X(6) X(7) X(8) X(9)
+#if SPH__FIRST
 typedef char sph__shape_ids_cover_every_shape[(int)(sizeof sph__nshapes / sizeof sph__nshapes[0]) == 10 ? 1 : -1];
+#endif /* SPH__FIRST */
 
 #define SPH__X(S)                                                                          \
     SPH__NOINLINE void sph__shape_run##S(const sph_real *q, sph_real *w, sph_real *g, int n) \
@@ -2386,6 +2681,8 @@ SPH__INLINE void sph__chunk_correction(const sph__args *A, const int D, sph__chu
  * intrinsic both spell alike (_mm512_op_pd, _mm256_op_pd); a lane mask is a
  * __mmask8, or with AVX2 a vector of all-ones and all-zeros lanes. */
 #if SPH__OP_AVX512
+#undef SPH__VW
+#undef SPH__V
 #define SPH__VW 8
 #define SPH__V(op) _mm512_##op##_pd
 typedef __m512d sph__vd;
@@ -2426,6 +2723,8 @@ SPH__INLINE sph__vm sph__vidx(const sph_idx *idx, sph_off left, sph_idx *j)
     return km;
 }
 #else
+#undef SPH__VW
+#undef SPH__V
 #define SPH__VW 4
 #define SPH__V(op) _mm256_##op##_pd
 typedef __m256d sph__vd;
@@ -2489,81 +2788,81 @@ SPH__INLINE sph__vd sph__vdx(sph__vd xi, const sph_real *p, sph__vd L, sph__vd i
 }
 #endif /* SPH__OP_AVX512 || SPH__OP_AVX2 */
 
-/* ---- AVX-512: density and difference gradient in one pass (SPH__OP_AVX512) ---- */
-#if SPH__OP_AVX512
+/* ---- density and difference gradient in one pass, in registers (SPH__OP_AVX512 or SPH__OP_AVX2) ---- */
+#if SPH__OP_AVX512 || SPH__OP_AVX2
 
 /* (O2) rho = sum_j m_j W_ij (dens) and/or (O5) g = sum_j V_j (f_j - f_i) F_ij x_ij
- * (grad) of target t, 8 pairs per step: the chunked loops' arithmetic (IEEE
- * square root, the natural pieces, the division of g by q) in registers, in
- * double for either sph_real; only the order of the sum over j differs.
- * Everything the loop reads of A and t is copied to locals first: the store
- * of the indices through a vector type may alias any memory, and would
- * otherwise reload them every step. */
-SPH__INLINE void sph__dg8_body(const sph__args *A, const sph__nshape *sh, const sph__tgt *t, sph_idx i, const int D,
+ * (grad) of target t, SPH__VW pairs per step: the chunked loops' arithmetic
+ * (IEEE square root, the natural pieces, the division of g by q) in
+ * registers, in double for either sph_real; only the order of the sum over
+ * j differs. Everything the loop reads of A and t is copied to locals first:
+ * the store of the indices through a vector type may alias any memory, and
+ * would otherwise reload them every step. */
+SPH__INLINE void sph__dgv_body(const sph__args *A, const sph__nshape *sh, const sph__tgt *t, sph_idx i, const int D,
                                int dens, int grad, const int hv, const int one, sph_real fi, sph_real *g, sph_real *rho)
 {
     const ptrdiff_t sx = A->x.stride, sm = A->m.stride, sV = A->V.stride, sf = A->f.stride, sh_ = A->hs.stride;
     const sph_real *const pm = A->m.p[0], *const pV = A->V.p[0], *const pf = A->f.p[0], *const ph = A->hs.p[0];
-    const __m512d hi8 = _mm512_set1_pd((double)t->hi), two = _mm512_set1_pd(2), alpha = _mm512_set1_pd((double)t->alpha);
+    const sph__vd hiv = SPH__V(set1)((double)t->hi), two = SPH__V(set1)(2), alpha = SPH__V(set1)((double)t->alpha);
     const sph_idx *const idx = A->idx;
     const sph_off end = A->off[i + 1];
-    const __m512d hinv = _mm512_set1_pd((double)t->hinv), kap = _mm512_set1_pd((double)sh->kappa);
-    const __m512d cW = _mm512_set1_pd((double)t->cW), cF = _mm512_set1_pd((double)t->cF);
-    const __m512d lo1 = _mm512_set1_pd((double)sh->lo[sh->npiece > 1 ? 1 : 0]), one8 = _mm512_set1_pd(1);
-    const __m512d zero = _mm512_setzero_pd(), vfi = _mm512_set1_pd((double)fi);
-    __m512d xi[3], L[3], iL[3], s0 = zero, s1 = zero, s2 = zero, sr = zero;
+    const sph__vd hinv = SPH__V(set1)((double)t->hinv), kap = SPH__V(set1)((double)sh->kappa);
+    const sph__vd cW = SPH__V(set1)((double)t->cW), cF = SPH__V(set1)((double)t->cF);
+    const sph__vd lo1 = SPH__V(set1)((double)sh->lo[sh->npiece > 1 ? 1 : 0]), onev = SPH__V(set1)(1);
+    const sph__vd zero = SPH__V(setzero)(), vfi = SPH__V(set1)((double)fi);
+    sph__vd xi[3], L[3], iL[3], s0 = zero, s1 = zero, s2 = zero, sr = zero;
     const sph_real *px[3];
     sph_off o;
     int k, a;
     for (a = 0; a < 3; ++a) {
         const int in = a < D;
         px[a] = in ? A->x.p[a] : NULL;
-        xi[a] = _mm512_set1_pd(in ? (double)t->xi[a] : 0);
-        L[a] = _mm512_set1_pd(in ? (double)A->L[a] : 0);
-        iL[a] = _mm512_set1_pd(in ? (double)A->invL[a] : 0);
+        xi[a] = SPH__V(set1)(in ? (double)t->xi[a] : 0);
+        L[a] = SPH__V(set1)(in ? (double)A->L[a] : 0);
+        iL[a] = SPH__V(set1)(in ? (double)A->invL[a] : 0);
     }
-    for (o = A->off[i]; o < end; o += 8) {
-        sph_idx j[8];
-        const __mmask8 km = sph__vidx(idx + o, end - o, j);
-        ptrdiff_t ox[8], om[8], oV[8], of[8], oh[8];
-        __m512d d0, d1 = zero, d2 = zero, r2, r, q;
-        __mmask8 in;
-        for (k = 0; k < 8; ++k) ox[k] = (ptrdiff_t)j[k] * sx;
+    for (o = A->off[i]; o < end; o += SPH__VW) {
+        sph_idx j[SPH__VW];
+        const sph__vm km = sph__vidx(idx + o, end - o, j);
+        ptrdiff_t ox[SPH__VW], om[SPH__VW], oV[SPH__VW], of[SPH__VW], oh[SPH__VW];
+        sph__vd d0, d1 = zero, d2 = zero, r2, r, q;
+        sph__vm in;
+        for (k = 0; k < SPH__VW; ++k) ox[k] = (ptrdiff_t)j[k] * sx;
         if (!one)
-            for (k = 0; k < 8; ++k) om[k] = (ptrdiff_t)j[k] * sm, oV[k] = (ptrdiff_t)j[k] * sV, of[k] = (ptrdiff_t)j[k] * sf;
+            for (k = 0; k < SPH__VW; ++k) om[k] = (ptrdiff_t)j[k] * sm, oV[k] = (ptrdiff_t)j[k] * sV, of[k] = (ptrdiff_t)j[k] * sf;
         if (!one && hv)
-            for (k = 0; k < 8; ++k) oh[k] = (ptrdiff_t)j[k] * sh_;
+            for (k = 0; k < SPH__VW; ++k) oh[k] = (ptrdiff_t)j[k] * sh_;
         d0 = sph__vdx(xi[0], px[0], L[0], iL[0], km, ox);
-        r2 = _mm512_mul_pd(d0, d0);
-        if (D > 1) d1 = sph__vdx(xi[1], px[1], L[1], iL[1], km, ox), r2 = _mm512_fmadd_pd(d1, d1, r2);
-        if (D > 2) d2 = sph__vdx(xi[2], px[2], L[2], iL[2], km, ox), r2 = _mm512_fmadd_pd(d2, d2, r2);
-        r = _mm512_maskz_sqrt_pd(SPH__ALL8, r2);
-        q = _mm512_mul_pd(r, hinv);
-        in = _mm512_cmp_pd_mask(q, kap, _CMP_LT_OQ) & km;
+        r2 = SPH__V(mul)(d0, d0);
+        if (D > 1) d1 = sph__vdx(xi[1], px[1], L[1], iL[1], km, ox), r2 = SPH__V(fmadd)(d1, d1, r2);
+        if (D > 2) d2 = sph__vdx(xi[2], px[2], L[2], iL[2], km, ox), r2 = SPH__V(fmadd)(d2, d2, r2);
+        r = sph__vsqrt(r2);
+        q = SPH__V(mul)(r, hinv);
+        in = sph__vand(sph__vlt(q, kap), km);
         if (dens) {
-            const __m512d W = _mm512_maskz_mul_pd(in, cW, sph__nshape_vpick(sh, 0, q));
-            sr = _mm512_fmadd_pd(sph__vat(zero, in, pm, one ? ox : om), W, sr);
+            const sph__vd W = sph__vsel(in, SPH__V(mul)(cW, sph__nshape_vpick(sh, 0, q)), zero);
+            sr = SPH__V(fmadd)(sph__vat(zero, in, pm, one ? ox : om), W, sr);
         }
         if (grad) {
             /* F at h_ij = (h_i + h_j) / 2 with per-particle h: 1/h_ij, q and
              * alpha h_ij^-(d+2) per lane, multiplied as sph__hpow does */
-            __m512d qF = q, cFj = cF, gq, c;
-            __mmask8 inF = in;
+            sph__vd qF = q, cFj = cF, gq, c;
+            sph__vm inF = in;
             if (hv) {
-                const __m512d hinvF = _mm512_div_pd(two, _mm512_add_pd(hi8, sph__vat(hi8, km, ph, one ? ox : oh)));
-                qF = _mm512_mul_pd(r, hinvF);
-                inF = _mm512_cmp_pd_mask(qF, kap, _CMP_LT_OQ) & km;
+                const sph__vd hinvF = SPH__V(div)(two, SPH__V(add)(hiv, sph__vat(hiv, km, ph, one ? ox : oh)));
+                qF = SPH__V(mul)(r, hinvF);
+                inF = sph__vand(sph__vlt(qF, kap), km);
                 cFj = alpha;
                 SPH__UNROLL
-                for (a = 0; a < D + 2; ++a) cFj = _mm512_mul_pd(cFj, hinvF);
+                for (a = 0; a < D + 2; ++a) cFj = SPH__V(mul)(cFj, hinvF);
             }
             gq = sph__nshape_vpick(sh, 1, qF);
-            if (sh->npiece > 1) gq = _mm512_div_pd(gq, _mm512_mask_mov_pd(one8, _mm512_cmp_pd_mask(qF, lo1, _CMP_GE_OQ), qF));
-            c = _mm512_mul_pd(sph__vat(zero, inF, pV, one ? ox : oV), _mm512_sub_pd(sph__vat(vfi, inF, pf, one ? ox : of), vfi));
-            c = _mm512_mul_pd(c, _mm512_maskz_mul_pd(inF, cFj, gq));
-            s0 = _mm512_fmadd_pd(c, d0, s0);
-            if (D > 1) s1 = _mm512_fmadd_pd(c, d1, s1);
-            if (D > 2) s2 = _mm512_fmadd_pd(c, d2, s2);
+            if (sh->npiece > 1) gq = SPH__V(div)(gq, sph__vsel(sph__vge(qF, lo1), qF, onev));
+            c = SPH__V(mul)(sph__vat(zero, inF, pV, one ? ox : oV), SPH__V(sub)(sph__vat(vfi, inF, pf, one ? ox : of), vfi));
+            c = SPH__V(mul)(c, sph__vsel(inF, SPH__V(mul)(cFj, gq), zero));
+            s0 = SPH__V(fmadd)(c, d0, s0);
+            if (D > 1) s1 = SPH__V(fmadd)(c, d1, s1);
+            if (D > 2) s2 = SPH__V(fmadd)(c, d2, s2);
         }
     }
     if (grad) {
@@ -2577,34 +2876,34 @@ SPH__INLINE void sph__dg8_body(const sph__args *A, const sph__nshape *sh, const 
 /* One instance per shape, holding each use (density, gradient, both) in
  * each dimension as a loop of its own: a flag or a dimension tested per
  * step costs 15-25 % there. */
-#define SPH__DG8_ONE(S, D, dn, gr, hv)                                                \
-    one ? sph__dg8_body(A, &sph__nshapes[S], t, i, D, dn, gr, hv, 1, fi, g, rho)        \
-        : sph__dg8_body(A, &sph__nshapes[S], t, i, D, dn, gr, hv, 0, fi, g, rho)
-#define SPH__DG8_USES(S, D)                                                           \
+#define SPH__DGV_ONE(S, D, dn, gr, hv)                                                \
+    one ? sph__dgv_body(A, &sph__nshapes[S], t, i, D, dn, gr, hv, 1, fi, g, rho)        \
+        : sph__dgv_body(A, &sph__nshapes[S], t, i, D, dn, gr, hv, 0, fi, g, rho)
+#define SPH__DGV_USES(S, D)                                                           \
     if (dens && grad && A->hv) /* one instance: each field at its own offsets */      \
-        sph__dg8_body(A, &sph__nshapes[S], t, i, D, 1, 1, 1, 0, fi, g, rho);          \
-    else if (dens && grad) SPH__DG8_ONE(S, D, 1, 1, 0);                               \
-    else if (dens) SPH__DG8_ONE(S, D, 1, 0, 0);                                       \
-    else SPH__DG8_ONE(S, D, 0, 1, 0);
+        sph__dgv_body(A, &sph__nshapes[S], t, i, D, 1, 1, 1, 0, fi, g, rho);          \
+    else if (dens && grad) SPH__DGV_ONE(S, D, 1, 1, 0);                               \
+    else if (dens) SPH__DGV_ONE(S, D, 1, 0, 0);                                       \
+    else SPH__DGV_ONE(S, D, 0, 1, 0);
 #define SPH__X(S)                                                                                  \
-    SPH__NOINLINE void sph__dg8_##S(const sph__args *A, const sph__tgt *t, sph_idx i, int dens, int grad, \
+    SPH__NOINLINE void sph__dgv_##S(const sph__args *A, const sph__tgt *t, sph_idx i, int dens, int grad, \
                                     sph_real fi, sph_real *g, sph_real *rho)                        \
     {                                                                                              \
         /* views sharing the stride of x (SoA, or one array of structs) share its offsets */       \
         const ptrdiff_t sx = A->x.stride;                                                          \
         const int one = (!dens || A->m.stride == sx) && (!grad || (A->V.stride == sx && A->f.stride == sx)); \
         switch (SPH__DIM(A)) {                                                                     \
-        case 1: SPH__DG8_USES(S, 1) break;                                                         \
-        case 2: SPH__DG8_USES(S, 2) break;                                                         \
-        default: SPH__DG8_USES(S, 3) break;                                                        \
+        case 1: SPH__DGV_USES(S, 1) break;                                                         \
+        case 2: SPH__DGV_USES(S, 2) break;                                                         \
+        default: SPH__DGV_USES(S, 3) break;                                                        \
         }                                                                                          \
     }
 SPH__SHAPE_IDS(SPH__X)
 #undef SPH__X
-#undef SPH__DG8_USES
-#undef SPH__DG8_ONE
+#undef SPH__DGV_USES
+#undef SPH__DGV_ONE
 
-#endif /* SPH__OP_AVX512 */
+#endif /* SPH__OP_AVX512 || SPH__OP_AVX2 */
 
 /* ---- sph_h_solve's density sums in registers (SPH__OP_AVX512 or SPH__OP_AVX2) ---- */
 #if SPH__OP_AVX512 || SPH__OP_AVX2
@@ -2671,7 +2970,7 @@ SPH__SHAPE_IDS(SPH__X)
 #endif /* SPH__OP_AVX512 || SPH__OP_AVX2 */
 
 /* ---- without AVX-512: density and difference gradient in two passes ---- */
-#if !SPH__OP_AVX512
+#if !SPH__OP_AVX512 && !SPH__OP_AVX2
 #if defined(_OPENMP) && _OPENMP >= 201307 && !defined(__clang__)
 #define SPH__SIMD_SUM4 _Pragma("omp simd reduction(+ : s0, s1, s2, s3)")
 #else
@@ -2760,15 +3059,15 @@ SPH__INLINE void sph__dgc_body(const sph__args *A, const sph__nshape *sh, const 
     }
 SPH__SHAPE_IDS(SPH__X)
 #undef SPH__X
-#endif /* !SPH__OP_AVX512 */
+#endif /* !SPH__OP_AVX512 && !SPH__OP_AVX2 */
 
 /* The one-pass loop for target i (W at h_i; F at h or, in the fused pass
  * with per-particle h, at h_ij per pair; the gradient alone with per-particle
  * h stays with the chunks, one instance fewer per shape to compile): returns
- * 1 with g and/or rho written, else 0. sph__dg8 with AVX-512, sph__dgc
+ * 1 with g and/or rho written, else 0. sph__dgv with AVX-512 or AVX2, sph__dgc
  * otherwise. */
-#if SPH__OP_AVX512
-#define SPH__DG(S) sph__dg8_##S
+#if SPH__OP_AVX512 || SPH__OP_AVX2
+#define SPH__DG(S) sph__dgv_##S
 #else
 #define SPH__DG(S) sph__dgc_##S
 #endif
@@ -2964,6 +3263,7 @@ SPH__OPS(SPH__X)
 
 SPH_API sph_idx sph__run_fast(const sph__args *A)
 {
+    SPH__DISPATCH_TO(sph__run_fast, (A))
     switch (A->op) {
 #define SPH__X(name, family) case SPH__OP_##name: return sph__fast_##name(A);
         SPH__OPS(SPH__X)
@@ -3058,7 +3358,9 @@ SPH_API int sph__field(const sph_ctx *c, sph_view src, sph_view tgt, int ncomp, 
 }
 
 /* Needs of an operator. */
+#if SPH__FIRST
 enum { SPH__N_V = 1, SPH__N_M = 2, SPH__N_RHO = 4, SPH__N_FI = 8, SPH__N_K = 16 };
+#endif /* SPH__FIRST */
 
 /* Checks the context and the field(s) of one operator (fields f, k with ncomp
  * components) and fills A. */
@@ -3430,8 +3732,10 @@ SPH_API int sph_check_field(sph_view f, int ncomp, sph_idx n, sph_idx *first_bad
  * SPH_NSEARCH_MAX_CELLS = 2^29 - 1 cells; list positions are sph_off (int64),
  * so the total list length is bounded by memory alone. */
 
+#if SPH__FIRST
 enum { SPH_NSEARCH_GATHER = 0, SPH_NSEARCH_SYMMETRIC = 1 };
 enum { SPH__NS_MARK = 2 }; /* gather, the lists marked for the symmetric ones (sph__nsearch_sym_lists) */
+#endif /* SPH__FIRST */
 
 /* Hard limits (docs/neighbours.md, "Limits"): cells of a grid, per axis
  * and in all, so that every cell index stays in int (more: SPH_EGRID), and
@@ -3442,6 +3746,7 @@ enum { SPH__NS_MARK = 2 }; /* gather, the lists marked for the symmetric ones (s
 
 /* A cell grid over the sources. Filled by sph_nsearch_build; the arrays live
  * in the caller's workspace. */
+#if SPH__FIRST
 typedef struct {
     int dim;              /* 1..3 once built, 0 otherwise */
     int n[3];             /* cells per axis (1 for unused axes) */
@@ -3461,7 +3766,7 @@ typedef struct {
     sph_idx *order;       /* [n_padded]: source index at each sorted position */
     sph_real *x;          /* [dim * n_padded]: source positions in sorted order, by axis: x[a n_padded + k] */
     sph_real *h;          /* [n_padded] per-source h in sorted order, or NULL */
-    sph_idx n_padded;     /* n_sources + SPH__NS_BLOCK: the arrays' length (padding read by the blocked checks) */
+    sph_idx n_padded;     /* n_sources + SPH__NS_PAD: the arrays' length (padding read by the blocked checks) */
     int n_occupied;       /* cells holding at least one source (fill ratio n_occupied / n_cells) */
     sph_real w_min;       /* smallest cell width of the used axes */
     sph_real cell_hint;   /* the cell edge given to build */
@@ -3478,8 +3783,9 @@ typedef struct {
                              sph__nsearch_sym_lists); both NULL without hcell */
     float *hf;            /* [n_padded] h rounded to float, for the own radius of the AVX-512 marked search in double
                              (half the bytes of h to load), NaN where h lies outside 1e-30..1e30 (decided from h
-                             itself); NULL without hcell or AVX-512, and in float */
+                             itself); NULL without hcell or an AVX-512 level (SPH__NS_HF), and in float */
 } sph_nsearch;
+#endif /* SPH__FIRST */
 
 /* Candidates are checked in blocks of SPH__NS_BLOCK consecutive sorted
  * sources; the arrays of the grid are padded by one block. A target's runs
@@ -3495,10 +3801,21 @@ SPH__INLINE __m512d sph__load8(const sph_real *p)
 }
 #endif
 
+#undef SPH__NS_BLOCK
 #if SPH__NS_COMPRESS
 #define SPH__NS_BLOCK 16
 #else
 #define SPH__NS_BLOCK 8
+#endif
+/* The padding of the grid's arrays, and whether it keeps h in float (hf):
+ * as the widest level of this unit needs, so that a grid built at one
+ * level serves the others (sph_isa_set). */
+#if SPH__ISA_BUILD == 2 || SPH__PASS_AVX512
+#define SPH__NS_PAD 16
+#define SPH__NS_HF 1
+#else
+#define SPH__NS_PAD 8
+#define SPH__NS_HF 0
 #endif
 #define SPH__NS_RUNS 32
 /* The vector loops' r^2 (contracted or not, summed in another order) lies
@@ -3508,7 +3825,8 @@ SPH__INLINE __m512d sph__load8(const sph_real *p)
  * d^2 + r^2: not on x86 without FMA (a plain -O2 build), where that loop is
  * the criterion's arithmetic bit for bit and the band cost 20-45 %. */
 #define SPH__NS_EDGE (16 * (sizeof(sph_real) == sizeof(float) ? (sph_real)FLT_EPSILON : (sph_real)DBL_EPSILON))
-#if (defined(__x86_64__) || defined(__i386__)) && !defined(__FMA__) && !defined(__AVX512F__)
+#undef SPH__NS_BAND
+#if (defined(__x86_64__) || defined(__i386__)) && SPH__ISA == 0 && !defined(__FMA__)
 #define SPH__NS_BAND 0
 #else
 #define SPH__NS_BAND 1
@@ -3525,11 +3843,13 @@ SPH__INLINE __m512d sph__load8(const sph_real *p)
 /* Cells of one axis within reach of a target: up to two runs of cells
  * (wrapped index lo..hi, geometric position of cell k is k + shift), in
  * ascending cell order; full = the whole periodic axis (distance 0). */
+#if SPH__FIRST
 typedef struct {
     int lo[2], hi[2], shift[2];
     int count;
     int full;
 } sph__span;
+#endif /* SPH__FIRST */
 
 SPH_API sph_real sph__nsearch_eps(void)
 {
@@ -3671,6 +3991,7 @@ SPH_API sph_real sph__nsearch_delta(const sph_nsearch *g, int a, sph_real dx)
 }
 
 /* Parameters of one target's search. */
+#if SPH__FIRST
 typedef struct {
     sph_real xt[3];   /* target position */
     sph_real t[3];    /* relative to the grid (eq. (N4)) */
@@ -3693,6 +4014,7 @@ typedef struct {
     sph_idx runs[2 * SPH__NS_RUNS];
     int image[SPH__NS_RUNS]; /* per run: the sources are seen at x_j + w L, eq. (N7): sph__ns_image */
 } sph__probe;
+#endif /* SPH__FIRST */
 
 /* Image code of w = -1, 0, 1 periods along axis a: 2 bits per axis, 0 for
  * none, so that a run without any image has code 0. */
@@ -4450,7 +4772,7 @@ SPH_API int sph__nsearch_geometry(sph_nsearch *g, int dim, sph_view xs, sph_idx 
     if ((st = sph__ns_scan_x(dim, xs, ns, amax)) != SPH_OK) return st;
     if ((st = sph__ns_check_h(hs, ns, dim, &g->h_max)) != SPH_OK) return st;
     g->n_sources = ns;
-    g->n_padded = ns + SPH__NS_BLOCK;
+    g->n_padded = ns + SPH__NS_PAD;
     g->plain = plain;
     g->cell_hint = cell;
     g->h_min = g->h_max;
@@ -4516,7 +4838,7 @@ SPH_API double sph__nsearch_layout(sph_nsearch *g, int with_h, char *base)
     const double hreach = pyr ? sph__nsearch_line((double)sizeof(sph_real) * 2 * (double)g->n_cells) : 0;
     const double hs = (with_h != 0) * reals;
     const double sym = pyr ? 2 * order : 0, sym_at = pyr ? sph__nsearch_line((double)sizeof(sph_off) * padded) : 0;
-    const double hf = pyr && SPH__NS_COMPRESS && sizeof(sph_real) == sizeof(double)
+    const double hf = pyr && SPH__NS_HF && sizeof(sph_real) == sizeof(double)
                           ? sph__nsearch_line((double)sizeof(float) * padded) : 0;
     if (base != NULL) {
         base += (64 - (size_t)((uintptr_t)base % 64)) % 64;
@@ -4705,6 +5027,7 @@ SPH_API int sph__nsearch_build_as(sph_nsearch *g, int dim, sph_view xs, sph_idx 
 SPH_API int sph_nsearch_build(sph_nsearch *g, int dim, sph_view xs, sph_idx n_sources, sph_view hs, sph_real cell,
                               const sph_box *box, void *work, size_t work_bytes)
 {
+    SPH__DISPATCH_TO(sph_nsearch_build, (g, dim, xs, n_sources, hs, cell, box, work, work_bytes))
     return sph__nsearch_build_as(g, dim, xs, n_sources, hs, cell, box, work, work_bytes, SPH__NS_PLAIN);
 }
 
@@ -4791,6 +5114,7 @@ SPH_API int sph__nsearch_run(const sph_nsearch *g, sph_view xt, sph_idx nt, sph_
 SPH_API int sph_nsearch_count(const sph_nsearch *g, sph_view xt, sph_idx n_targets, sph_view ht,
                               sph_real h, sph_real kappa, int mode, sph_off *offset)
 {
+    SPH__DISPATCH_TO(sph_nsearch_count, (g, xt, n_targets, ht, h, kappa, mode, offset))
     sph_idx i;
     int st = sph__nsearch_check(g, xt, n_targets, ht, h, kappa, mode);
     if (st != SPH_OK) return st;
@@ -5035,6 +5359,7 @@ SPH_API int sph_nsearch_fill(const sph_nsearch *g, sph_view xt, sph_idx n_target
                              sph_real h, sph_real kappa, int mode, const sph_off *offset, sph_idx *index,
                              sph_off capacity)
 {
+    SPH__DISPATCH_TO(sph_nsearch_fill, (g, xt, n_targets, ht, h, kappa, mode, offset, index, capacity))
     sph_idx i;
     int st = sph__nsearch_check(g, xt, n_targets, ht, h, kappa, mode);
     if (st != SPH_OK) return st;
@@ -5438,6 +5763,7 @@ SPH_API int sph_nsearch_lists(const sph_nsearch *g, sph_view xt, sph_idx n_targe
                               sph_real kappa, int mode, sph_off *offset, sph_idx *index, sph_off capacity,
                               sph_off *pairs)
 {
+    SPH__DISPATCH_TO(sph_nsearch_lists, (g, xt, n_targets, ht, h, kappa, mode, offset, index, capacity, pairs))
     int st = sph__nsearch_check(g, xt, n_targets, ht, h, kappa, mode);
     if (st != SPH_OK) return st;
     if (offset == NULL || pairs == NULL || (index == NULL && capacity > 0)) return SPH_ENULL;
@@ -5456,6 +5782,7 @@ SPH_API int sph_nsearch_stats(const sph_nsearch *g, sph_view xt, sph_idx n_targe
                               sph_real h, sph_real kappa, int mode, sph_off *pairs, sph_off *candidates,
                               sph_real *fill)
 {
+    SPH__DISPATCH_TO(sph_nsearch_stats, (g, xt, n_targets, ht, h, kappa, mode, pairs, candidates, fill))
     sph_off stats[3];
     int st = sph__nsearch_check(g, xt, n_targets, ht, h, kappa, mode);
     if (st != SPH_OK) return st;
@@ -5501,6 +5828,7 @@ SPH_API sph_neighbours sph_nsearch_list(const sph_nsearch *g, sph_idx n_targets,
 SPH_API int sph_nsearch_skin(const sph_neighbours *list, const sph_box *box, int dim, sph_view x, sph_view x0,
                              sph_view h_list, sph_real kappa, sph_view h, sph_out h_keep, sph_idx *n_stale)
 {
+    SPH__DISPATCH_TO(sph_nsearch_skin, (list, box, dim, x, x0, h_list, kappa, h, h_keep, n_stale))
     const sph_box *bx;
     const sph_real eps = 64 * sph__nsearch_eps();
     sph_real dmax = 0, X = 0;
@@ -5598,6 +5926,7 @@ SPH_API int sph_nsearch_prune(const sph_neighbours *list, const sph_box *box, in
                               sph_real kappa, int mode, sph_off *offset, sph_idx *index, sph_off cap, sph_off *pairs,
                               sph_neighbours *out)
 {
+    SPH__DISPATCH_TO(sph_nsearch_prune, (list, box, dim, x, h, kappa, mode, offset, index, cap, pairs, out))
     const sph_box *bx;
     sph_real q[3];
     sph_idx i, n;
@@ -5724,6 +6053,7 @@ SPH_API int sph_permutation_invert(const sph_idx *perm, sph_idx n, sph_idx *inv)
  * 0..n-1. */
 SPH_API int sph_permute(sph_view in, int ncomp, sph_idx n, const sph_idx *perm, sph_out out)
 {
+    SPH__DISPATCH_TO(sph_permute, (in, ncomp, n, perm, out))
     sph_idx k;
     int a;
     if (ncomp < 1 || ncomp > 3) return SPH_ERANGE;
@@ -5817,11 +6147,13 @@ SPH_API sph_real sph_pair_av_signal(int dim, sph_real alpha, sph_real beta, sph_
  * its coefficients (usual values: Monaghan alpha = 1, beta = 2 for shocks,
  * alpha ~ 0.01-0.1, beta = 0 for weakly compressible flow; signal velocity
  * alpha = 1, beta = 3 as SWIFT, or beta = 2 as Price 2012). */
+#if SPH__FIRST
 typedef enum { SPH_AV_MONAGHAN = 0, SPH_AV_SIGNAL = 1 } sph_av_form;
 typedef struct {
     sph_av_form form;
     sph_real alpha, beta;
 } sph_av;
+#endif /* SPH__FIRST */
 
 /* (S4) applies Pi_ij to target i: acc += -m_j Pi_ij F dx (momentum) and
  * returns du_i/dt's share (1/2) m_j Pi_ij F v_ij . x_ij (thermal energy):
@@ -5876,7 +6208,9 @@ SPH_API void sph_pair_wall(int dim, sph_real W, sph_real p_f, sph_real rho_f, co
 /* Wall velocity models of (S8): no-slip (the wall's velocity extrapolated
  * through the wall, 2 v_wall - v~) or free-slip (v~: no velocity jump for
  * the viscous term to act on). */
+#if SPH__FIRST
 typedef enum { SPH_WALL_NOSLIP = 0, SPH_WALL_FREESLIP = 1 } sph_wall_slip;
+#endif /* SPH__FIRST */
 
 /* (S8) wall pressure p_w = sum[1] / sum[0] and velocity v_w = 2 v_wall - v~
  * (no-slip) or v~ (free-slip), v~ = sum[2..] / sum[0]; returns 0, and p_w =
@@ -5907,11 +6241,13 @@ SPH_API int sph_wall_end(int dim, sph_wall_slip slip, const sph_real *sum, const
     X(SPH_DT_DIFFUSION, 4, "diffusion", "(S12) C_diff h^2 / D") \
     X(SPH_DT_INVALID, -1, "invalid", "h not positive and finite, or a rate negative or not finite")
 
+#if SPH__FIRST
 typedef enum {
 #define SPH__DT_REASON_ENUM(name, value, id, limit) name = value,
     SPH_DT_REASON_LIST(SPH__DT_REASON_ENUM)
 #undef SPH__DT_REASON_ENUM
 } sph_dt_reason;
+#endif /* SPH__FIRST */
 
 /* The identifier of a time-step reason ("cfl", "force", ...) for a log
  * line; "unknown" for a value that is no reason; never NULL. */
@@ -5934,9 +6270,11 @@ SPH_API const char *sph_dt_reason_name(int reason)
  * sph_artificial_viscosity writes counts both sound speeds (2 c at rest):
  * give it C_cfl = 0.5 for the same step (0.25 would halve it).
  * docs/solver.md, "Time step". */
+#if SPH__FIRST
 typedef struct {
     sph_real cfl, force, viscous, diffusion;
 } sph_dt_coef;
+#endif /* SPH__FIRST */
 
 SPH_API sph_dt_coef sph_dt_coef_default(void)
 {
@@ -6049,6 +6387,7 @@ SPH_API int sph__av_target(const sph__args *A, const sph_av *av, sph_idx i, sph_
 SPH_API int sph_artificial_viscosity(const sph_ctx *c, const sph_av *av, sph_view v, sph_view v_target, sph_view cs,
                                      sph_view cs_target, sph_out acc, sph_out dudt, sph_out vsig)
 {
+    SPH__DISPATCH_TO(sph_artificial_viscosity, (c, av, v, v_target, cs, cs_target, acc, dudt, vsig))
     sph__args A;
     int st;
     if (av == NULL) return SPH_ENULL;
@@ -6065,10 +6404,12 @@ SPH_API int sph_artificial_viscosity(const sph_ctx *c, const sph_av *av, sph_vie
 }
 
 /* Which coefficient sph_viscosity is given per particle. */
+#if SPH__FIRST
 typedef enum {
     SPH_VISC_DYNAMIC = 0,  /* mu (Pa s) */
     SPH_VISC_KINEMATIC = 1 /* nu = mu / rho (m^2/s): mu_i = rho_i nu_i */
 } sph_visc_kind;
+#endif /* SPH__FIRST */
 
 /* (S5) at target i. */
 SPH_API int sph__visc_target(const sph__args *A, int kinematic, sph_idx i, sph_out acc)
@@ -6098,6 +6439,7 @@ SPH_API int sph__visc_target(const sph__args *A, int kinematic, sph_idx i, sph_o
 SPH_API int sph_viscosity(const sph_ctx *c, sph_visc_kind kind, sph_view coef, sph_view coef_target, sph_view v,
                           sph_view v_target, sph_out acc)
 {
+    SPH__DISPATCH_TO(sph_viscosity, (c, kind, coef, coef_target, v, v_target, acc))
     sph__args A;
     int st = kind != SPH_VISC_DYNAMIC && kind != SPH_VISC_KINEMATIC
                  ? SPH_EOPTION
@@ -6140,6 +6482,7 @@ SPH_API int sph__ddiff_target(const sph__args *A, sph_real dc0, sph_idx i, sph_o
 SPH_API int sph_density_diffusion(const sph_ctx *c, sph_real delta, sph_real c0, sph_view grad_rho,
                                   sph_view grad_rho_target, sph_out out)
 {
+    SPH__DISPATCH_TO(sph_density_diffusion, (c, delta, c0, grad_rho, grad_rho_target, out))
     sph__args A;
     const int renorm = grad_rho.p[0] != NULL;
     int st = !(delta >= 0 && delta <= SPH__REAL_MAX && c0 >= 0 && c0 <= SPH__REAL_MAX)
@@ -6153,12 +6496,14 @@ SPH_API int sph_density_diffusion(const sph_ctx *c, sph_real delta, sph_real c0,
 }
 
 /* The wall model of sph_wall_adami (S8). */
+#if SPH__FIRST
 typedef struct {
     sph_real g[3];      /* body force per unit mass on the fluid (gravity) */
     sph_wall_slip slip; /* SPH_WALL_NOSLIP or SPH_WALL_FREESLIP */
     sph_view v_wall;    /* prescribed velocity per wall particle (dim components); absent: at rest */
     sph_view a_wall;    /* prescribed acceleration per wall particle; absent: 0 */
 } sph_wall;
+#endif /* SPH__FIRST */
 
 /* A wall model at rest with gravity g (dim components, NULL: none) and no-slip. */
 SPH_API sph_wall sph_wall_init(int dim, const sph_real *g)
@@ -6220,6 +6565,7 @@ SPH_API int sph__target_opt(const sph_ctx *c, sph_view v, int ncomp)
 SPH_API int sph_wall_adami(const sph_ctx *c, const sph_wall *w, sph_view p, sph_view v, sph_out p_w, sph_out v_w,
                            sph_idx *n_empty)
 {
+    SPH__DISPATCH_TO(sph_wall_adami, (c, w, p, v, p_w, v_w, n_empty))
     sph__args A;
     sph_view unused;
     sph_idx empty = 0;
@@ -6243,6 +6589,7 @@ SPH_API int sph_wall_adami(const sph_ctx *c, const sph_wall *w, sph_view p, sph_
 
 /* Inputs of sph_time_step (S9)-(S12): per-particle views, each optional
  * (absent: the scalar next to it, 0 = no such limit). */
+#if SPH__FIRST
 typedef struct {
     sph_dt_coef coef;     /* the C of each limit */
     sph_real h;           /* uniform h (when h_particle is absent) */
@@ -6254,6 +6601,7 @@ typedef struct {
     sph_real D;           /* uniform diffusivity */
     sph_view D_particle;  /* per-particle diffusivity */
 } sph_dt_input;
+#endif /* SPH__FIRST */
 
 /* Inputs with the default coefficients, uniform h and no rate. */
 SPH_API sph_dt_input sph_dt_input_init(sph_real h)
@@ -6353,14 +6701,17 @@ SPH_API int sph_time_step(const sph_dt_input *in, int dim, sph_idx n, sph_real *
  * arrays, sized by sph_pairs_buffer_len and sph_gradh_pairs_buffer_len. */
 
 /* Per-particle outcome of sph_h_solve. */
+#if SPH__FIRST
 enum {
     SPH_H_CONVERGED = 0,     /* a Newton step within the list <= tol h, or a sign change of f bracketed to tol h */
     SPH_H_NOT_CONVERGED = 1, /* max_iter sums without meeting tol: h, rho, Omega of the last sum */
     SPH_H_BEYOND_LIST = 2    /* the solution lies beyond kappa h_list_i: h holds a larger estimate; search again */
 };
+#endif /* SPH__FIRST */
 
 /* What the smoothing-length solver and the grad-h forces read. Fill with
  * sph_hctx_init. Targets are the sources: list->n_targets == n_sources = n. */
+#if SPH__FIRST
 typedef struct {
     sph_kernel kernel;
     int dim;                    /* 1..3 */
@@ -6375,25 +6726,30 @@ typedef struct {
     int max_iter;               /* density sums per particle at most; default 50 */
     int check_list;             /* 1 (default): one pass checks the list (offsets, indices); 0: the caller did */
 } sph_hctx;
+#endif /* SPH__FIRST */
 
 /* Totals of one sph_h_solve call. */
+#if SPH__FIRST
 typedef struct {
     sph_idx n_not_converged; /* particles with SPH_H_NOT_CONVERGED */
     sph_idx n_beyond_list;   /* particles with SPH_H_BEYOND_LIST */
     int max_iterations;      /* most density sums of any particle */
     sph_off iterations;      /* density sums of all particles */
 } sph_hreport;
+#endif /* SPH__FIRST */
 
 /* A half list and its transpose (sph_pairs_build). Pair k = (i, j), i < j,
  * is position k of half.index (row i); its transposed slot t_slot[k] lies
  * in j's range t_offset[j] .. t_offset[j+1]-1, whose slots are ordered by
  * ascending i. A pair loop writes what pair k adds to i at k and what it
  * adds to j at t_slot[k]: the reduction then reads both in sequence. */
+#if SPH__FIRST
 typedef struct {
     sph_neighbours half;     /* row i: the sources j > i of the full list */
     const sph_off *t_offset; /* [n + 1]: particle j's slots */
     const sph_off *t_slot;   /* [pairs]: the transposed slot of pair k */
 } sph_pairs;
+#endif /* SPH__FIRST */
 
 /* A context with eta = 1.2, tol = 1e-6 (64 eps in float), max_iter = 50,
  * the list checked, no box and no per-particle list radius. */
@@ -6419,9 +6775,11 @@ SPH_API sph_hctx sph_hctx_init(sph_kernel kernel, int dim, const sph_neighbours 
 /* Periods and their inverses per axis (0 where not periodic) of the box
  * ctx.box or the list's (sph__box_of): the minimum image of (O0) without a
  * division per pair. */
+#if SPH__FIRST
 typedef struct {
     sph_real L[3], invL[3];
 } sph__period;
+#endif /* SPH__FIRST */
 
 SPH_API sph__period sph__period_of(const sph_box *ctx_box, const sph_neighbours *list, int dim)
 {
@@ -6663,6 +7021,7 @@ SPH_API int sph__h_particle(const sph_hctx *c, const sph__kdim *kd, const sph__p
 SPH_API int sph_h_solve(const sph_hctx *c, sph_out h, sph_out rho, sph_out omega, int *iterations, int *state,
                         sph_hreport *report)
 {
+    SPH__DISPATCH_TO(sph_h_solve, (c, h, rho, omega, iterations, state, report))
     const sph__kdim *kd;
     sph__period P;
     sph_idx i, n, nnc = 0, nbl = 0;
@@ -6800,6 +7159,7 @@ SPH__INLINE void sph__gradh_pair(const sph_hctx *c, const sph__kdim *kd, const s
  * nothing written then. */
 SPH_API int sph_gradh_forces(const sph_hctx *c, sph_view v, sph_view h, sph_view A, sph_out dvdt, sph_out dudt)
 {
+    SPH__DISPATCH_TO(sph_gradh_forces, (c, v, h, A, dvdt, dudt))
     const sph__kdim *kd;
     const int want_u = dudt.p[0] != NULL;
     sph__period P;
@@ -6846,6 +7206,7 @@ SPH_API int sph_gradh_forces(const sph_hctx *c, sph_view v, sph_view h, sph_view
 SPH_API int sph_pairs_build(const sph_neighbours *full, sph_off *offset, sph_idx *index, sph_off cap,
                             sph_off *t_offset, sph_off *t_slot, sph_off *pairs, sph_pairs *P)
 {
+    SPH__DISPATCH_TO(sph_pairs_build, (full, offset, index, cap, t_offset, t_slot, pairs, P))
     sph_idx i, n;
     sph_off o, k;
     int bad = 0;
@@ -6973,6 +7334,7 @@ SPH__INLINE int sph__pairs_reduce(const sph_pairs *P, int ncomp, int rows, const
  * Parallel over particles; bitwise the same for any thread count. */
 SPH_API int sph_pairs_reduce(const sph_pairs *P, int ncomp, const sph_real *to_i, const sph_real *to_j, sph_real *out)
 {
+    SPH__DISPATCH_TO(sph_pairs_reduce, (P, ncomp, to_i, to_j, out))
     return sph__pairs_reduce(P, ncomp, 0, to_i, to_j, out);
 }
 
@@ -6985,6 +7347,7 @@ SPH_API int sph_pairs_reduce(const sph_pairs *P, int ncomp, const sph_real *to_i
  * parallelism as sph_pairs_reduce. */
 SPH_API int sph_pairs_reduce_rows(const sph_pairs *P, int ncomp, const sph_real *to_j, sph_real *out)
 {
+    SPH__DISPATCH_TO(sph_pairs_reduce_rows, (P, ncomp, to_j, out))
     return sph__pairs_reduce(P, ncomp, 1, NULL, to_j, out);
 }
 
@@ -7029,6 +7392,7 @@ SPH__INLINE void sph__pairs_add_k(const sph_pairs *P, int ncomp, const sph_real 
  * scans the rows that reach it: bitwise the same for any thread count. */
 SPH_API int sph_pairs_reduce_rows_k(const sph_pairs *P, int ncomp, const sph_real *to_j, sph_real *out)
 {
+    SPH__DISPATCH_TO(sph_pairs_reduce_rows_k, (P, ncomp, to_j, out))
     sph_idx n;
     if (P == NULL || P->half.offset == NULL) return SPH_ENULL;
     if (ncomp < 1 || ncomp > 16) return SPH_ERANGE;
@@ -7057,6 +7421,7 @@ SPH_API int sph_pairs_reduce_rows_k(const sph_pairs *P, int ncomp, const sph_rea
 SPH_API int sph_gradh_forces_pairs(const sph_hctx *c, const sph_pairs *P, sph_view v, sph_view h, sph_view A,
                                    sph_real *buf, sph_off buf_len, sph_out dvdt, sph_out dudt)
 {
+    SPH__DISPATCH_TO(sph_gradh_forces_pairs, (c, P, v, h, A, buf, buf_len, dvdt, dudt))
     const sph__kdim *kd;
     const int want_u = dudt.p[0] != NULL;
     sph__period Pd;
@@ -7132,6 +7497,7 @@ SPH_API int sph_gradh_forces_pairs(const sph_hctx *c, const sph_pairs *P, sph_vi
  * and to_j[t_slot[k]]). W and F are those of the section-9 pair loops bit for
  * bit (sph__nshape_w, sph__nshape_g, scaled as sph__hpow), within a few eps
  * of sph_pair_kernel. */
+#if SPH__FIRST
 typedef struct {
     int n;                     /* pairs in the batch, 0..SPH_BATCH; lanes n.. are padding */
     sph_idx j[SPH_BATCH];      /* partner (padding: the target i) */
@@ -7141,8 +7507,10 @@ typedef struct {
     sph_real W_i[SPH_BATCH], F_i[SPH_BATCH]; /* W(r, h_i), F(r, h_i) = (1/r) dW/dr (padding: 0) */
     sph_real W_j[SPH_BATCH], F_j[SPH_BATCH]; /* the same at h_j */
 } sph_batch;
+#endif /* SPH__FIRST */
 
 /* What sph_batch_fill reads: set by sph_batch_source. */
+#if SPH__FIRST
 typedef struct {
     const sph_neighbours *list;
     sph_view x, h;
@@ -7152,9 +7520,12 @@ typedef struct {
     sph__period P;           /* the box of sph_batch_source or the list's */
     int what;                /* SPH_BATCH_W | SPH_BATCH_F: what the fills compute (sph_batch_select) */
 } sph_batch_src;
+#endif /* SPH__FIRST */
 
 /* What sph_batch_fill computes besides j, k, x_ij and r (sph_batch_select). */
+#if SPH__FIRST
 enum { SPH_BATCH_W = 1, SPH_BATCH_F = 2 };
+#endif /* SPH__FIRST */
 
 /* The source of sph_batch_fill for kernel k in dim dimensions over list
  * (targets = sources), positions x (dim components) and smoothing lengths h
@@ -7212,6 +7583,7 @@ SPH_API int sph_batch_select(sph_batch_src *S, int what)
  * unless errno is off (-fno-math-errno). */
 SPH_API void sph_batch_sqrt(sph_real *v)
 {
+    SPH__DISPATCH_VOID(sph_batch_sqrt, (v))
     int l;
     if (SPH_BATCH % 8 == 0) {
         sph__sqrt_chunk(v, SPH_BATCH);
@@ -7378,6 +7750,7 @@ SPH__INLINE int sph__batch_fill_dim(const sph_batch_src *S, sph_idx i, sph_off o
  * include them. */
 SPH_API int sph_batch_fill(const sph_batch_src *S, sph_idx i, sph_off *next, sph_batch *b)
 {
+    SPH__DISPATCH_TO(sph_batch_fill, (S, i, next, b))
     sph_off o0, left;
     if (b == NULL) return 0;
     b->n = 0;
@@ -7395,18 +7768,669 @@ SPH_API int sph_batch_fill(const sph_batch_src *S, sph_idx i, sph_off *next, sph
 #undef SPH__PREFETCH
 
 #endif /* section 9 */
-#endif /* sections 4-9 */
+#endif /* sections 5-9 */
+#if defined(SPH__LV) /* the end of a pass */
+#if defined(__clang__)
+#pragma clang attribute pop
+#else
+#pragma GCC pop_options
+#endif
+#undef SPH__SUFFIX
+#undef SPH__FIRST
+#undef SPH__ISA
+#define SPH__ISA SPH__ISA_BUILD
+#endif
 
+#if !defined(SPH__LV) /* the build's own compile: the end of the header */
+#define SPH__BODY_DONE
 #if defined(SPH__FP_PUSHED)
 #pragma STDC FP_CONTRACT DEFAULT
 #undef SPH__FP_PUSHED
+#endif
+#if defined(SPH__DIAG_PUSHED)
+#pragma GCC diagnostic pop
+#undef SPH__DIAG_PUSHED
 #endif
 
 #ifdef __cplusplus
 }
 #endif
 
-#endif /* SPH_KERNEL_H */
+#endif
+#endif /* sections 5-9 of this compile */
+
+/* ---- SPH__NAMES: the function names of sections 5-9, mapped for a pass (1) or back (2) ---- */
+/* isa-names: the names below are written by support/isa_names.sh (make isa-names) */
+#if defined(SPH__NAMES) && SPH__NAMES == 1
+#define sph__av_target SPH__LN(sph__av_target)
+#define sph__axis_chunk SPH__LN(sph__axis_chunk)
+#define sph__axpy SPH__LN(sph__axpy)
+#define sph__batch_fill_dim SPH__LN(sph__batch_fill_dim)
+#define sph__batch_gather SPH__LN(sph__batch_gather)
+#define sph__batch_index SPH__LN(sph__batch_index)
+#define sph__chunk_axpy SPH__LN(sph__chunk_axpy)
+#define sph__chunk_correction SPH__LN(sph__chunk_correction)
+#define sph__chunk_eval SPH__LN(sph__chunk_eval)
+#define sph__chunk_next SPH__LN(sph__chunk_next)
+#define sph__ddiff_target SPH__LN(sph__ddiff_target)
+#define sph__dg SPH__LN(sph__dg)
+#define sph__dgc_0 SPH__LN(sph__dgc_0)
+#define sph__dgc_1 SPH__LN(sph__dgc_1)
+#define sph__dgc_2 SPH__LN(sph__dgc_2)
+#define sph__dgc_3 SPH__LN(sph__dgc_3)
+#define sph__dgc_4 SPH__LN(sph__dgc_4)
+#define sph__dgc_5 SPH__LN(sph__dgc_5)
+#define sph__dgc_6 SPH__LN(sph__dgc_6)
+#define sph__dgc_7 SPH__LN(sph__dgc_7)
+#define sph__dgc_8 SPH__LN(sph__dgc_8)
+#define sph__dgc_9 SPH__LN(sph__dgc_9)
+#define sph__dgc_body SPH__LN(sph__dgc_body)
+#define sph__dgv_0 SPH__LN(sph__dgv_0)
+#define sph__dgv_1 SPH__LN(sph__dgv_1)
+#define sph__dgv_2 SPH__LN(sph__dgv_2)
+#define sph__dgv_3 SPH__LN(sph__dgv_3)
+#define sph__dgv_4 SPH__LN(sph__dgv_4)
+#define sph__dgv_5 SPH__LN(sph__dgv_5)
+#define sph__dgv_6 SPH__LN(sph__dgv_6)
+#define sph__dgv_7 SPH__LN(sph__dgv_7)
+#define sph__dgv_8 SPH__LN(sph__dgv_8)
+#define sph__dgv_9 SPH__LN(sph__dgv_9)
+#define sph__dgv_body SPH__LN(sph__dgv_body)
+#define sph__dot SPH__LN(sph__dot)
+#define sph__end_divcurl SPH__LN(sph__end_divcurl)
+#define sph__end_grad SPH__LN(sph__end_grad)
+#define sph__end_sum SPH__LN(sph__end_sum)
+#define sph__end_tensor SPH__LN(sph__end_tensor)
+#define sph__fast_CORRECTION SPH__LN(sph__fast_CORRECTION)
+#define sph__fast_CURL_DIFF SPH__LN(sph__fast_CURL_DIFF)
+#define sph__fast_CURL_STD SPH__LN(sph__fast_CURL_STD)
+#define sph__fast_DENSITY SPH__LN(sph__fast_DENSITY)
+#define sph__fast_DENS_GRAD SPH__LN(sph__fast_DENS_GRAD)
+#define sph__fast_DIFFUSION SPH__LN(sph__fast_DIFFUSION)
+#define sph__fast_DIV_CORR SPH__LN(sph__fast_DIV_CORR)
+#define sph__fast_DIV_DIFF SPH__LN(sph__fast_DIV_DIFF)
+#define sph__fast_DIV_STD SPH__LN(sph__fast_DIV_STD)
+#define sph__fast_GRADV_CORR SPH__LN(sph__fast_GRADV_CORR)
+#define sph__fast_GRADV_DIFF SPH__LN(sph__fast_GRADV_DIFF)
+#define sph__fast_GRADV_STD SPH__LN(sph__fast_GRADV_STD)
+#define sph__fast_GRADV_SYM SPH__LN(sph__fast_GRADV_SYM)
+#define sph__fast_GRAD_CORR SPH__LN(sph__fast_GRAD_CORR)
+#define sph__fast_GRAD_DIFF SPH__LN(sph__fast_GRAD_DIFF)
+#define sph__fast_GRAD_PRES SPH__LN(sph__fast_GRAD_PRES)
+#define sph__fast_GRAD_STD SPH__LN(sph__fast_GRAD_STD)
+#define sph__fast_GRAD_SYM SPH__LN(sph__fast_GRAD_SYM)
+#define sph__fast_INTERP SPH__LN(sph__fast_INTERP)
+#define sph__fast_LAPLACIAN SPH__LN(sph__fast_LAPLACIAN)
+#define sph__fast_SHEPARD SPH__LN(sph__fast_SHEPARD)
+#define sph__fast_divcurl SPH__LN(sph__fast_divcurl)
+#define sph__fast_grad SPH__LN(sph__fast_grad)
+#define sph__fast_lap SPH__LN(sph__fast_lap)
+#define sph__fast_sum SPH__LN(sph__fast_sum)
+#define sph__fast_tensor SPH__LN(sph__fast_tensor)
+#define sph__fi SPH__LN(sph__fi)
+#define sph__field SPH__LN(sph__field)
+#define sph__finish SPH__LN(sph__finish)
+#define sph__fp_contracted SPH__LN(sph__fp_contracted)
+#define sph__gradh_check SPH__LN(sph__gradh_check)
+#define sph__gradh_pair SPH__LN(sph__gradh_pair)
+#define sph__h_dx SPH__LN(sph__h_dx)
+#define sph__h_particle SPH__LN(sph__h_particle)
+#define sph__h_sums SPH__LN(sph__h_sums)
+#define sph__h_sums_0 SPH__LN(sph__h_sums_0)
+#define sph__h_sums_1 SPH__LN(sph__h_sums_1)
+#define sph__h_sums_2 SPH__LN(sph__h_sums_2)
+#define sph__h_sums_3 SPH__LN(sph__h_sums_3)
+#define sph__h_sums_4 SPH__LN(sph__h_sums_4)
+#define sph__h_sums_5 SPH__LN(sph__h_sums_5)
+#define sph__h_sums_6 SPH__LN(sph__h_sums_6)
+#define sph__h_sums_7 SPH__LN(sph__h_sums_7)
+#define sph__h_sums_8 SPH__LN(sph__h_sums_8)
+#define sph__h_sums_9 SPH__LN(sph__h_sums_9)
+#define sph__h_sums_body SPH__LN(sph__h_sums_body)
+#define sph__h_sums_ref SPH__LN(sph__h_sums_ref)
+#define sph__h_xi SPH__LN(sph__h_xi)
+#define sph__hctx_check SPH__LN(sph__hctx_check)
+#define sph__hij_chunk SPH__LN(sph__hij_chunk)
+#define sph__hpow_lanes SPH__LN(sph__hpow_lanes)
+#define sph__hsv_0 SPH__LN(sph__hsv_0)
+#define sph__hsv_1 SPH__LN(sph__hsv_1)
+#define sph__hsv_2 SPH__LN(sph__hsv_2)
+#define sph__hsv_3 SPH__LN(sph__hsv_3)
+#define sph__hsv_4 SPH__LN(sph__hsv_4)
+#define sph__hsv_5 SPH__LN(sph__hsv_5)
+#define sph__hsv_6 SPH__LN(sph__hsv_6)
+#define sph__hsv_7 SPH__LN(sph__hsv_7)
+#define sph__hsv_8 SPH__LN(sph__hsv_8)
+#define sph__hsv_9 SPH__LN(sph__hsv_9)
+#define sph__hsv_body SPH__LN(sph__hsv_body)
+#define sph__image_chunk SPH__LN(sph__image_chunk)
+#define sph__load8 SPH__LN(sph__load8)
+#define sph__norm1 SPH__LN(sph__norm1)
+#define sph__ns_absmax SPH__LN(sph__ns_absmax)
+#define sph__ns_at SPH__LN(sph__ns_at)
+#define sph__ns_below16 SPH__LN(sph__ns_below16)
+#define sph__ns_check_h SPH__LN(sph__ns_check_h)
+#define sph__ns_check_perm SPH__LN(sph__ns_check_perm)
+#define sph__ns_check_x SPH__LN(sph__ns_check_x)
+#define sph__ns_ctz SPH__LN(sph__ns_ctz)
+#define sph__ns_ext_lanes SPH__LN(sph__ns_ext_lanes)
+#define sph__ns_image SPH__LN(sph__ns_image)
+#define sph__ns_live16 SPH__LN(sph__ns_live16)
+#define sph__ns_merge SPH__LN(sph__ns_merge)
+#define sph__ns_merge_buf SPH__LN(sph__ns_merge_buf)
+#define sph__ns_merge_row SPH__LN(sph__ns_merge_row)
+#define sph__ns_offsets SPH__LN(sph__ns_offsets)
+#define sph__ns_popcount SPH__LN(sph__ns_popcount)
+#define sph__ns_put_marks SPH__LN(sph__ns_put_marks)
+#define sph__ns_rank_sort SPH__LN(sph__ns_rank_sort)
+#define sph__ns_scan_x SPH__LN(sph__ns_scan_x)
+#define sph__ns_signs SPH__LN(sph__ns_signs)
+#define sph__ns_sort SPH__LN(sph__ns_sort)
+#define sph__ns_sort_as SPH__LN(sph__ns_sort_as)
+#define sph__ns_tail SPH__LN(sph__ns_tail)
+#define sph__ns_turn SPH__LN(sph__ns_turn)
+#define sph__ns_unmark SPH__LN(sph__ns_unmark)
+#define sph__ns_unmark16 SPH__LN(sph__ns_unmark16)
+#define sph__ns_up SPH__LN(sph__ns_up)
+#define sph__nsearch_axes SPH__LN(sph__nsearch_axes)
+#define sph__nsearch_block SPH__LN(sph__nsearch_block)
+#define sph__nsearch_blocks SPH__LN(sph__nsearch_blocks)
+#define sph__nsearch_build_as SPH__LN(sph__nsearch_build_as)
+#define sph__nsearch_cell SPH__LN(sph__nsearch_cell)
+#define sph__nsearch_check SPH__LN(sph__nsearch_check)
+#define sph__nsearch_delta SPH__LN(sph__nsearch_delta)
+#define sph__nsearch_dilate SPH__LN(sph__nsearch_dilate)
+#define sph__nsearch_eps SPH__LN(sph__nsearch_eps)
+#define sph__nsearch_far SPH__LN(sph__nsearch_far)
+#define sph__nsearch_flush SPH__LN(sph__nsearch_flush)
+#define sph__nsearch_gap SPH__LN(sph__nsearch_gap)
+#define sph__nsearch_gap2 SPH__LN(sph__nsearch_gap2)
+#define sph__nsearch_general SPH__LN(sph__nsearch_general)
+#define sph__nsearch_geometry SPH__LN(sph__nsearch_geometry)
+#define sph__nsearch_hbuild SPH__LN(sph__nsearch_hbuild)
+#define sph__nsearch_image SPH__LN(sph__nsearch_image)
+#define sph__nsearch_in SPH__LN(sph__nsearch_in)
+#define sph__nsearch_in_own SPH__LN(sph__nsearch_in_own)
+#define sph__nsearch_interior SPH__LN(sph__nsearch_interior)
+#define sph__nsearch_keep SPH__LN(sph__nsearch_keep)
+#define sph__nsearch_layout SPH__LN(sph__nsearch_layout)
+#define sph__nsearch_line SPH__LN(sph__nsearch_line)
+#define sph__nsearch_lists_ref SPH__LN(sph__nsearch_lists_ref)
+#define sph__nsearch_mask SPH__LN(sph__nsearch_mask)
+#define sph__nsearch_mask16 SPH__LN(sph__nsearch_mask16)
+#define sph__nsearch_model SPH__LN(sph__nsearch_model)
+#define sph__nsearch_pick SPH__LN(sph__nsearch_pick)
+#define sph__nsearch_probe SPH__LN(sph__nsearch_probe)
+#define sph__nsearch_push_reach SPH__LN(sph__nsearch_push_reach)
+#define sph__nsearch_put SPH__LN(sph__nsearch_put)
+#define sph__nsearch_r2 SPH__LN(sph__nsearch_r2)
+#define sph__nsearch_reach SPH__LN(sph__nsearch_reach)
+#define sph__nsearch_rel SPH__LN(sph__nsearch_rel)
+#define sph__nsearch_room SPH__LN(sph__nsearch_room)
+#define sph__nsearch_round8 SPH__LN(sph__nsearch_round8)
+#define sph__nsearch_row SPH__LN(sph__nsearch_row)
+#define sph__nsearch_run SPH__LN(sph__nsearch_run)
+#define sph__nsearch_run_blocks SPH__LN(sph__nsearch_run_blocks)
+#define sph__nsearch_runs SPH__LN(sph__nsearch_runs)
+#define sph__nsearch_source_cell SPH__LN(sph__nsearch_source_cell)
+#define sph__nsearch_span SPH__LN(sph__nsearch_span)
+#define sph__nsearch_sym_count SPH__LN(sph__nsearch_sym_count)
+#define sph__nsearch_sym_fill SPH__LN(sph__nsearch_sym_fill)
+#define sph__nsearch_sym_finish SPH__LN(sph__nsearch_sym_finish)
+#define sph__nsearch_sym_lists SPH__LN(sph__nsearch_sym_lists)
+#define sph__nsearch_sym_ok SPH__LN(sph__nsearch_sym_ok)
+#define sph__nsearch_sym_past SPH__LN(sph__nsearch_sym_past)
+#define sph__nsearch_sym_scan SPH__LN(sph__nsearch_sym_scan)
+#define sph__nsearch_sym_scan_blocks SPH__LN(sph__nsearch_sym_scan_blocks)
+#define sph__nsearch_target SPH__LN(sph__nsearch_target)
+#define sph__nshape_vpick SPH__LN(sph__nshape_vpick)
+#define sph__op_h SPH__LN(sph__op_h)
+#define sph__out_ok SPH__LN(sph__out_ok)
+#define sph__out_opt SPH__LN(sph__out_opt)
+#define sph__pair SPH__LN(sph__pair)
+#define sph__pairs_add_k SPH__LN(sph__pairs_add_k)
+#define sph__pairs_reduce SPH__LN(sph__pairs_reduce)
+#define sph__pairs_sum SPH__LN(sph__pairs_sum)
+#define sph__period_of SPH__LN(sph__period_of)
+#define sph__pform_vec SPH__LN(sph__pform_vec)
+#define sph__prune_row SPH__LN(sph__prune_row)
+#define sph__r_chunk SPH__LN(sph__r_chunk)
+#define sph__ref_divcurl SPH__LN(sph__ref_divcurl)
+#define sph__ref_grad SPH__LN(sph__ref_grad)
+#define sph__ref_lap SPH__LN(sph__ref_lap)
+#define sph__ref_sum SPH__LN(sph__ref_sum)
+#define sph__ref_tensor SPH__LN(sph__ref_tensor)
+#define sph__run SPH__LN(sph__run)
+#define sph__run_fast SPH__LN(sph__run_fast)
+#define sph__run_reference SPH__LN(sph__run_reference)
+#define sph__scan SPH__LN(sph__scan)
+#define sph__setup SPH__LN(sph__setup)
+#define sph__shape_chunk SPH__LN(sph__shape_chunk)
+#define sph__shape_run SPH__LN(sph__shape_run)
+#define sph__shape_run0 SPH__LN(sph__shape_run0)
+#define sph__shape_run1 SPH__LN(sph__shape_run1)
+#define sph__shape_run2 SPH__LN(sph__shape_run2)
+#define sph__shape_run3 SPH__LN(sph__shape_run3)
+#define sph__shape_run4 SPH__LN(sph__shape_run4)
+#define sph__shape_run5 SPH__LN(sph__shape_run5)
+#define sph__shape_run6 SPH__LN(sph__shape_run6)
+#define sph__shape_run7 SPH__LN(sph__shape_run7)
+#define sph__shape_run8 SPH__LN(sph__shape_run8)
+#define sph__shape_run9 SPH__LN(sph__shape_run9)
+#define sph__sqrt_chunk SPH__LN(sph__sqrt_chunk)
+#define sph__target_opt SPH__LN(sph__target_opt)
+#define sph__tinit SPH__LN(sph__tinit)
+#define sph__vand SPH__LN(sph__vand)
+#define sph__vat SPH__LN(sph__vat)
+#define sph__vd SPH__LN(sph__vd)
+#define sph__vdx SPH__LN(sph__vdx)
+#define sph__vfloor SPH__LN(sph__vfloor)
+#define sph__vge SPH__LN(sph__vge)
+#define sph__vidx SPH__LN(sph__vidx)
+#define sph__view_ok SPH__LN(sph__view_ok)
+#define sph__visc_target SPH__LN(sph__visc_target)
+#define sph__vlt SPH__LN(sph__vlt)
+#define sph__vm SPH__LN(sph__vm)
+#define sph__vpair SPH__LN(sph__vpair)
+#define sph__vsel SPH__LN(sph__vsel)
+#define sph__vsqrt SPH__LN(sph__vsqrt)
+#define sph__vsum SPH__LN(sph__vsum)
+#define sph__vtarget SPH__LN(sph__vtarget)
+#define sph__w_approach SPH__LN(sph__w_approach)
+#define sph__wall_target SPH__LN(sph__wall_target)
+#define sph_artificial_viscosity SPH__LN(sph_artificial_viscosity)
+#define sph_batch_fill SPH__LN(sph_batch_fill)
+#define sph_batch_select SPH__LN(sph_batch_select)
+#define sph_batch_source SPH__LN(sph_batch_source)
+#define sph_batch_sqrt SPH__LN(sph_batch_sqrt)
+#define sph_check_field SPH__LN(sph_check_field)
+#define sph_correction_invert SPH__LN(sph_correction_invert)
+#define sph_correction_matrix SPH__LN(sph_correction_matrix)
+#define sph_ctx_init SPH__LN(sph_ctx_init)
+#define sph_curl SPH__LN(sph_curl)
+#define sph_density SPH__LN(sph_density)
+#define sph_density_diffusion SPH__LN(sph_density_diffusion)
+#define sph_density_gradient SPH__LN(sph_density_gradient)
+#define sph_diffusion SPH__LN(sph_diffusion)
+#define sph_divergence SPH__LN(sph_divergence)
+#define sph_dt_coef_default SPH__LN(sph_dt_coef_default)
+#define sph_dt_input_init SPH__LN(sph_dt_input_init)
+#define sph_dt_limit SPH__LN(sph_dt_limit)
+#define sph_dt_reason_name SPH__LN(sph_dt_reason_name)
+#define sph_gradh_factor SPH__LN(sph_gradh_factor)
+#define sph_gradh_forces SPH__LN(sph_gradh_forces)
+#define sph_gradh_forces_pairs SPH__LN(sph_gradh_forces_pairs)
+#define sph_gradh_pairs_buffer_len SPH__LN(sph_gradh_pairs_buffer_len)
+#define sph_gradient SPH__LN(sph_gradient)
+#define sph_gradient_vector SPH__LN(sph_gradient_vector)
+#define sph_h_solve SPH__LN(sph_h_solve)
+#define sph_harmonic_k SPH__LN(sph_harmonic_k)
+#define sph_hctx_init SPH__LN(sph_hctx_init)
+#define sph_interpolate SPH__LN(sph_interpolate)
+#define sph_interpolate_shepard SPH__LN(sph_interpolate_shepard)
+#define sph_laplacian SPH__LN(sph_laplacian)
+#define sph_nsearch_build SPH__LN(sph_nsearch_build)
+#define sph_nsearch_count SPH__LN(sph_nsearch_count)
+#define sph_nsearch_fill SPH__LN(sph_nsearch_fill)
+#define sph_nsearch_list SPH__LN(sph_nsearch_list)
+#define sph_nsearch_lists SPH__LN(sph_nsearch_lists)
+#define sph_nsearch_permutation SPH__LN(sph_nsearch_permutation)
+#define sph_nsearch_prune SPH__LN(sph_nsearch_prune)
+#define sph_nsearch_skin SPH__LN(sph_nsearch_skin)
+#define sph_nsearch_stats SPH__LN(sph_nsearch_stats)
+#define sph_nsearch_workspace_size SPH__LN(sph_nsearch_workspace_size)
+#define sph_pair_av_apply SPH__LN(sph_pair_av_apply)
+#define sph_pair_av_monaghan SPH__LN(sph_pair_av_monaghan)
+#define sph_pair_av_signal SPH__LN(sph_pair_av_signal)
+#define sph_pair_correction SPH__LN(sph_pair_correction)
+#define sph_pair_curl SPH__LN(sph_pair_curl)
+#define sph_pair_density SPH__LN(sph_pair_density)
+#define sph_pair_density_diffusion SPH__LN(sph_pair_density_diffusion)
+#define sph_pair_diffusion SPH__LN(sph_pair_diffusion)
+#define sph_pair_div_difference SPH__LN(sph_pair_div_difference)
+#define sph_pair_div_standard SPH__LN(sph_pair_div_standard)
+#define sph_pair_grad_difference SPH__LN(sph_pair_grad_difference)
+#define sph_pair_grad_pressure SPH__LN(sph_pair_grad_pressure)
+#define sph_pair_grad_standard SPH__LN(sph_pair_grad_standard)
+#define sph_pair_grad_symmetric SPH__LN(sph_pair_grad_symmetric)
+#define sph_pair_gradh_energy SPH__LN(sph_pair_gradh_energy)
+#define sph_pair_gradh_pressure SPH__LN(sph_pair_gradh_pressure)
+#define sph_pair_interpolate SPH__LN(sph_pair_interpolate)
+#define sph_pair_kernel SPH__LN(sph_pair_kernel)
+#define sph_pair_laplacian SPH__LN(sph_pair_laplacian)
+#define sph_pair_signal_velocity SPH__LN(sph_pair_signal_velocity)
+#define sph_pair_viscosity SPH__LN(sph_pair_viscosity)
+#define sph_pair_wall SPH__LN(sph_pair_wall)
+#define sph_pairs_buffer_len SPH__LN(sph_pairs_buffer_len)
+#define sph_pairs_build SPH__LN(sph_pairs_build)
+#define sph_pairs_reduce SPH__LN(sph_pairs_reduce)
+#define sph_pairs_reduce_rows SPH__LN(sph_pairs_reduce_rows)
+#define sph_pairs_reduce_rows_k SPH__LN(sph_pairs_reduce_rows_k)
+#define sph_permutation_invert SPH__LN(sph_permutation_invert)
+#define sph_permute SPH__LN(sph_permute)
+#define sph_pressure_factor SPH__LN(sph_pressure_factor)
+#define sph_time_step SPH__LN(sph_time_step)
+#define sph_view_none SPH__LN(sph_view_none)
+#define sph_viscosity SPH__LN(sph_viscosity)
+#define sph_wall_adami SPH__LN(sph_wall_adami)
+#define sph_wall_end SPH__LN(sph_wall_end)
+#define sph_wall_init SPH__LN(sph_wall_init)
+#elif defined(SPH__NAMES) && SPH__NAMES == 2
+#undef sph__av_target
+#undef sph__axis_chunk
+#undef sph__axpy
+#undef sph__batch_fill_dim
+#undef sph__batch_gather
+#undef sph__batch_index
+#undef sph__chunk_axpy
+#undef sph__chunk_correction
+#undef sph__chunk_eval
+#undef sph__chunk_next
+#undef sph__ddiff_target
+#undef sph__dg
+#undef sph__dgc_0
+#undef sph__dgc_1
+#undef sph__dgc_2
+#undef sph__dgc_3
+#undef sph__dgc_4
+#undef sph__dgc_5
+#undef sph__dgc_6
+#undef sph__dgc_7
+#undef sph__dgc_8
+#undef sph__dgc_9
+#undef sph__dgc_body
+#undef sph__dgv_0
+#undef sph__dgv_1
+#undef sph__dgv_2
+#undef sph__dgv_3
+#undef sph__dgv_4
+#undef sph__dgv_5
+#undef sph__dgv_6
+#undef sph__dgv_7
+#undef sph__dgv_8
+#undef sph__dgv_9
+#undef sph__dgv_body
+#undef sph__dot
+#undef sph__end_divcurl
+#undef sph__end_grad
+#undef sph__end_sum
+#undef sph__end_tensor
+#undef sph__fast_CORRECTION
+#undef sph__fast_CURL_DIFF
+#undef sph__fast_CURL_STD
+#undef sph__fast_DENSITY
+#undef sph__fast_DENS_GRAD
+#undef sph__fast_DIFFUSION
+#undef sph__fast_DIV_CORR
+#undef sph__fast_DIV_DIFF
+#undef sph__fast_DIV_STD
+#undef sph__fast_GRADV_CORR
+#undef sph__fast_GRADV_DIFF
+#undef sph__fast_GRADV_STD
+#undef sph__fast_GRADV_SYM
+#undef sph__fast_GRAD_CORR
+#undef sph__fast_GRAD_DIFF
+#undef sph__fast_GRAD_PRES
+#undef sph__fast_GRAD_STD
+#undef sph__fast_GRAD_SYM
+#undef sph__fast_INTERP
+#undef sph__fast_LAPLACIAN
+#undef sph__fast_SHEPARD
+#undef sph__fast_divcurl
+#undef sph__fast_grad
+#undef sph__fast_lap
+#undef sph__fast_sum
+#undef sph__fast_tensor
+#undef sph__fi
+#undef sph__field
+#undef sph__finish
+#undef sph__fp_contracted
+#undef sph__gradh_check
+#undef sph__gradh_pair
+#undef sph__h_dx
+#undef sph__h_particle
+#undef sph__h_sums
+#undef sph__h_sums_0
+#undef sph__h_sums_1
+#undef sph__h_sums_2
+#undef sph__h_sums_3
+#undef sph__h_sums_4
+#undef sph__h_sums_5
+#undef sph__h_sums_6
+#undef sph__h_sums_7
+#undef sph__h_sums_8
+#undef sph__h_sums_9
+#undef sph__h_sums_body
+#undef sph__h_sums_ref
+#undef sph__h_xi
+#undef sph__hctx_check
+#undef sph__hij_chunk
+#undef sph__hpow_lanes
+#undef sph__hsv_0
+#undef sph__hsv_1
+#undef sph__hsv_2
+#undef sph__hsv_3
+#undef sph__hsv_4
+#undef sph__hsv_5
+#undef sph__hsv_6
+#undef sph__hsv_7
+#undef sph__hsv_8
+#undef sph__hsv_9
+#undef sph__hsv_body
+#undef sph__image_chunk
+#undef sph__load8
+#undef sph__norm1
+#undef sph__ns_absmax
+#undef sph__ns_at
+#undef sph__ns_below16
+#undef sph__ns_check_h
+#undef sph__ns_check_perm
+#undef sph__ns_check_x
+#undef sph__ns_ctz
+#undef sph__ns_ext_lanes
+#undef sph__ns_image
+#undef sph__ns_live16
+#undef sph__ns_merge
+#undef sph__ns_merge_buf
+#undef sph__ns_merge_row
+#undef sph__ns_offsets
+#undef sph__ns_popcount
+#undef sph__ns_put_marks
+#undef sph__ns_rank_sort
+#undef sph__ns_scan_x
+#undef sph__ns_signs
+#undef sph__ns_sort
+#undef sph__ns_sort_as
+#undef sph__ns_tail
+#undef sph__ns_turn
+#undef sph__ns_unmark
+#undef sph__ns_unmark16
+#undef sph__ns_up
+#undef sph__nsearch_axes
+#undef sph__nsearch_block
+#undef sph__nsearch_blocks
+#undef sph__nsearch_build_as
+#undef sph__nsearch_cell
+#undef sph__nsearch_check
+#undef sph__nsearch_delta
+#undef sph__nsearch_dilate
+#undef sph__nsearch_eps
+#undef sph__nsearch_far
+#undef sph__nsearch_flush
+#undef sph__nsearch_gap
+#undef sph__nsearch_gap2
+#undef sph__nsearch_general
+#undef sph__nsearch_geometry
+#undef sph__nsearch_hbuild
+#undef sph__nsearch_image
+#undef sph__nsearch_in
+#undef sph__nsearch_in_own
+#undef sph__nsearch_interior
+#undef sph__nsearch_keep
+#undef sph__nsearch_layout
+#undef sph__nsearch_line
+#undef sph__nsearch_lists_ref
+#undef sph__nsearch_mask
+#undef sph__nsearch_mask16
+#undef sph__nsearch_model
+#undef sph__nsearch_pick
+#undef sph__nsearch_probe
+#undef sph__nsearch_push_reach
+#undef sph__nsearch_put
+#undef sph__nsearch_r2
+#undef sph__nsearch_reach
+#undef sph__nsearch_rel
+#undef sph__nsearch_room
+#undef sph__nsearch_round8
+#undef sph__nsearch_row
+#undef sph__nsearch_run
+#undef sph__nsearch_run_blocks
+#undef sph__nsearch_runs
+#undef sph__nsearch_source_cell
+#undef sph__nsearch_span
+#undef sph__nsearch_sym_count
+#undef sph__nsearch_sym_fill
+#undef sph__nsearch_sym_finish
+#undef sph__nsearch_sym_lists
+#undef sph__nsearch_sym_ok
+#undef sph__nsearch_sym_past
+#undef sph__nsearch_sym_scan
+#undef sph__nsearch_sym_scan_blocks
+#undef sph__nsearch_target
+#undef sph__nshape_vpick
+#undef sph__op_h
+#undef sph__out_ok
+#undef sph__out_opt
+#undef sph__pair
+#undef sph__pairs_add_k
+#undef sph__pairs_reduce
+#undef sph__pairs_sum
+#undef sph__period_of
+#undef sph__pform_vec
+#undef sph__prune_row
+#undef sph__r_chunk
+#undef sph__ref_divcurl
+#undef sph__ref_grad
+#undef sph__ref_lap
+#undef sph__ref_sum
+#undef sph__ref_tensor
+#undef sph__run
+#undef sph__run_fast
+#undef sph__run_reference
+#undef sph__scan
+#undef sph__setup
+#undef sph__shape_chunk
+#undef sph__shape_run
+#undef sph__shape_run0
+#undef sph__shape_run1
+#undef sph__shape_run2
+#undef sph__shape_run3
+#undef sph__shape_run4
+#undef sph__shape_run5
+#undef sph__shape_run6
+#undef sph__shape_run7
+#undef sph__shape_run8
+#undef sph__shape_run9
+#undef sph__sqrt_chunk
+#undef sph__target_opt
+#undef sph__tinit
+#undef sph__vand
+#undef sph__vat
+#undef sph__vd
+#undef sph__vdx
+#undef sph__vfloor
+#undef sph__vge
+#undef sph__vidx
+#undef sph__view_ok
+#undef sph__visc_target
+#undef sph__vlt
+#undef sph__vm
+#undef sph__vpair
+#undef sph__vsel
+#undef sph__vsqrt
+#undef sph__vsum
+#undef sph__vtarget
+#undef sph__w_approach
+#undef sph__wall_target
+#undef sph_artificial_viscosity
+#undef sph_batch_fill
+#undef sph_batch_select
+#undef sph_batch_source
+#undef sph_batch_sqrt
+#undef sph_check_field
+#undef sph_correction_invert
+#undef sph_correction_matrix
+#undef sph_ctx_init
+#undef sph_curl
+#undef sph_density
+#undef sph_density_diffusion
+#undef sph_density_gradient
+#undef sph_diffusion
+#undef sph_divergence
+#undef sph_dt_coef_default
+#undef sph_dt_input_init
+#undef sph_dt_limit
+#undef sph_dt_reason_name
+#undef sph_gradh_factor
+#undef sph_gradh_forces
+#undef sph_gradh_forces_pairs
+#undef sph_gradh_pairs_buffer_len
+#undef sph_gradient
+#undef sph_gradient_vector
+#undef sph_h_solve
+#undef sph_harmonic_k
+#undef sph_hctx_init
+#undef sph_interpolate
+#undef sph_interpolate_shepard
+#undef sph_laplacian
+#undef sph_nsearch_build
+#undef sph_nsearch_count
+#undef sph_nsearch_fill
+#undef sph_nsearch_list
+#undef sph_nsearch_lists
+#undef sph_nsearch_permutation
+#undef sph_nsearch_prune
+#undef sph_nsearch_skin
+#undef sph_nsearch_stats
+#undef sph_nsearch_workspace_size
+#undef sph_pair_av_apply
+#undef sph_pair_av_monaghan
+#undef sph_pair_av_signal
+#undef sph_pair_correction
+#undef sph_pair_curl
+#undef sph_pair_density
+#undef sph_pair_density_diffusion
+#undef sph_pair_diffusion
+#undef sph_pair_div_difference
+#undef sph_pair_div_standard
+#undef sph_pair_grad_difference
+#undef sph_pair_grad_pressure
+#undef sph_pair_grad_standard
+#undef sph_pair_grad_symmetric
+#undef sph_pair_gradh_energy
+#undef sph_pair_gradh_pressure
+#undef sph_pair_interpolate
+#undef sph_pair_kernel
+#undef sph_pair_laplacian
+#undef sph_pair_signal_velocity
+#undef sph_pair_viscosity
+#undef sph_pair_wall
+#undef sph_pairs_buffer_len
+#undef sph_pairs_build
+#undef sph_pairs_reduce
+#undef sph_pairs_reduce_rows
+#undef sph_pairs_reduce_rows_k
+#undef sph_permutation_invert
+#undef sph_permute
+#undef sph_pressure_factor
+#undef sph_time_step
+#undef sph_view_none
+#undef sph_viscosity
+#undef sph_wall_adami
+#undef sph_wall_end
+#undef sph_wall_init
+#endif
+/* isa-names end */
 
 /*
  * MIT License. Copyright (c) 2026 The sph_kernel.h authors. Permission is hereby

@@ -57,23 +57,30 @@ cmp -s "$tmp/skin0.3/sod_nx8.csv" "$tmp/skin0.6/sod_nx8.csv" ||
     fail "--skin 0.3 and --skin 0.6 differ: the kept lists missed pairs within kappa h"
 awk '/^  searches/ { s = $2 } /^profile: / { n = $2 } END { if (!(s > 1 && s < n)) { print "searches", s, "steps", n; exit 1 } }' \
     "$tmp/skin0.3.txt" > "$tmp/why" || fail "--skin 0.3: the lists were not kept and searched again: $(cat "$tmp/why")"
-# rows of (build, nx 8, threads): total, search, density/h, forces, entries, pairs, candidates and bytes all > 0;
-# with OpenMP, taskset and two CPUs also the 1-thread runs pinned to each and the speed-up the cores allow
+# rows of (build, nx 8, threads): the level of the loops named, total, search, density/h, forces, entries, pairs,
+# candidates and bytes all > 0; with OpenMP, taskset and two CPUs also the 1-thread runs of O2 and native pinned to
+# each and the speed-up the cores allow; on a CPU with AVX2 the rows of the O2 build at its AVX2 loops and of the
+# -march=x86-64-v3 build, both at avx2
+avx2=0
+grep -qw avx2 /proc/cpuinfo 2> /dev/null && avx2=1
 for cores in 1 0; do
     BUILD="$tmp/build" BENCH_STEP_NX=8 BENCH_STEP_REPEATS=1 BENCH_STEP_T_END=0.01 BENCH_STEP_OUT="$tmp/step.md" \
         BENCH_STEP_CORES=$cores sh bench/bench_step.sh > "$tmp/bench.txt" 2>&1 ||
         fail "bench/bench_step.sh: $(tail -n 5 "$tmp/bench.txt")"
-    rows=$(awk -F'|' '$3 == " 8 " && $7 + 0 > 0 && $8 + 0 > 0 && $9 + 0 > 0 && $10 + 0 > 0 && $13 + 0 > 0 &&
-        $14 + 0 > 0 && $15 + 0 > 0 && $16 + 0 > 0 { ++n } END { print n + 0 }' "$tmp/step.md")
+    rows=$(awk -F'|' '$4 == " 8 " && $3 ~ /[a-z]/ && $8 + 0 > 0 && $9 + 0 > 0 && $10 + 0 > 0 && $11 + 0 > 0 &&
+        $14 + 0 > 0 && $15 + 0 > 0 && $16 + 0 > 0 && $17 + 0 > 0 { ++n } END { print n + 0 }' "$tmp/step.md")
+    at_avx2=$(awk -F'|' '$4 == " 8 " && ($2 == " O2-avx2 " || $2 == " avx2 ") && $3 == " avx2 " { ++n } END { print n + 0 }' "$tmp/step.md")
     pinned=0
     [ -n "$OPENMP" ] && [ "$cores" = 1 ] && ! grep -q 'no per-core runs' "$tmp/bench.txt" && pinned=1
-    want=$([ -n "$OPENMP" ] && echo 4 || echo 2)
-    [ "$pinned" = 1 ] && want=8
+    per=$([ -n "$OPENMP" ] && echo 2 || echo 1) # thread counts per build
+    want=$((per * (avx2 ? 4 : 2) + (pinned ? 4 : 0)))
     [ "$rows" = "$want" ] || fail "bench/bench_step.sh (BENCH_STEP_CORES=$cores): $rows complete table rows instead of $want: $(cat "$tmp/step.md")"
-    if [ "$pinned" = 1 ]; then # nx 8 in the ratio table: speed-ups, allowed (1..2) and efficiencies, all > 0
-        awk -F'|' '$2 == " 8 " && NF == 11 && $4 + 0 >= 1 && $4 + 0 <= 2 && $7 + 0 >= 1 && $7 + 0 <= 2 &&
-            $3 + 0 > 0 && $5 + 0 > 0 && $6 + 0 > 0 && $8 + 0 > 0 { ok = 1 } END { exit !ok }' "$tmp/step.md" ||
-            fail "bench/bench_step.sh: no ratio row with allowed and efficiency: $(cat "$tmp/step.md")"
+    [ "$at_avx2" = $((avx2 * per * 2)) ] || fail "bench/bench_step.sh: $at_avx2 AVX2 rows at avx2 instead of $((avx2 * per * 2)): $(cat "$tmp/step.md")"
+    if [ "$pinned" = 1 ]; then # nx 8 in the ratio table: speed-ups, allowed (1..2), efficiencies and the ratios, all > 0
+        awk -F'|' -v avx2=$avx2 '$2 == " 8 " && NF == 13 && $4 + 0 >= 1 && $4 + 0 <= 2 && $7 + 0 >= 1 && $7 + 0 <= 2 &&
+            $3 + 0 > 0 && $5 + 0 > 0 && $6 + 0 > 0 && $8 + 0 > 0 && $9 + 0 > 0 && (!avx2 || ($11 + 0 > 0 && $12 + 0 > 0)) { ok = 1 }
+            END { exit !ok }' "$tmp/step.md" ||
+            fail "bench/bench_step.sh: no ratio row with allowed, efficiency and the ratios: $(cat "$tmp/step.md")"
     fi
 done
 echo "tests/check_sod_profile.sh: --profile and the thread count leave the run unchanged, its counts agree, --skin 0.3 = --skin 0.6, bench/bench_step.sh writes its rows, with and without the per-core runs"

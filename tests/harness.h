@@ -13,6 +13,10 @@
  *   return th_summary();
  *
  * TH_EPS is the machine epsilon of sph_real (the precision under test).
+ *
+ * SPH_TEST_ISA=portable|avx2|avx512 in the environment runs the program's
+ * fast loops at that level (sph_isa_set, before the first case); a level
+ * the unit or the CPU does not have is a failed case, not a quiet fallback.
  */
 #ifndef SPH_TEST_HARNESS_H
 #define SPH_TEST_HARNESS_H
@@ -21,6 +25,7 @@
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #ifdef _OPENMP
 #include <omp.h>
@@ -32,12 +37,28 @@
 #define TH_EPS (TH_IS_FLOAT ? (double)FLT_EPSILON : (double)DBL_EPSILON)
 #define TH_PRECISION (TH_IS_FLOAT ? "float" : "double")
 
-static int th_passed, th_failed, th_case_bad, th_case_open, th_quiet_fails;
+static int th_passed, th_failed, th_case_bad, th_case_open, th_quiet_fails, th_isa_read;
 static char th_case_name[256];
+
+/* SPH_TEST_ISA: the level every case runs at (see above). */
+static inline void th_isa_from_env(void)
+{
+    const char *want = getenv("SPH_TEST_ISA");
+    int isa, st = SPH_EOPTION;
+    th_isa_read = 1;
+    if (want == NULL || *want == 0) return;
+    for (isa = SPH_ISA_PORTABLE; isa <= SPH_ISA_AVX512; ++isa)
+        if (strcmp(want, sph_isa_name(isa)) == 0) st = sph_isa_set(isa);
+    if (st != SPH_OK) {
+        printf("FAIL SPH_TEST_ISA=%s: %s\n", want, sph_strerror(st));
+        ++th_failed;
+    }
+}
 
 static inline void th_begin(const char *fmt, ...)
 {
     va_list ap;
+    if (!th_isa_read) th_isa_from_env();
     va_start(ap, fmt);
     vsnprintf(th_case_name, sizeof th_case_name, fmt, ap);
     va_end(ap);
@@ -130,6 +151,7 @@ static inline sph_out th_out3(sph_real *p) { return sph_out_interleaved(p, 3); }
 static inline int th_summary(void)
 {
     th_end();
+    printf("fast loops at %s (run-time dispatch %s)\n", sph_isa_name(sph_isa()), sph_isa_dispatch() ? "on" : "off");
     printf("%d passed, %d failed\n", th_passed, th_failed);
     return th_failed == 0 ? 0 : 1;
 }

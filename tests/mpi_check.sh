@@ -7,13 +7,15 @@
 #     printed to 17 significant digits (a copy of example_io.h), the frames
 #     of the 2-rank run are byte for byte those of taylor_green (fixed,
 #     moving and moving plain particles).
-# Built with mpicc as the Makefile builds it; run with mpirun (Open MPI:
+# Built with mpicc as the Makefile builds it, but without the run-time
+# passes (SPH_NO_DISPATCH: the ranks and the
+# single process run the same loops either way); run with mpirun (Open MPI:
 # --oversubscribe, and its allow-run-as-root settings when run as root).
 set -e
 dir=build/test/mpi
 rm -rf "$dir"
 mkdir -p "$dir/src"
-FLAGS="-O2 -std=c99 -Wall -Wextra -pedantic -Werror"
+FLAGS="-O2 -std=c99 -Wall -Wextra -pedantic -Werror -DSPH_NO_DISPATCH"
 OMP=""
 if printf 'int main(void){return 0;}\n' | mpicc -fopenmp -x c - -o "$dir/omp_probe" > /dev/null 2>&1; then OMP=-fopenmp; fi
 RUN="mpirun -n 2"

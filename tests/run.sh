@@ -46,22 +46,26 @@ export OMP_WAIT_POLICY=${OMP_WAIT_POLICY:-passive}
 # ("-": none); !name leaves a program out, name:flag adds a flag for it.
 CONFIG_TABLE='
 # name           | cc    | real   | flags                        | environment       | make test                  | make check
-gcc-double       | gcc   | double | -O1 +san                     |                   | test_*                     | -
+gcc-double       | gcc   | double | -O1 +san -DSPH_NO_DISPATCH   |                   | test_*                     | -
 gcc-native       | gcc   | double | -O2 +native                  |                   | test_op_*                  | test_op_fused
-gcc-float        | gcc   | float  | -O1 +san                     |                   | test_*                     | -
+gcc-float        | gcc   | float  | -O1 +san -DSPH_NO_DISPATCH   |                   | test_*                     | -
 gcc-float-native | gcc   | float  | -O2 +native                  |                   | test_op_* test_neighbours  | -
-gcc-avx2         | gcc   | double | -O2 +avx2 +omp               | OMP_NUM_THREADS=2 | test_op_* test_smoothing_length | -
-gcc-float-avx2   | gcc   | float  | -O2 +avx2                    |                   | test_op_* test_smoothing_length | -
+gcc-avx2         | gcc   | double | -O2 +avx2 +omp -DSPH_NO_DISPATCH | OMP_NUM_THREADS=2 | test_op_* test_smoothing_length | -
+gcc-float-avx2   | gcc   | float  | -O2 +avx2 -DSPH_NO_DISPATCH  |                   | test_op_* test_smoothing_length | -
 gcc-omp          | gcc   | double | -O1 +omp -DSPH_NO_INTRINSICS | OMP_NUM_THREADS=2 | test_*                     | -
 clang-double     | clang | double | -O0 +san +native             |                   | test_* test_neighbours:-O1 | test_* !test_op_fused test_neighbours:-O1
-clang-float      | clang | float  | -O0 +san                     |                   | test_* test_neighbours:-O1 | -
+clang-float      | clang | float  | -O0 +san -DSPH_NO_DISPATCH   |                   | test_* test_neighbours:-O1 | -
 clang-omp        | clang | double | -O2 +omp                     | OMP_NUM_THREADS=2 | test_extremes test_op_dispatch test_op_fused test_op_omp test_op_reference test_pair_once | -
-gcc-reference    | gcc   | double | -O1 -DSPH_OP_REFERENCE       |                   | test_op_* !test_op_reference | -
+gcc-reference    | gcc   | double | -O1 -DSPH_OP_REFERENCE -DSPH_NO_DISPATCH |       | test_op_* !test_op_reference | -
 gcc-nsearch-plain| gcc   | double | -O2 -DSPH_NSEARCH_PLAIN      |                   | test_neighbours test_box   | -
 gcc-gnu-native   | gcc   | double | -O2 +gnu +native +omp        | OMP_NUM_THREADS=2 | test_*                     | -
-gcc-gnu-znver3   | gcc   | float  | -O2 +gnu -march=znver3       |                   | test_op_* test_pair_batch test_neighbours test_smoothing_length | -
-clang-avx2       | clang | double | -O2 +avx2                    |                   | test_*                     | -
-clang-float-avx2 | clang | float  | -O2 +avx2                    |                   | test_op_* test_pair_batch test_smoothing_length | -
+gcc-gnu-znver3   | gcc   | float  | -O2 +gnu -march=znver3 -DSPH_NO_DISPATCH |       | test_op_* test_pair_batch test_neighbours test_smoothing_length | -
+clang-avx2       | clang | double | -O2 +avx2                    | SPH_TEST_ISA=avx2,avx512 | test_*                     | -
+clang-float-avx2 | clang | float  | -O2 +avx2 -DSPH_NO_DISPATCH  |                   | test_op_* test_pair_batch test_smoothing_length | -
+gcc-dispatch     | gcc   | double | -O2                          | SPH_TEST_ISA=portable,avx2,avx512 | test_* !test_neighbours | -
+gcc-float-dispatch | gcc | float  | -O2                          | SPH_TEST_ISA=portable,avx2,avx512 | test_op_* test_pair_batch test_pair_once test_smoothing_length | -
+gcc-gnu-dispatch | gcc   | double | -O2 +gnu +omp                | OMP_NUM_THREADS=2 SPH_TEST_ISA=avx2,avx512 | test_op_* test_pair_batch test_pair_once test_neighbours test_smoothing_length | -
+clang-dispatch   | clang | double | -O2                          | SPH_TEST_ISA=portable,avx2,avx512 | test_op_* test_pair_batch test_pair_once test_neighbours test_smoothing_length | -
 aarch64-gcc      | aarch64-linux-gnu-gcc | double | -O2 +gnu +aarch64 | | test_* !test_neighbours    | -
 aarch64-clang    | clang | float  | -O2 +aarch64                 |                   | test_* !test_neighbours    | -
 '
@@ -125,9 +129,14 @@ aarch64-clang    | clang | float  | -O2 +aarch64                 |              
 # here, on a unit with nothing but the header: the C front end checks every
 # function body of the header whether or not it is called, and the tests
 # compute their references in double from float values on purpose.
-HEADER_VARIANTS=("" -march=native -DSPH_NO_INTRINSICS -DSPH_OP_REFERENCE "-DSPH_DIM=3 -DSPH_KERNEL=SPH_KERNEL_CUBIC"
-                 -DSPH_ONLY_KERNELS -DSPH_ONLY_PAIRS -DSPH_NO_OPERATORS -DSPH_NO_NSEARCH -DSPH_NO_SOLVER
-                 -DSPH_NO_SMOOTHING_LENGTH)
+# (The variants that leave out or pin parts of the header build without the
+# run-time passes, SPH_NO_DISPATCH: the passes compile the same text again,
+# and the default variant compiles them.)
+HEADER_VARIANTS=("" -march=native -DSPH_NO_INTRINSICS -DSPH_NO_DISPATCH_AVX512 "-DSPH_NO_DISPATCH -DSPH_OP_REFERENCE"
+                 "-DSPH_NO_DISPATCH -DSPH_DIM=3 -DSPH_KERNEL=SPH_KERNEL_CUBIC" -DSPH_ONLY_KERNELS
+                 "-DSPH_NO_DISPATCH -DSPH_ONLY_PAIRS" "-DSPH_NO_DISPATCH -DSPH_NO_OPERATORS"
+                 "-DSPH_NO_DISPATCH -DSPH_NO_NSEARCH" "-DSPH_NO_DISPATCH -DSPH_NO_SOLVER"
+                 "-DSPH_NO_DISPATCH -DSPH_NO_SMOOTHING_LENGTH")
 FLOAT_WARN="-Wdouble-promotion -Wfloat-conversion"
 # The C++ check, unoptimised and as users build for their own CPU: g++
 # reports at -O2 and -O3 (-Wmaybe-uninitialized) what it finds in the
@@ -307,6 +316,52 @@ run_report() {
     } > "$RES/$id.txt"
 }
 
+# The instruction-set levels of the fast loops this CPU runs (sph_isa_set's
+# names; /proc/cpuinfo's flags for the features each run-time pass needs).
+CPU_ISAS=portable
+if grep -qw avx2 /proc/cpuinfo 2> /dev/null && grep -qw fma /proc/cpuinfo && grep -qw bmi2 /proc/cpuinfo; then
+    CPU_ISAS="$CPU_ISAS avx2"
+    for f in avx512f avx512vl avx512bw avx512dq avx512cd; do grep -qw $f /proc/cpuinfo || f=; [ -n "$f" ] || break; done
+    [ -n "$f" ] && CPU_ISAS="$CPU_ISAS avx512"
+fi
+# isa_runs "env words": the levels to run each program at, from the
+# configuration's SPH_TEST_ISA=a,b,... (those this CPU has), else "-": one
+# run at the level the program chooses
+isa_runs() {
+    local w l out=""
+    for w in $1; do
+        case $w in SPH_TEST_ISA=*)
+            for l in $(echo "${w#SPH_TEST_ISA=}" | tr , ' '); do
+                case " $CPU_ISAS " in *" $l "*) out="$out $l" ;; esac
+            done
+            echo "${out:- none}"
+            return ;;
+        esac
+    done
+    echo -
+}
+# run_isas id cfg label bin "build seconds" "env words" args...: run_report once
+# per level of isa_runs (ids id@level, SPH_TEST_ISA=level), or once
+run_isas() {
+    local id=$1 cfg=$2 label=$3 bin=$4 btime=$5 envs=$6 l plain="" w
+    shift 6
+    for w in $envs; do case $w in SPH_TEST_ISA=*) ;; *) plain="$plain $w" ;; esac; done
+    for l in $(isa_runs "$envs"); do
+        if [ "$l" = - ]; then
+            run_report "$id" "$cfg" "$label" cases "$bin" "$btime" "$envs" "$@"
+        elif [ "$l" != none ]; then
+            run_report "$id@$l" "$cfg" "$label @$l" cases "$bin" "$btime" "${plain# } SPH_TEST_ISA=$l" "$@"
+        fi
+    done
+}
+# ids id "env words": the result ids of one program (one per level of isa_runs)
+ids() {
+    local l
+    for l in $(isa_runs "$2"); do
+        case $l in -) echo "$1" ;; none) ;; *) echo "$1@$l" ;; esac
+    done
+}
+
 # test_job id config cc real "flags" "env" source: one test program
 test_job() {
     local id=$1 cfg=$2 cc=$3 real=$4 flags=$5 envs=$6 src=$7 bin name
@@ -314,7 +369,7 @@ test_job() {
     mkdir -p "$OUT/$cfg"
     bin=$OUT/$cfg/$name
     if build "$bin" "$cc $WARN $flags -DSPH_REAL=$real $src -o $bin -lm"; then
-        run_report "$id" "$cfg" "$cfg $name" cases "$bin" "$(cat "$bin.build.time")" "$envs"
+        run_isas "$id" "$cfg" "$cfg $name" "$bin" "$(cat "$bin.build.time")" "$envs"
     else
         build_failed "$id" "$cfg" "$cfg $name" "$bin"
     fi
@@ -333,26 +388,33 @@ unit_job() {
         : > "$RES/$id.txt"
         echo "$cfg|$cfg $*|0|0|$(cat "$bin.build.time")|0 0" > "$RES/$id.res"
         for t in "$@"; do
-            run_report "${cfg}_$t" "$cfg" "$cfg $t" cases "$bin" "0 0" "$envs" "$t"
+            run_isas "${cfg}_$t" "$cfg" "$cfg $t" "$bin" "0 0" "$envs" "$t"
         done
     else
         build_failed "$id" "$cfg" "$cfg $(basename "$src" .c) (one build of $*)" "$bin"
         for t in "$@"; do
-            echo "  $cfg $t: NOT RUN (the unit's build failed)" > "$RES/${cfg}_$t.txt"
-            echo "$cfg|$cfg $t|0|1|0 0|0 0" > "$RES/${cfg}_$t.res"
+            for i in $(ids "${cfg}_$t" "$envs"); do
+                echo "  $cfg $t: NOT RUN (the unit's build failed)" > "$RES/$i.txt"
+                echo "$cfg|$cfg $t|0|1|0 0|0 0" > "$RES/$i.res"
+            done
         done
     fi
 }
 
 # example_job id source args...: an example or study in its --check mode, built
-# as the Makefile builds it (gcc -O2, OpenMP where gcc has it); one case
+# as the Makefile builds it (gcc -O2, OpenMP where gcc has it); one case. All
+# but examples/sod_shock.c (whose own force loop is compiled per instruction
+# set, sd_rows) build without the run-time passes (SPH_NO_DISPATCH): the
+# --check runs validate the physics, the test programs run every level, and
+# the passes would double the examples' build time
 example_job() {
-    local id=$1 src=$2 bin omp=""
+    local id=$1 src=$2 bin omp="" nd=-DSPH_NO_DISPATCH
     shift 2
     mkdir -p "$OUT/examples"
     bin=$OUT/examples/$(basename "$src" .c)
     if probe "gcc omp" openmp_runs gcc; then omp=-fopenmp; fi
-    if build "$bin" "gcc -O2 -std=c99 -Wall -Wextra -pedantic -Wshadow -Werror $omp -I. $src -o $bin -lm"; then
+    case $src in *sod_shock.c) nd= ;; esac
+    if build "$bin" "gcc -O2 -std=c99 -Wall -Wextra -pedantic -Wshadow -Werror $omp $nd -I. $src -o $bin -lm"; then
         run_report "$id" examples "$src $*" one "$bin" "$(cat "$bin.build.time")" "" "$@"
     else
         build_failed "$id" examples "$src $*" "$bin"
@@ -436,7 +498,11 @@ enqueue() { # enqueue estimate id group kind args...: one job with one result
     local a
     for a in "$@"; do args="$args$SEP$a"; done
     printf '%s\n' "$est$SEP$id$SEP$group$SEP$kind$args" >> "$QUEUE"
-    [ "$kind" = unit ] || printf '%s\n' "$group$SEP$id" >> "$IDS"
+    case $kind in
+    unit) ;;
+    test) for a in $(ids "$id" "$5"); do printf '%s\n' "$group$SEP$a" >> "$IDS"; done ;;
+    *) printf '%s\n' "$group$SEP$id" >> "$IDS" ;;
+    esac
     case " $GROUPS_ORDER " in *" $group "*) ;; *) GROUPS_ORDER="$GROUPS_ORDER $group" ;; esac
 }
 
@@ -529,7 +595,7 @@ enqueue_programs() {
         done
         [ "$est" -gt 0 ] || est=$((guess * 3 / 2))
         printf '%s\n' "$cfg$SEP$cfg/$slug" >> "$IDS"
-        for t in "$@"; do printf '%s\n' "$cfg$SEP$cfg/$t" >> "$IDS"; done
+        for t in "$@"; do ids "$cfg/$t" "$envs" | sed "s|^|$cfg$SEP|" >> "$IDS"; done
         enqueue "$est" "$cfg/$slug" "$cfg" unit "$cfg" "$cc" "$real" "$flags" "$envs" "$OUT/units/$cfg/$slug.c" "$@"
     done
 }

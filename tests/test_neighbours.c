@@ -1350,7 +1350,7 @@ static void test_marks_float_h(void)
         st = nb_search(&p, &g, &work, &got);
         fast = st == SPH_OK && sph__nsearch_sym_ok(&g, sph_view_interleaved(x, 3), N, sph_view_soa(h, NULL, NULL), 2,
                                                    SPH_NSEARCH_SYMMETRIC);
-        want_hf = SPH__NS_COMPRESS && !SPH__NS_PLAIN && !TH_IS_FLOAT;
+        want_hf = SPH__NS_HF && !SPH__NS_PLAIN && !TH_IS_FLOAT;
         for (i = 0; st == SPH_OK && g.hf != NULL && i < N; ++i) nan += g.hf[i] != g.hf[i];
         TH_CHECK(st == SPH_OK && fast == !SPH__NS_PLAIN, "search %d, transposed path taken: %d", st, fast);
         TH_CHECK((g.hf != NULL) == want_hf && nan == (want_hf && s > 0 ? N : 0), "h as float: %d (expected %d), %d NaN",

@@ -191,13 +191,15 @@ static void check_pair_sums(sph_kernel k, int dim, int periodic, int soa)
  * the fused pass of the fast loops against the reference loops
  * (ctx.loops = SPH_LOOPS_REFERENCE), every view SoA so that the one-pass
  * loop reads them all at the offsets of x, and once with h interleaved with
- * another stride. Bitwise where the fast loops promise it (no OpenMP, no
- * AVX-512, no contraction: sph__fp_contracted), else within HTOL of the
+ * another stride. Bitwise where the fast loops promise it (no OpenMP, the
+ * portable level, no contraction: sph__fp_contracted), else within HTOL of the
  * largest |value|. */
-#if defined(_OPENMP) || (!defined(SPH_OP_REFERENCE) && SPH__OP_AVX512)
+#if defined(_OPENMP)
 #define HV_BITWISE 0
-#else
+#elif defined(SPH_OP_REFERENCE)
 #define HV_BITWISE 1
+#else
+#define HV_BITWISE (sph_isa() == SPH_ISA_PORTABLE)
 #endif
 static const double HTOL = sizeof(sph_real) == sizeof(float) ? 1e-5 : 1e-13;
 

@@ -4,16 +4,16 @@
  * whose particles sit up to 3 periods outside it.
  *
  * Both evaluate the same pair arithmetic (sph__pair) and sum over j in list
- * order, so where nothing reorders the sums (no OpenMP, no AVX-512 one-pass
- * loop) and the unit does not fuse the header's a * b + c (sph__fp_contracted:
+ * order, so where nothing reorders the sums (no OpenMP, no AVX-512 or AVX2
+ * one-pass loop: sph_isa) and the unit does not fuse the header's a * b + c (sph__fp_contracted:
  * gcc's GNU modes on an FMA target) they must agree bit for bit; with OpenMP
- * SIMD reductions, the AVX-512 loop (FMA, a different order) or contraction
+ * SIMD reductions, the one-pass loops (FMA, a different order) or contraction
  * they agree to round-off: 1e-12 (double) / 1e-4 (float) of the largest
  * |value| of the operator's output.
  */
 #include "op_scene.h"
 
-#if defined(_OPENMP) || SPH__OP_AVX512
+#if defined(_OPENMP)
 #define TR_BITWISE 0
 #else
 #define TR_BITWISE 1
@@ -77,7 +77,7 @@ static void check_twins(sph_kernel k, int dim, int mode)
     sph_box box;
     sph_real *f, *v, *kk, *hh, *rho, *T1, *T2, (*o1)[TR_OUT], (*o2)[TR_OUT];
     int i, a, e, st;
-    const int bitwise = TR_BITWISE && !sph__fp_contracted();
+    const int bitwise = TR_BITWISE && sph_isa() == SPH_ISA_PORTABLE && !sph__fp_contracted();
     const double tol = bitwise ? 0 : TH_IS_FLOAT ? 1e-4 : 1e-12;
     double big[TR_OUT], bigT = 0;
     for (a = 0; a < 3; ++a) box.lo[a] = 0, box.length[a] = 1, box.periodic[a] = 1;

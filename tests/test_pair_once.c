@@ -25,10 +25,10 @@ typedef struct {
     sph_box box;
     tp_list L; /* symmetric list at 1.25 h */
     sph_hctx c;
-} scene;
+} pscene;
 
 /* A random periodic cloud in the unit cube, h solved, u and v random; p = (gamma - 1) rho u. */
-static int make_scene(scene *s, int dim)
+static int make_scene(pscene *s, int dim)
 {
     tp_rng g = {2026};
     sph_real hl[N];
@@ -63,7 +63,7 @@ static int make_scene(scene *s, int dim)
 }
 
 /* (H5), (H6) summed here over every pair (i, j != i) in double with sph_kernel_f. */
-static void reference(const scene *s, int dim, int i, double *acc, double *du)
+static void reference(const pscene *s, int dim, int i, double *acc, double *du)
 {
     int j, a;
     for (a = 0; a < 3; ++a) acc[a] = 0;
@@ -85,7 +85,7 @@ static void reference(const scene *s, int dim, int i, double *acc, double *du)
     }
 }
 
-static int pairs_of(const scene *s, sph_off **mem, sph_pairs *P)
+static int pairs_of(const pscene *s, sph_off **mem, sph_pairs *P)
 {
     const sph_off cap = s->L.list.offset[N];
     sph_off pairs = 0;
@@ -99,7 +99,7 @@ static int pairs_of(const scene *s, sph_off **mem, sph_pairs *P)
 
 static void conservation_case(int dim)
 {
-    static scene s;
+    static pscene s;
     static sph_real dv[3 * N], du[N], dv2[3 * N], du2[N], dv3[3 * N], du3[N], buf[BUF_LEN];
     double P[3] = {0, 0, 0}, Pabs = 0, E = 0, Eabs = 0, err_ref = 0, err_pairs = 0, scale = 0, dscale = 0, e;
     sph_off *mem = NULL;
@@ -107,7 +107,7 @@ static void conservation_case(int dim)
     int i, a, st, same;
     th_begin("grad-h forces %dD: momentum and energy conserved, reference, pair-once, threads", dim);
     st = make_scene(&s, dim);
-    TH_CHECK(st == SPH_OK, "scene: %s", sph_strerror(st));
+    TH_CHECK(st == SPH_OK, "pscene: %s", sph_strerror(st));
     if (st != SPH_OK) {
         th_end();
         return;
@@ -184,7 +184,7 @@ typedef struct {
  * real short and a missing component of dv/dt are refused, nothing written. */
 static void po_layout_case(void)
 {
-    static scene s;
+    static pscene s;
     static sph_real vx[N], vy[N], vz[N], dv[3 * N], du[N], buf[BUF_LEN];
     static po_particle P[N];
     const size_t S = sizeof(po_particle);
@@ -195,7 +195,7 @@ static void po_layout_case(void)
     int i, a, st, st2, same = 1, untouched = 1;
     th_begin("grad-h forces 3D: SoA, interleaved and array-of-structs views give the same bits; short buffer refused");
     st = make_scene(&s, 3);
-    TH_CHECK(st == SPH_OK, "scene: %s", sph_strerror(st));
+    TH_CHECK(st == SPH_OK, "pscene: %s", sph_strerror(st));
     if (st != SPH_OK || (st = pairs_of(&s, &mem, &pr)) != SPH_OK) {
         free(mem);
         th_end();
@@ -333,7 +333,7 @@ static void factor_case(void)
 }
 
 /* sph_pairs_reduce_rows_k: j's share stored at the pair index k, not at its
- * slot: on the 3-D scene's 600-particle list, with values of mixed magnitude
+ * slot: on the 3-D pscene's 600-particle list, with values of mixed magnitude
  * (another order of a sum would round differently), 3 and 5 components (5:
  * its unrolled adds), bit for bit sph_pairs_reduce_rows on the same shares
  * at the slots, with 1 and 2 threads, and the partner ranges of its threads
@@ -341,7 +341,7 @@ static void factor_case(void)
  * only from 2048 particles on) add the same bits; bad input refused. */
 static void reduce_k_case(void)
 {
-    static scene s;
+    static pscene s;
     static sph_real o1[5 * N], o2[5 * N], o3[5 * N], rows[5 * N];
     sph_off *mem = NULL, k, pairs;
     sph_pairs pr;
@@ -351,7 +351,7 @@ static void reduce_k_case(void)
     th_begin("sph_pairs_reduce_rows_k: partners' shares at k equal sph_pairs_reduce_rows bit for bit, any ranges");
     st = make_scene(&s, 3);
     if (st == SPH_OK) st = pairs_of(&s, &mem, &pr);
-    TH_CHECK(st == SPH_OK, "scene and pairs: %s", sph_strerror(st));
+    TH_CHECK(st == SPH_OK, "pscene and pairs: %s", sph_strerror(st));
     if (st != SPH_OK) {
         free(mem);
         th_end();

@@ -404,11 +404,29 @@ static void sl_layout_case(void)
  * loops promise it (no OpenMP, the chunked loop, no contraction:
  * sph__fp_contracted), else to round-off: rho relative, drho relative to its
  * scale d rho / h. */
-#if defined(_OPENMP) || SPH__OP_AVX512 || SPH__OP_AVX2
+#if defined(_OPENMP)
 #define HS_BITWISE 0
 #else
-#define HS_BITWISE 1
+#define HS_BITWISE (sph_isa() == SPH_ISA_PORTABLE)
 #endif
+/* The fast sums of the level the unit runs at (sph_isa: a run-time pass's, or the build's). */
+static void hs_sums(const sph_hctx *c, const sph__kdim *kd, const sph__period *P, sph_idx i, sph_real h, sph_real *rho,
+                    sph_real *drho)
+{
+#if SPH__DISPATCH
+    if (sph_isa() == SPH_ISA_AVX512) {
+        sph__h_sums_avx512(c, kd, P, i, h, rho, drho);
+        return;
+    }
+#if SPH__ISA_BUILD < 1
+    if (sph_isa() == SPH_ISA_AVX2) {
+        sph__h_sums_avx2(c, kd, P, i, h, rho, drho);
+        return;
+    }
+#endif
+#endif
+    sph__h_sums(c, kd, P, i, h, rho, drho);
+}
 static void fast_sums_case(sph_kernel k, int dim)
 {
     const int n1 = dim == 1 ? 40 : dim == 2 ? 12 : 7, n = tp_lattice_count(dim, n1);
@@ -438,7 +456,7 @@ static void fast_sums_case(sph_kernel k, int dim)
         const sph_real h = (sph_real)tp_range(&g, 0.7, hmax), hinv = 1 / h;
         sph_real rho, drho, sw, sd, rr, dr;
         double e;
-        sph__h_sums(&c, kd, &P, i, h, &rho, &drho);
+        hs_sums(&c, kd, &P, i, h, &rho, &drho);
         sph__h_sums_ref(&c, &sph__nshapes[kd->shape], &P, i, hinv, &sw, &sd);
         rr = sph__hpow(kd->alpha * sw, hinv, dim);
         dr = -sph__hpow(kd->alpha * sd, hinv, dim + 1);
