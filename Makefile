@@ -10,12 +10,15 @@
 #   make install PREFIX=/usr/local   header, pkg-config file, CMake package
 #   make bench      operator and neighbour-search timings (bench/benchmark.c)
 #   make bench-step the Sod shock tube's step per particle and phase (bench/bench_step.sh)
+#   make bench-isa  the fast loops at each instruction set this CPU runs, one -O2 build (bench/bench_isa.c)
+#   make isa-names  rewrites the function names of the run-time passes at the end of sph_kernel.h
 #   make run-mpi    the Taylor-Green vortex over MPI ranks (mpicc, mpirun; docs/mpi.md)
 #
 # Tree: examples/ what a user copies (quickstarts, solvers); bench/ timings and
 # size probes; studies/ the programs and gnuplot scripts that write the results
 # in docs/results/; support/ particle clouds shared by tests, bench and studies,
-# and the clock and median of the timing programs; docs/ the reference pages.
+# the clock and median of the timing programs, and the generator of the header's
+# list of run-time pass names (isa_names.sh); docs/ the reference pages.
 # Every program includes "sph_kernel.h" with -I.
 CC      ?= cc
 CFLAGS  ?= -O2 -std=c99 -Wall -Wextra -pedantic -Wshadow -Werror
@@ -29,7 +32,7 @@ RESULTS := docs/results
 # not depend on the thread count)
 OPENMP  := $(shell printf 'int main(void){return 0;}\n' | $(CC) -fopenmp -x c - -o /dev/null > /dev/null 2>&1 && echo -fopenmp)
 
-.PHONY: all test check print-check-examples demo plots install uninstall clean fuzz stability report report-full plots-report report-plots-if-gnuplot bench bench-step bench-search tiny-size compile-cost
+.PHONY: all test check print-check-examples demo plots install uninstall clean fuzz stability report report-full plots-report report-plots-if-gnuplot bench bench-step bench-search bench-isa tiny-size compile-cost isa-names
 
 all: $(BUILD)/kernel_table $(BUILD)/kernel_plots $(BUILD)/quickstart
 
@@ -294,7 +297,8 @@ BENCH_REPEATS ?= 5
 # BENCH_ARCH: the -march of the timed build (make bench also times x86-64-v3,
 # AVX2 without AVX-512, the vector width most users' CPUs have)
 BENCH_ARCH  ?= native
-BENCH_FLAGS := -O3 -march=$(BENCH_ARCH) -fopenmp -std=c99 -Wall -Wextra -pedantic -Werror -I.
+BENCH_DEFS  ?=
+BENCH_FLAGS := -O3 -march=$(BENCH_ARCH) $(BENCH_DEFS) -fopenmp -std=c99 -Wall -Wextra -pedantic -Werror -I.
 BENCH_PIN   := -DSPH_DIM=3 -DSPH_KERNEL=SPH_KERNEL_CUBIC
 
 $(BUILD)/bench/%_double.o: bench/benchmark.c sph_kernel.h support/timing.h
@@ -325,12 +329,15 @@ bench: $(BUILD)/bench/benchmark_double $(BUILD)/bench/benchmark_float tiny-size
 	./$(BUILD)/bench/benchmark_double 64 7 $(RESULTS)/benchmark.md
 	@echo
 	./$(BUILD)/bench/benchmark_float 64 7 $(RESULTS)/benchmark.md
-	@$(MAKE) --no-print-directory BUILD=$(BUILD)/avx2 BENCH_ARCH=x86-64-v3 \
+	@$(MAKE) --no-print-directory BUILD=$(BUILD)/avx2 BENCH_ARCH=x86-64-v3 BENCH_DEFS=-DSPH_NO_DISPATCH \
 	    $(BUILD)/avx2/bench/benchmark_double $(BUILD)/avx2/bench/benchmark_float
-	@{ echo; echo "# AVX2 build: $(CC) -O3 -march=x86-64-v3 -fopenmp (no AVX-512: the chunked loops)"; } >> $(RESULTS)/benchmark.md
+	@{ echo; echo "# AVX2 build: $(CC) -O3 -march=x86-64-v3 -DSPH_NO_DISPATCH -fopenmp (no AVX-512: the AVX2 loops)"; } >> $(RESULTS)/benchmark.md
 	./$(BUILD)/avx2/bench/benchmark_double 64 7 $(RESULTS)/benchmark.md
 	@echo
 	./$(BUILD)/avx2/bench/benchmark_float 64 7 $(RESULTS)/benchmark.md
+	@$(MAKE) --no-print-directory bench-isa BENCH_REPEATS=7 | tee $(BUILD)/bench/isa.txt
+	@{ echo; echo "# Every instruction set in one build (make bench-isa, bench/bench_isa.c, $(CC) -O2, no -march)"; echo; \
+	   grep -v '^\./\|^$(CC) ' $(BUILD)/bench/isa.txt; } >> $(RESULTS)/benchmark.md
 
 # bench-step: the step of examples/sod_shock.c per particle (search, density / h,
 # forces, the rest; pairs, candidates, bytes) at nx = 16, 32, 48 on 1 and 2
@@ -341,6 +348,22 @@ bench: $(BUILD)/bench/benchmark_double $(BUILD)/bench/benchmark_float tiny-size
 bench-step:
 	@CC="$(CC)" CFLAGS="$(CFLAGS)" OPENMP="$(OPENMP)" LDLIBS="$(LDLIBS)" BUILD="$(BUILD)" \
 	    BENCH_STEP_OUT="$(RESULTS)/step.md" sh bench/bench_step.sh
+
+# bench-isa: the fast loops at portable, AVX2 and AVX-512 (those this CPU
+# runs), one build without -march (run-time dispatch), double and float.
+bench-isa:
+	@mkdir -p $(BUILD)/bench
+	$(CC) -O2 -std=c99 -Wall -Wextra -pedantic -Werror -I. bench/bench_isa.c -o $(BUILD)/bench/isa_double -lm
+	$(CC) -O2 -std=c99 -Wall -Wextra -pedantic -Werror -DSPH_REAL=float -I. bench/bench_isa.c -o $(BUILD)/bench/isa_float -lm
+	@echo "CPU: $$(grep -m1 'model name' /proc/cpuinfo 2> /dev/null | sed 's/.*: //'); $$($(CC) --version | head -n 1)"
+	./$(BUILD)/bench/isa_double $(BENCH_ISA_SIDE) $(BENCH_REPEATS)
+	./$(BUILD)/bench/isa_float $(BENCH_ISA_SIDE) $(BENCH_REPEATS)
+BENCH_ISA_SIDE ?= 48
+
+# isa-names: the names the run-time passes map (support/isa_names.sh; make
+# test checks them with tests/check_isa_names.sh).
+isa-names:
+	@sh support/isa_names.sh
 
 # compile-cost: CPU time, peak memory and code size of typical units
 # (bench/compile_cost.sh; README "Build cost").

@@ -36,10 +36,13 @@ row "pair terms only (own loop)" "-DCOST_UNIT=2" bench/compile_units.c
 row "pair terms only (own loop)" "-DCOST_UNIT=2 -DSPH_ONLY_PAIRS" bench/compile_units.c
 row "3-D solver step: search + 3 operators" "-DCOST_UNIT=3" bench/compile_units.c
 row "3-D solver step: search + 3 operators" "-DCOST_UNIT=3 -march=native" bench/compile_units.c
+row "3-D solver step: search + 3 operators" "-DCOST_UNIT=3 -DSPH_NO_DISPATCH" bench/compile_units.c
 row "3-D solver step: search + 3 operators" "-DCOST_UNIT=3 $PIN" bench/compile_units.c
 row "examples/cloud_quickstart.c" "" examples/cloud_quickstart.c
 row "every operator + search, run-time kernel and dim" "-DCOST_UNIT=4" bench/compile_units.c
 row "every operator + search, run-time kernel and dim" "-DCOST_UNIT=4 -march=native" bench/compile_units.c
+row "every operator + search, run-time kernel and dim" "-DCOST_UNIT=4 -DSPH_NO_DISPATCH" bench/compile_units.c
+row "every operator + search, run-time kernel and dim" "-DCOST_UNIT=4 -DSPH_NO_DISPATCH_AVX512" bench/compile_units.c
 row "every operator + search, run-time kernel and dim" "-DCOST_UNIT=4 -march=x86-64-v3" bench/compile_units.c
 row "every operator + search, run-time kernel and dim" "-DCOST_UNIT=4 -DSPH_OP_REFERENCE" bench/compile_units.c
 row "every operator + search, pinned" "-DCOST_UNIT=4 $PIN" bench/compile_units.c

@@ -91,6 +91,12 @@
 #define SD_EEXACT 202   /* no exact Riemann solution for the states */
 #define SD_NT 9 /* pair terms per particle: dv/dt (3), du/dt, the sums of div v, curl v (3) and lap u */
 #define SD_NX_MAX 256 /* 73728 particles at the fewest ny, 0.9 GB, about 1300 steps: hours of one core (--help prints the memory) */
+/* The force loop's pair arithmetic is this file's own code: inlined into each instruction-set instance of sd_rows. */
+#if defined(__GNUC__) || defined(__clang__)
+#define SD_INLINE static inline __attribute__((always_inline))
+#else
+#define SD_INLINE static inline
+#endif
 
 typedef struct {
     int nx, ny;          /* left lattice: cells per unit length, and across the tube (0: the fewest allowed) */
@@ -501,7 +507,7 @@ static int sd_density(sd_sim *S)
  * batch b of its row, added to acc[SD_NT] (dv/dt, du/dt, sum m_j v_ij . x_ij F_i, sum m_j (v_ij x x_ij) F_i,
  * lap u); the largest signal velocity of the pairs other than (i, i) into vs. SPHENIX: Borrow, Schaller, Bower &
  * Schaye (2022, MNRAS 511, 2367). */
-static void sd_batch(const sd_sim *S, sph_idx i, const sph_batch *b, sph_real *vs, sph_real *acc)
+SD_INLINE void sd_batch(const sd_sim *S, sph_idx i, const sph_batch *b, sph_real *vs, sph_real *acc)
 {
     const sd_param *P = &S->P;
     const sph_real m = S->m, g1 = (sph_real)(P->gamma - 1), beta = (sph_real)P->beta, au = (sph_real)P->alpha_u;
@@ -603,7 +609,7 @@ static int sd_thread(void)
 
 /* Particle i's pair sums (sd_batch over the batches of its row) and what follows from them: dv/dt, du/dt, d alpha /
  * dt and the switches' input; returns the largest signal velocity of its pairs. */
-static sph_real sd_force_row(sd_sim *S, const sph_batch_src *B, sph_idx i)
+SD_INLINE sph_real sd_force_row(sd_sim *S, const sph_batch_src *B, sph_idx i)
 {
     const sd_param *P = &S->P;
     sph_real vs = 0, acc[SD_NT] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
@@ -624,6 +630,50 @@ static sph_real sd_force_row(sd_sim *S, const sph_batch_src *B, sph_idx i)
     return vs;
 }
 
+/* The rows of thread t's shares (sd_force_row); returns their largest signal velocity. One body, compiled for the
+ * build's target (sd_rows) and, where the header has run-time dispatch, for AVX2 and AVX-512 (SPH_TARGET_AVX2,
+ * SPH_TARGET_AVX512): sd_forces calls the instance of the level the header's loops run at (sph_isa), so that a
+ * build without -march runs this arithmetic in the CPU's widest registers too. */
+/* snippet: share */
+SD_INLINE double sd_rows_body(sd_sim *S, const sph_batch_src *B, sph_share *share, int t)
+{
+    sph_idx lo, hi, j;
+    double vmax = 0;
+    int u = 0;
+    while (sph_share_next(share, t, &u, &lo, &hi))
+        for (j = lo; j < hi; ++j) {
+            const sph_real vs = sd_force_row(S, B, j);
+            vmax = vs > vmax ? vs : vmax;
+        }
+    return vmax;
+}
+/* end snippet */
+static double sd_rows(sd_sim *S, const sph_batch_src *B, sph_share *share, int t) { return sd_rows_body(S, B, share, t); }
+#ifdef SPH_TARGET_AVX2
+SPH_TARGET_AVX2 static double sd_rows_avx2(sd_sim *S, const sph_batch_src *B, sph_share *share, int t)
+{
+    return sd_rows_body(S, B, share, t);
+}
+#endif
+#ifdef SPH_TARGET_AVX512
+SPH_TARGET_AVX512 static double sd_rows_avx512(sd_sim *S, const sph_batch_src *B, sph_share *share, int t)
+{
+    return sd_rows_body(S, B, share, t);
+}
+#endif
+static double sd_rows_at(int isa, sd_sim *S, const sph_batch_src *B, sph_share *share, int t)
+{
+    switch (isa) {
+#ifdef SPH_TARGET_AVX512
+    case SPH_ISA_AVX512: return sd_rows_avx512(S, B, share, t);
+#endif
+#ifdef SPH_TARGET_AVX2
+    case SPH_ISA_AVX2: return sd_rows_avx2(S, B, share, t);
+#endif
+    default: return sd_rows(S, B, share, t);
+    }
+}
+
 /* Accelerations, du/dt, d alpha/dt and the largest signal velocity at the positions x, velocities vp and energies
  * up: each particle sums over its row of the pruned list (each pair is evaluated from both ends: no scatter, no
  * reduction, no per-pair buffers; the pair terms are antisymmetric, so momentum is conserved to round-off). */
@@ -634,6 +684,7 @@ static int sd_forces(sd_sim *S)
     sph_batch_src B;
     sph_idx i;
     double vmax = 0;
+    const int isa = sph_isa();
     int st;
     if ((st = sd_density(S)) != SPH_OK) return st;
 #ifdef _OPENMP
@@ -646,21 +697,14 @@ static int sd_forces(sd_sim *S)
     }
     st = sph_batch_source(&B, S->k, 3, &S->pairs, NULL, sph_view_interleaved(S->x, 3), sph_view_soa(S->h, NULL, NULL));
     if (st != SPH_OK || (st = sph_batch_select(&B, SPH_BATCH_F)) != SPH_OK) return st; /* the loop needs F alone */
-    /* snippet: share */
     if ((st = sph_share_init(&share, S->share_next, S->shares, S->n, 64)) != SPH_OK) return st;
 #ifdef _OPENMP
 #pragma omp parallel reduction(max : vmax)
 #endif
     { /* each thread takes its own share first (the particles of the static loops: in its core's caches) */
-        sph_idx lo, hi, j;
-        int u = 0;
-        while (sph_share_next(&share, sd_thread(), &u, &lo, &hi))
-            for (j = lo; j < hi; ++j) {
-                const sph_real vs = sd_force_row(S, &B, j);
-                vmax = vs > vmax ? vs : vmax;
-            }
+        const double vs = sd_rows_at(isa, S, &B, &share, sd_thread());
+        vmax = vs > vmax ? vs : vmax;
     }
-    /* end snippet */
 #ifdef _OPENMP
 #pragma omp parallel for schedule(static)
 #endif
@@ -865,8 +909,8 @@ static void sd_print_profile(const sd_result *R)
     int p;
     if (Q->steps == 0) return;
     for (p = 0; p < SD_PHASES; ++p) total += Q->t[p];
-    printf("profile: %ld steps of %ld particles, %d thread%s; wall time per particle and step:\n", Q->steps, (long)R->n,
-           Q->threads, Q->threads == 1 ? "" : "s");
+    printf("profile: %ld steps of %ld particles, %d thread%s, fast loops at %s; wall time per particle and step:\n",
+           Q->steps, (long)R->n, Q->threads, Q->threads == 1 ? "" : "s", sph_isa_name(sph_isa()));
     for (p = 0; p < SD_PHASES; ++p)
         printf("  %-28s %10.3f us %5.1f %%  %s\n", name[p], 1e6 * Q->t[p] / ps, 100 * Q->t[p] / total, what[p]);
     printf("  %-28s %10.3f us 100.0 %%  %.3f s in the step loop\n", "total", 1e6 * total / ps, total);
@@ -1039,7 +1083,7 @@ int main(int argc, char **argv)
 {
     sd_param P;
     sd_result R;
-    const char *out = "build/sod_shock_out", *study = NULL;
+    const char *out = "build/sod_shock_out", *study = NULL, *isa = "auto";
     int threads = 0, check = 0, st;
     char nx_help[200];
     const ex_arg opt[] = {
@@ -1073,6 +1117,8 @@ int main(int argc, char **argv)
          NULL, NULL, 0, 1, 0, NULL},
         {"out", "output directory (profiles, exact solution)", NULL, NULL, &out, NULL, 0, 0, 0, NULL},
         {"threads", "OpenMP threads (0: the runtime's default)", NULL, &threads, NULL, NULL, 0, 1024, 0, NULL},
+        {"isa", "instruction set of the fast loops: auto (the CPU's best this build has), portable, avx2 or avx512",
+         NULL, NULL, &isa, NULL, 0, 0, 0, "auto|portable|avx2|avx512"},
         {"check", "nx = 16 run; exit 1 if it misses its validation bounds", NULL, NULL, NULL, &check, 0, 0, 0, NULL},
         {"study", "nx = 16, 24, 32, 48: the error table into this directory", NULL, NULL, &study, NULL, 0, 0, 0, NULL},
         {"profile", "print the step's time per phase, pairs and bytes per particle", NULL, NULL, NULL, &P.profile, 0, 0,
@@ -1095,6 +1141,14 @@ int main(int argc, char **argv)
     if (check) P.nx = 16;
     if (P.ny == 0) P.ny = sd_ny_auto(&P);
     if (sd_validate(&P) != 0) return 2;
+    if (strcmp(isa, "auto") != 0) { /* the level the header's loops and sd_rows run at (sph_isa) */
+        int l;
+        for (l = SPH_ISA_PORTABLE; l <= SPH_ISA_AVX512 && strcmp(isa, sph_isa_name(l)) != 0; ++l) {}
+        if ((st = sph_isa_set(l)) != SPH_OK) {
+            fprintf(stderr, "%s: --isa %s refused: %s\n", ex_prog(), isa, sph_strerror(st));
+            return 2;
+        }
+    }
 #ifdef _OPENMP
     if (threads > 0) omp_set_num_threads(threads);
 #endif
