@@ -63,10 +63,11 @@
  *               the build's, AVX2 + FMA and AVX-512 (a target pragma, names
  *               suffixed _avx2 / _avx512), and the public functions with a
  *               hot loop run the level chosen once from the CPU (sph_isa;
- *               sph_isa_set forces one). Saves about two thirds of the
- *               compile time and code of a unit that calls the operators
- *               (`make compile-cost`); costs 1.5-3x in speed on a CPU
- *               with AVX2 or AVX-512 in a build without -march.
+ *               sph_isa_set forces one). Saves most of the compile time
+ *               and code of a unit that calls the operators (README,
+ *               "Build cost": about 5 times either with the passes); costs
+ *               2-3x in speed on a CPU with AVX2 or AVX-512 in a build
+ *               without -march (README, "Performance").
  *   SPH_NO_DISPATCH_AVX512  run-time dispatch without the AVX-512 pass:
  *               the AVX2 loops on every CPU that has AVX2 (or the build's
  *               level), about half the passes' compile time and code.
