@@ -649,8 +649,8 @@ SPH_API int sph_isa(void)
 
 /* Forces this unit's level (tests, comparisons; SPH_ISA_AUTO: the CPU's
  * best again): SPH_OK, SPH_EOPTION for an unknown level, SPH_EISA when
- * sph_isa_has(isa) is 0 (the level is left as it was). Set it before a
- * search whose grid and lists are used at that level. */
+ * sph_isa_has(isa) is 0 (the level is left as it was). A grid built at
+ * one level serves the search at every other (laid out for the widest). */
 SPH_API int sph_isa_set(int isa)
 {
     if (isa < SPH_ISA_AUTO || isa > SPH_ISA_AVX512) return SPH_EOPTION;

@@ -409,22 +409,11 @@ static void sl_layout_case(void)
 #else
 #define HS_BITWISE (sph_isa() == SPH_ISA_PORTABLE)
 #endif
-/* The fast sums of the level the unit runs at (sph_isa: a run-time pass's, or the build's). */
+/* The fast sums of the level the unit runs at (sph_isa), chosen as the header's public functions choose. */
 static void hs_sums(const sph_hctx *c, const sph__kdim *kd, const sph__period *P, sph_idx i, sph_real h, sph_real *rho,
                     sph_real *drho)
 {
-#if SPH__DISPATCH
-    if (sph_isa() == SPH_ISA_AVX512) {
-        sph__h_sums_avx512(c, kd, P, i, h, rho, drho);
-        return;
-    }
-#if SPH__ISA_BUILD < 1
-    if (sph_isa() == SPH_ISA_AVX2) {
-        sph__h_sums_avx2(c, kd, P, i, h, rho, drho);
-        return;
-    }
-#endif
-#endif
+    SPH__DISPATCH_VOID(sph__h_sums, (c, kd, P, i, h, rho, drho))
     sph__h_sums(c, kd, P, i, h, rho, drho);
 }
 static void fast_sums_case(sph_kernel k, int dim)
