@@ -79,8 +79,8 @@
  *               density and difference gradient, none for
  *               sph_h_solve's density sums (results within 1e-13 of the pair
  *               sum either way, tested; the order of the sum over j
- *               differs) and no AVX-512 compress in the neighbour fill
- *               (same lists), no run-time dispatch; slower.
+ *               differs), no AVX2 or AVX-512 check of a block of sources in the
+ *               neighbour search (same lists), no run-time dispatch; slower.
  *   SPH_NSEARCH_PLAIN  the plain neighbour search: cells of the given edge
  *               and, in symmetric mode, one radius kappa max(h_i, h_max) for
  *               every target. Default: cells refined to the sources' h and a
@@ -371,9 +371,13 @@ typedef SPH_REAL sph_real;
  * gradient, 8 pairs per step in one pass; with SPH_REAL float the values are
  * read as float and the terms computed in double, the sums rounded to float
  * once), in sph_h_solve's density sums (section 9) and in the neighbour fill
- * (section 7: a VL compress of a block's accepted source indices). */
+ * (section 7: the rank sort of a cell's sources and the completion of the
+ * symmetric lists). */
 #define SPH__OP_AVX512 (SPH__ISA == 2)
 #define SPH__NS_COMPRESS (SPH__ISA == 2)
+/* The neighbour check of a block of 16 sources in vector registers, its
+ * accepted indices compressed (AVX-512 compress, AVX2 permute), level 1 or 2. */
+#define SPH__NS_VEC (SPH__ISA >= 1)
 /* The same register loops in AVX2 + FMA, 4 pairs per step in double as
  * the AVX-512 ones' 8 (level 1): the density and difference gradient in one
  * pass, sph_h_solve's density sums. */
@@ -3701,7 +3705,7 @@ SPH_API int sph_check_field(sph_view f, int ncomp, sph_idx n, sph_idx *first_bad
  * time); count, and lists with an index shorter than the gather pairs,
  * search directly. Each run carries its periodic image offset, so the checks need no
  * minimum image. Runs are checked in branch-free blocks of 8
- * sources (16, two vectors, with AVX-512). Count, fill and lists run in
+ * sources (16, in vector registers, at AVX2 or AVX-512). Count, fill and lists run in
  * parallel over targets under OpenMP.
  *
  * Optional locality: sph_nsearch_permutation gives perm[new] = old (sources
@@ -3782,9 +3786,9 @@ typedef struct {
     sph_off *sym_at;      /* [n_padded] the sources reaching it from beyond it: their count, then the
                              next place for one (the symmetric lists from the gather ones,
                              sph__nsearch_sym_lists); both NULL without hcell */
-    float *hf;            /* [n_padded] h rounded to float, for the own radius of the AVX-512 marked search in double
+    float *hf;            /* [n_padded] h rounded to float, for the own radius of the vector marked search in double
                              (half the bytes of h to load), NaN where h lies outside 1e-30..1e30 (decided from h
-                             itself); NULL without hcell or an AVX-512 level (SPH__NS_HF), and in float */
+                             itself); NULL without hcell or a vector level (SPH__NS_HF), and in float */
 } sph_nsearch;
 #endif /* SPH__FIRST */
 
@@ -3792,18 +3796,49 @@ typedef struct {
  * sources; the arrays of the grid are padded by one block. A target's runs
  * are collected SPH__NS_RUNS at a time before any is checked, so that the
  * cell arithmetic of one row does not wait on the checks of the last. */
-#if SPH__NS_COMPRESS
-/* 8 consecutive sph_real as doubles (exact for float), for the AVX-512
- * neighbour check; the sizeof test folds. */
-SPH__INLINE __m512d sph__load8(const sph_real *p)
+/* The vector check of a block (SPH__NS_VEC: AVX2 + FMA or AVX-512): r^2 in
+ * doubles, SPH__NSW lanes a register (sph__nsv), each lane test a bit of an
+ * unsigned mask. The names of one level; the AVX-512 and AVX2 spellings of
+ * the same operations. */
+#undef SPH__NSW
+#undef SPH__NSV
+#if SPH__ISA == 2
+#define SPH__NSW 8
+#define SPH__NSV(op) _mm512_##op##_pd
+typedef __m512d sph__nsv;
+/* SPH__NSW floats as doubles (exact) */
+SPH__INLINE sph__nsv sph__nsv_loadf(const float *p) { return _mm512_maskz_cvtps_pd(SPH__ALL8, _mm256_loadu_ps(p)); }
+/* bit l of the result: a_l < b_l (ordered), a_l not >= b_l (NaN too), a_l > b_l, for the lanes of lv */
+SPH__INLINE unsigned sph__nsv_lt(sph__nsv a, sph__nsv b, unsigned lv) { return _mm512_mask_cmp_pd_mask((__mmask8)lv, a, b, _CMP_LT_OQ); }
+SPH__INLINE unsigned sph__nsv_nge(sph__nsv a, sph__nsv b, unsigned lv) { return _mm512_mask_cmp_pd_mask((__mmask8)lv, a, b, _CMP_NGE_UQ); }
+SPH__INLINE unsigned sph__nsv_gt(sph__nsv a, sph__nsv b, unsigned lv) { return _mm512_mask_cmp_pd_mask((__mmask8)lv, a, b, _CMP_GT_OQ); }
+SPH__INLINE sph__nsv sph__nsv_abs(sph__nsv a) { return _mm512_abs_pd(a); }
+SPH__INLINE sph__nsv sph__nsv_max(sph__nsv a, sph__nsv b) { return _mm512_maskz_max_pd(SPH__ALL8, a, b); }
+/* the lanes rounded to float (for SPH_REAL float) */
+SPH__INLINE sph__nsv sph__nsv_round(sph__nsv v) { return _mm512_maskz_cvtps_pd(SPH__ALL8, _mm512_maskz_cvtpd_ps(SPH__ALL8, v)); }
+#elif SPH__ISA == 1
+#define SPH__NSW 4
+#define SPH__NSV(op) _mm256_##op##_pd
+typedef __m256d sph__nsv;
+SPH__INLINE sph__nsv sph__nsv_loadf(const float *p) { return _mm256_cvtps_pd(_mm_loadu_ps(p)); }
+SPH__INLINE unsigned sph__nsv_lt(sph__nsv a, sph__nsv b, unsigned lv) { return (unsigned)_mm256_movemask_pd(_mm256_cmp_pd(a, b, _CMP_LT_OQ)) & lv; }
+SPH__INLINE unsigned sph__nsv_nge(sph__nsv a, sph__nsv b, unsigned lv) { return (unsigned)_mm256_movemask_pd(_mm256_cmp_pd(a, b, _CMP_NGE_UQ)) & lv; }
+SPH__INLINE unsigned sph__nsv_gt(sph__nsv a, sph__nsv b, unsigned lv) { return (unsigned)_mm256_movemask_pd(_mm256_cmp_pd(a, b, _CMP_GT_OQ)) & lv; }
+SPH__INLINE sph__nsv sph__nsv_abs(sph__nsv a) { return _mm256_andnot_pd(_mm256_set1_pd(-0.0), a); }
+SPH__INLINE sph__nsv sph__nsv_max(sph__nsv a, sph__nsv b) { return _mm256_max_pd(a, b); }
+SPH__INLINE sph__nsv sph__nsv_round(sph__nsv v) { return _mm256_cvtps_pd(_mm256_cvtpd_ps(v)); }
+#endif
+#if SPH__NS_VEC
+/* SPH__NSW consecutive sph_real as doubles (exact for float); the sizeof test folds */
+SPH__INLINE sph__nsv sph__nsv_load(const sph_real *p)
 {
-    return sizeof(sph_real) == sizeof(double) ? _mm512_loadu_pd((const void *)p)
-                                              : _mm512_maskz_cvtps_pd(SPH__ALL8, _mm256_loadu_ps((const float *)(const void *)p));
+    return sizeof(sph_real) == sizeof(double) ? SPH__NSV(loadu)((const double *)(const void *)p)
+                                              : sph__nsv_loadf((const float *)(const void *)p);
 }
 #endif
 
 #undef SPH__NS_BLOCK
-#if SPH__NS_COMPRESS
+#if SPH__NS_VEC
 #define SPH__NS_BLOCK 16
 #else
 #define SPH__NS_BLOCK 8
@@ -3811,7 +3846,7 @@ SPH__INLINE __m512d sph__load8(const sph_real *p)
 /* The padding of the grid's arrays, and whether it keeps h in float (hf):
  * as the widest level of this unit needs, so that a grid built at one
  * level serves the others (sph_isa_set). */
-#if SPH__ISA_BUILD == 2 || SPH__PASS_AVX512
+#if SPH__ISA_BUILD >= 1 || SPH__PASS_AVX512 || SPH__PASS_AVX2
 #define SPH__NS_PAD 16
 #define SPH__NS_HF 1
 #else
@@ -4146,16 +4181,10 @@ SPH__INLINE unsigned sph__nsearch_mask(const sph_nsearch *g, sph__probe *p, sph_
     return mask;
 }
 
-#if SPH__NS_COMPRESS
-/* 8 doubles rounded to float (for SPH_REAL float). */
-SPH__INLINE __m512d sph__nsearch_round8(__m512d v)
-{
-    return _mm512_maskz_cvtps_pd(SPH__ALL8, _mm512_maskz_cvtpd_ps(SPH__ALL8, v));
-}
-
-/* sph__nsearch_mask in AVX-512 registers: r^2 of the 16 sources of a block,
- * as two vectors of 8 doubles. With double, d_a is the scalar value bit for
- * bit. With float, positions are widened exactly, and d_a = x_t - x_j is
+#if SPH__NS_VEC
+/* sph__nsearch_mask in vector registers: r^2 of the 16 sources of a block,
+ * as vectors of SPH__NSW doubles. With double, d_a is the scalar value bit
+ * for bit. With float, positions are widened exactly, and d_a = x_t - x_j is
  * exact, within half a float ulp of the scalar d_a; where an image offset
  * is subtracted, x_t - x_j is first rounded to float as the scalar one is
  * (unrounded, its error of half an ulp of the period would be many ulp of
@@ -4171,45 +4200,41 @@ SPH__INLINE unsigned sph__nsearch_mask16(const sph_nsearch *g, sph__probe *p, sp
 {
     const double eps = (double)SPH__NS_EDGE;
     const ptrdiff_t stride = g->n_padded;
-    const unsigned live = k1 - b >= 16 ? 0xFFFFu : (1u << (k1 - b)) - 1u;
+    const unsigned live = k1 - b >= 16 ? 0xFFFFu : (1u << (k1 - b)) - 1u, all = (1u << SPH__NSW) - 1u;
     unsigned in = 0, near_edge = 0, wide = 0, mask, own = 0, near_own = 0;
-    int a, k, half;
-    for (half = 0; half < 2; ++half) {
-        const sph_real *x = g->x + b + 8 * half;
-        const __mmask8 lv = (__mmask8)(live >> (8 * half));
-        if (lv == 0) break; /* a run of 8 or fewer: no live lane in the second vector */
-        __m512d r2 = _mm512_setzero_pd(), R2 = _mm512_set1_pd((double)p->R2);
-        __mmask8 in8;
+    int a, k, c;
+    for (c = 0; c < 16; c += SPH__NSW) { /* the lanes c .. c + SPH__NSW - 1 of the block */
+        const sph_real *x = g->x + b + c;
+        const unsigned lv = (live >> c) & all;
+        sph__nsv r2 = SPH__NSV(setzero)(), R2 = SPH__NSV(set1)((double)p->R2);
+        unsigned inc;
+        if (lv == 0) break; /* a short run: no live lane from here on */
         for (a = 0; a < dim; ++a) {
-            __m512d d = _mm512_sub_pd(_mm512_set1_pd((double)p->xt[a]), sph__load8(x + a * stride));
-            if (IMG && sizeof(sph_real) == sizeof(float) && s[a] != 0) d = sph__nsearch_round8(d);
-            if (IMG) d = _mm512_sub_pd(d, _mm512_set1_pd((double)s[a]));
-            r2 = _mm512_fmadd_pd(d, d, r2);
-            wide |= _mm512_mask_cmp_pd_mask(lv, _mm512_abs_pd(d), _mm512_set1_pd((double)g->image_ok[a]), _CMP_GT_OQ);
+            sph__nsv d = SPH__NSV(sub)(SPH__NSV(set1)((double)p->xt[a]), sph__nsv_load(x + a * stride));
+            if (IMG && sizeof(sph_real) == sizeof(float) && s[a] != 0) d = sph__nsv_round(d);
+            if (IMG) d = SPH__NSV(sub)(d, SPH__NSV(set1)((double)s[a]));
+            r2 = SPH__NSV(fmadd)(d, d, r2);
+            wide |= sph__nsv_gt(sph__nsv_abs(d), SPH__NSV(set1)((double)g->image_ok[a]), lv);
         }
         if (HV == 2) { /* the source's own radius: r^2 < (kappa h_i)^2, decided as below; in double h_i from hf,
                           (kappa h_i)^2 then within 2^-22 of the double's: a band of 2^-20, a NaN in it */
             const int hf = sizeof(sph_real) == sizeof(double);
             const double band = hf ? 1.0 / 1048576 : eps;
-            const __m512d Ri = _mm512_mul_pd(_mm512_set1_pd((double)p->kappa),
-                                             hf ? _mm512_maskz_cvtps_pd(SPH__ALL8, _mm256_loadu_ps(g->hf + b + 8 * half))
-                                                : sph__load8(g->h + b + 8 * half));
-            const __m512d Ri2 = _mm512_mul_pd(Ri, Ri);
-            const __mmask8 own8 = _mm512_mask_cmp_pd_mask(lv, r2, _mm512_mul_pd(Ri2, _mm512_set1_pd(1 - band)), _CMP_LT_OQ);
-            own |= (unsigned)own8 << (8 * half);
-            near_own |= (unsigned)(_mm512_mask_cmp_pd_mask(lv, r2, _mm512_mul_pd(Ri2, _mm512_set1_pd(1 + band)), _CMP_NGE_UQ) &
-                                   (__mmask8)~own8) << (8 * half);
+            const sph__nsv Ri = SPH__NSV(mul)(SPH__NSV(set1)((double)p->kappa),
+                                              hf ? sph__nsv_loadf(g->hf + b + c) : sph__nsv_load(g->h + b + c));
+            const sph__nsv Ri2 = SPH__NSV(mul)(Ri, Ri);
+            const unsigned ownc = sph__nsv_lt(r2, SPH__NSV(mul)(Ri2, SPH__NSV(set1)(1 - band)), lv);
+            own |= ownc << c;
+            near_own |= (sph__nsv_nge(r2, SPH__NSV(mul)(Ri2, SPH__NSV(set1)(1 + band)), lv) & ~ownc) << c;
         }
         if (HV == 1) {
-            const __m512d R = _mm512_mul_pd(_mm512_set1_pd((double)p->kappa),
-                                            _mm512_maskz_max_pd(SPH__ALL8, sph__load8(g->h + b + 8 * half),
-                                                                _mm512_set1_pd((double)p->hi)));
-            R2 = _mm512_mul_pd(R, R);
+            const sph__nsv R = SPH__NSV(mul)(SPH__NSV(set1)((double)p->kappa),
+                                             sph__nsv_max(sph__nsv_load(g->h + b + c), SPH__NSV(set1)((double)p->hi)));
+            R2 = SPH__NSV(mul)(R, R);
         }
-        in8 = _mm512_mask_cmp_pd_mask(lv, r2, _mm512_mul_pd(R2, _mm512_set1_pd(1 - eps)), _CMP_LT_OQ);
-        in |= (unsigned)in8 << (8 * half);
-        near_edge |= (unsigned)(_mm512_mask_cmp_pd_mask(lv, r2, _mm512_mul_pd(R2, _mm512_set1_pd(1 + eps)), _CMP_LT_OQ) &
-                                (__mmask8)~in8) << (8 * half);
+        inc = sph__nsv_lt(r2, SPH__NSV(mul)(R2, SPH__NSV(set1)(1 - eps)), lv);
+        in |= inc << c;
+        near_edge |= (sph__nsv_lt(r2, SPH__NSV(mul)(R2, SPH__NSV(set1)(1 + eps)), lv) & ~inc) << c;
     }
     if (wide) {
         sph_idx mw[SPH__NS_BLOCK];
@@ -4227,6 +4252,45 @@ SPH__INLINE unsigned sph__nsearch_mask16(const sph_nsearch *g, sph__probe *p, sp
         *mk = mask & ~own;
     }
     return mask;
+}
+
+#if SPH__ISA == 1
+/* Per 4-bit mask, the lanes of its set bits in order, 2 bits each (lowest
+ * first): the AVX2 compress of 4 indices, one permute. */
+SPH__TABLE unsigned char sph__ns_pack4[16] = {0x00, 0x00, 0x01, 0x04, 0x02, 0x08, 0x09, 0x24,
+                                              0x03, 0x0C, 0x0D, 0x34, 0x0E, 0x38, 0x39, 0xE4};
+#endif
+
+/* Stores the sources of block b that mask accepts at seg + m, those of mk
+ * marked (~j): compressed into registers and stored whole (full: the
+ * segment has room for SPH__NS_BLOCK), else just the accepted ones (an
+ * exact segment, as fill gives each target, with room for them). */
+SPH__INLINE void sph__nsearch_store(const sph_idx *order, unsigned mask, unsigned mk, sph_idx *seg, int full)
+{
+#if SPH__ISA == 2
+    const __m512i o = _mm512_loadu_si512((const void *)order);
+    const __m512i j = _mm512_maskz_compress_epi32((__mmask16)mask, _mm512_mask_xor_epi32(o, (__mmask16)mk, o, _mm512_set1_epi32(-1)));
+    if (full)
+        _mm512_storeu_si512((void *)seg, j);
+    else
+        _mm512_mask_storeu_epi32((void *)seg, (__mmask16)((1u << __builtin_popcount(mask)) - 1u), j);
+#else
+    const __m128i bit = _mm_setr_epi32(1, 2, 4, 8), shift = _mm_setr_epi32(0, 2, 4, 6);
+    int c;
+    for (c = 0; c < 16; c += 4) { /* 4 lanes at a time: the table's permute of the accepted to the front */
+        const unsigned mc = (mask >> c) & 15u, kc = (mk >> c) & 15u;
+        const __m128i o = _mm_loadu_si128((const __m128i *)(const void *)(order + c));
+        const __m128i mark = _mm_cmpeq_epi32(_mm_and_si128(_mm_set1_epi32((int)kc), bit), bit);
+        const __m128i perm = _mm_srlv_epi32(_mm_set1_epi32(sph__ns_pack4[mc]), shift);
+        const __m128i j = _mm_castps_si128(_mm_permutevar_ps(_mm_castsi128_ps(_mm_xor_si128(o, mark)), perm));
+        const int got = __builtin_popcount(mc);
+        if (full)
+            _mm_storeu_si128((__m128i *)(void *)seg, j);
+        else
+            _mm_maskstore_epi32((int *)(void *)seg, _mm_cmpgt_epi32(_mm_set1_epi32(got), _mm_setr_epi32(0, 1, 2, 3)), j);
+        seg += got;
+    }
+#endif
 }
 #endif
 
@@ -4260,8 +4324,8 @@ SPH_API int sph__ns_ctz(unsigned m)
 /* Counts (p->seg NULL) or appends to the target's segment (never past its
  * end) the sorted sources k0..k1-1 that meet the criterion; returns the new
  * count. A block with room for all its sources in the segment stores them
- * all and keeps those inside, without a branch; with AVX-512 a block whose
- * accepted sources fit (the last of an exact segment) stores just those. */
+ * all and keeps those inside, without a branch; at a vector level a block
+ * whose accepted sources fit (the last of an exact segment) stores just those. */
 SPH__INLINE sph_off sph__nsearch_run_blocks(const sph_nsearch *g, sph__probe *p, sph_idx k0, sph_idx k1,
                                             const sph_real *s, sph_off m, const int dim, const int HV,
                                             const int IMG)
@@ -4269,26 +4333,19 @@ SPH__INLINE sph_off sph__nsearch_run_blocks(const sph_nsearch *g, sph__probe *p,
     sph_idx b;
     int k;
     for (b = k0; b < k1; b += SPH__NS_BLOCK) {
-#if SPH__NS_COMPRESS
+#if SPH__NS_VEC
         unsigned mk = 0; /* HV 2: the accepted sources to store marked */
         const unsigned mask = sph__nsearch_mask16(g, p, b, k1, s, dim, HV, IMG, &mk);
 #define SPH__NS_MARKED(k) (-(sph_idx)((mk >> (k)) & 1u))
-        /* the accepted indices compressed into one register, stored whole
-           where the segment has room for 16, else as many as were accepted
-           (a masked store: an exact segment, as fill gives each target) */
+        /* the accepted indices compressed into registers, stored whole where
+           the segment has room for 16, else as many as were accepted */
         const int got = __builtin_popcount(mask);
         if (p->seg == NULL) {
             m += got;
             continue;
         }
         if (m + got <= p->cap) {
-            const __m512i o = _mm512_loadu_si512((const void *)(g->order + b));
-            const __m512i j = _mm512_maskz_compress_epi32(
-                (__mmask16)mask, HV == 2 ? _mm512_mask_xor_epi32(o, (__mmask16)mk, o, _mm512_set1_epi32(-1)) : o);
-            if (m + SPH__NS_BLOCK <= p->cap)
-                _mm512_storeu_si512((void *)(p->seg + m), j);
-            else
-                _mm512_mask_storeu_epi32((void *)(p->seg + m), (__mmask16)((1u << got) - 1u), j);
+            sph__nsearch_store(g->order + b, mask, HV == 2 ? mk : 0, p->seg + m, m + SPH__NS_BLOCK <= p->cap);
             m += got;
             continue;
         }
@@ -7905,7 +7962,6 @@ SPH_API int sph_batch_fill(const sph_batch_src *S, sph_idx i, sph_off *next, sph
 #define sph__hsv_9 SPH__LN(sph__hsv_9)
 #define sph__hsv_body SPH__LN(sph__hsv_body)
 #define sph__image_chunk SPH__LN(sph__image_chunk)
-#define sph__load8 SPH__LN(sph__load8)
 #define sph__norm1 SPH__LN(sph__norm1)
 #define sph__ns_absmax SPH__LN(sph__ns_absmax)
 #define sph__ns_at SPH__LN(sph__ns_at)
@@ -7968,13 +8024,13 @@ SPH_API int sph_batch_fill(const sph_batch_src *S, sph_idx i, sph_off *next, sph
 #define sph__nsearch_reach SPH__LN(sph__nsearch_reach)
 #define sph__nsearch_rel SPH__LN(sph__nsearch_rel)
 #define sph__nsearch_room SPH__LN(sph__nsearch_room)
-#define sph__nsearch_round8 SPH__LN(sph__nsearch_round8)
 #define sph__nsearch_row SPH__LN(sph__nsearch_row)
 #define sph__nsearch_run SPH__LN(sph__nsearch_run)
 #define sph__nsearch_run_blocks SPH__LN(sph__nsearch_run_blocks)
 #define sph__nsearch_runs SPH__LN(sph__nsearch_runs)
 #define sph__nsearch_source_cell SPH__LN(sph__nsearch_source_cell)
 #define sph__nsearch_span SPH__LN(sph__nsearch_span)
+#define sph__nsearch_store SPH__LN(sph__nsearch_store)
 #define sph__nsearch_sym_count SPH__LN(sph__nsearch_sym_count)
 #define sph__nsearch_sym_fill SPH__LN(sph__nsearch_sym_fill)
 #define sph__nsearch_sym_finish SPH__LN(sph__nsearch_sym_finish)
@@ -7985,6 +8041,15 @@ SPH_API int sph_batch_fill(const sph_batch_src *S, sph_idx i, sph_off *next, sph
 #define sph__nsearch_sym_scan_blocks SPH__LN(sph__nsearch_sym_scan_blocks)
 #define sph__nsearch_target SPH__LN(sph__nsearch_target)
 #define sph__nshape_vpick SPH__LN(sph__nshape_vpick)
+#define sph__nsv SPH__LN(sph__nsv)
+#define sph__nsv_abs SPH__LN(sph__nsv_abs)
+#define sph__nsv_gt SPH__LN(sph__nsv_gt)
+#define sph__nsv_load SPH__LN(sph__nsv_load)
+#define sph__nsv_loadf SPH__LN(sph__nsv_loadf)
+#define sph__nsv_lt SPH__LN(sph__nsv_lt)
+#define sph__nsv_max SPH__LN(sph__nsv_max)
+#define sph__nsv_nge SPH__LN(sph__nsv_nge)
+#define sph__nsv_round SPH__LN(sph__nsv_round)
 #define sph__op_h SPH__LN(sph__op_h)
 #define sph__out_ok SPH__LN(sph__out_ok)
 #define sph__out_opt SPH__LN(sph__out_opt)
@@ -8219,7 +8284,6 @@ SPH_API int sph_batch_fill(const sph_batch_src *S, sph_idx i, sph_off *next, sph
 #undef sph__hsv_9
 #undef sph__hsv_body
 #undef sph__image_chunk
-#undef sph__load8
 #undef sph__norm1
 #undef sph__ns_absmax
 #undef sph__ns_at
@@ -8282,13 +8346,13 @@ SPH_API int sph_batch_fill(const sph_batch_src *S, sph_idx i, sph_off *next, sph
 #undef sph__nsearch_reach
 #undef sph__nsearch_rel
 #undef sph__nsearch_room
-#undef sph__nsearch_round8
 #undef sph__nsearch_row
 #undef sph__nsearch_run
 #undef sph__nsearch_run_blocks
 #undef sph__nsearch_runs
 #undef sph__nsearch_source_cell
 #undef sph__nsearch_span
+#undef sph__nsearch_store
 #undef sph__nsearch_sym_count
 #undef sph__nsearch_sym_fill
 #undef sph__nsearch_sym_finish
@@ -8299,6 +8363,15 @@ SPH_API int sph_batch_fill(const sph_batch_src *S, sph_idx i, sph_off *next, sph
 #undef sph__nsearch_sym_scan_blocks
 #undef sph__nsearch_target
 #undef sph__nshape_vpick
+#undef sph__nsv
+#undef sph__nsv_abs
+#undef sph__nsv_gt
+#undef sph__nsv_load
+#undef sph__nsv_loadf
+#undef sph__nsv_lt
+#undef sph__nsv_max
+#undef sph__nsv_nge
+#undef sph__nsv_round
 #undef sph__op_h
 #undef sph__out_ok
 #undef sph__out_opt
