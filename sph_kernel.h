@@ -2700,6 +2700,8 @@ SPH__INLINE sph__vd sph__vfloor(sph__vd a)
 SPH__INLINE sph__vm sph__vge(sph__vd a, sph__vd b) { return _mm512_cmp_pd_mask(a, b, _CMP_GE_OQ); }
 SPH__INLINE sph__vm sph__vlt(sph__vd a, sph__vd b) { return _mm512_cmp_pd_mask(a, b, _CMP_LT_OQ); }
 SPH__INLINE sph__vm sph__vand(sph__vm a, sph__vm b) { return (sph__vm)(a & b); }
+/* the first k lanes (none for k <= 0, all from SPH__VW on) */
+SPH__INLINE sph__vm sph__vfirst(int k) { return (sph__vm)(k >= 8 ? 0xFF : k <= 0 ? 0 : (1u << k) - 1u); }
 /* k ? a : b lane by lane */
 SPH__INLINE sph__vd sph__vsel(sph__vm k, sph__vd a, sph__vd b) { return _mm512_mask_mov_pd(b, k, a); }
 /* p[o[l]] for the lanes l in k, src elsewhere: scalar loads (the gather
@@ -2739,6 +2741,10 @@ SPH__INLINE sph__vd sph__vfloor(sph__vd a) { return _mm256_floor_pd(a); }
 SPH__INLINE sph__vm sph__vge(sph__vd a, sph__vd b) { return _mm256_cmp_pd(a, b, _CMP_GE_OQ); }
 SPH__INLINE sph__vm sph__vlt(sph__vd a, sph__vd b) { return _mm256_cmp_pd(a, b, _CMP_LT_OQ); }
 SPH__INLINE sph__vm sph__vand(sph__vm a, sph__vm b) { return _mm256_and_pd(a, b); }
+SPH__INLINE sph__vm sph__vfirst(int k)
+{
+    return _mm256_castsi256_pd(_mm256_cvtepi32_epi64(_mm_cmpgt_epi32(_mm_set1_epi32(k), _mm_setr_epi32(0, 1, 2, 3))));
+}
 SPH__INLINE sph__vd sph__vsel(sph__vm k, sph__vd a, sph__vd b) { return _mm256_blendv_pd(b, a, k); }
 SPH__INLINE sph__vd sph__vat(sph__vd src, sph__vm k, const sph_real *p, const ptrdiff_t *o)
 {
@@ -2758,26 +2764,30 @@ SPH__INLINE sph__vm sph__vidx(const sph_idx *idx, sph_off left, sph_idx *j)
 }
 #endif
 
-/* sph__pform_eval and sph__nshape_pick on the lanes' values of q. */
-SPH__INLINE sph__vd sph__pform_vec(const sph__pform *f, sph__vd q)
+/* sph__pform_eval and sph__nshape_pick on the lanes' values of q: the
+ * Horner steps as fused multiply-adds (FUSED), or multiplied and added as
+ * the scalar forms are where contraction is off (bit for bit). */
+SPH__INLINE sph__vd sph__pform_vec(const sph__pform *f, sph__vd q, const int FUSED)
 {
     const sph__vd t = SPH__V(sub)(SPH__V(set1)((double)f->b), q), u = SPH__V(sub)(q, SPH__V(set1)((double)f->e));
     sph__vd p = SPH__V(set1)((double)f->c[f->degree]), tm = SPH__V(set1)(1);
     int i;
     SPH__UNROLL
-    for (i = f->degree - 1; i >= 0; --i) p = SPH__V(fmadd)(p, u, SPH__V(set1)((double)f->c[i]));
+    for (i = f->degree - 1; i >= 0; --i)
+        p = FUSED ? SPH__V(fmadd)(p, u, SPH__V(set1)((double)f->c[i]))
+                  : SPH__V(add)(SPH__V(mul)(p, u), SPH__V(set1)((double)f->c[i]));
     SPH__UNROLL
     for (i = 0; i < f->m; ++i) tm = SPH__V(mul)(tm, t);
     return SPH__V(mul)(tm, p);
 }
 
-SPH__INLINE sph__vd sph__nshape_vpick(const sph__nshape *s, const int G, sph__vd q)
+SPH__INLINE sph__vd sph__nshape_vpick(const sph__nshape *s, const int G, sph__vd q, const int FUSED)
 {
-    sph__vd v = sph__pform_vec(G ? &s->piece[0].g : &s->piece[0].w, q);
+    sph__vd v = sph__pform_vec(sph__nshape_form(s, 0, G), q, FUSED);
     int p;
     SPH__UNROLL
     for (p = 1; p < s->npiece; ++p) {
-        const sph__vd x = sph__pform_vec(G ? &s->piece[p].g : &s->piece[p].w, q);
+        const sph__vd x = sph__pform_vec(sph__nshape_form(s, p, G), q, FUSED);
         v = sph__vsel(sph__vge(q, SPH__V(set1)((double)s->lo[p])), x, v);
     }
     return v;
@@ -2845,7 +2855,7 @@ SPH__INLINE void sph__dgv_body(const sph__args *A, const sph__nshape *sh, const 
         q = SPH__V(mul)(r, hinv);
         in = sph__vand(sph__vlt(q, kap), km);
         if (dens) {
-            const sph__vd W = sph__vsel(in, SPH__V(mul)(cW, sph__nshape_vpick(sh, 0, q)), zero);
+            const sph__vd W = sph__vsel(in, SPH__V(mul)(cW, sph__nshape_vpick(sh, 0, q, 1)), zero);
             sr = SPH__V(fmadd)(sph__vat(zero, in, pm, one ? ox : om), W, sr);
         }
         if (grad) {
@@ -2861,7 +2871,7 @@ SPH__INLINE void sph__dgv_body(const sph__args *A, const sph__nshape *sh, const 
                 SPH__UNROLL
                 for (a = 0; a < D + 2; ++a) cFj = SPH__V(mul)(cFj, hinvF);
             }
-            gq = sph__nshape_vpick(sh, 1, qF);
+            gq = sph__nshape_vpick(sh, 1, qF, 1);
             if (sh->npiece > 1) gq = SPH__V(div)(gq, sph__vsel(sph__vge(qF, lo1), qF, onev));
             c = SPH__V(mul)(sph__vat(zero, inF, pV, one ? ox : oV), SPH__V(sub)(sph__vat(vfi, inF, pf, one ? ox : of), vfi));
             c = SPH__V(mul)(c, sph__vsel(inF, SPH__V(mul)(cFj, gq), zero));
@@ -2948,8 +2958,8 @@ SPH__INLINE void sph__hsv_body(const sph__nshape *sh, const int D, sph_view x, s
         if (D > 2) d = sph__vdx(xi[2], px[2], L[2], iL[2], km, ox), r2 = SPH__V(fmadd)(d, d, r2);
         q = SPH__V(mul)(sph__vsqrt(r2), hinv);
         in = sph__vand(sph__vlt(q, kap), km);
-        w = sph__vsel(in, sph__nshape_vpick(sh, 0, q), zero);
-        g = sph__nshape_vpick(sh, 1, q);
+        w = sph__vsel(in, sph__nshape_vpick(sh, 0, q, 1), zero);
+        g = sph__nshape_vpick(sh, 1, q, 1);
         if (sh->npiece > 1) g = SPH__V(div)(g, sph__vsel(sph__vge(q, lo1), q, one));
         g = sph__vsel(in, g, zero);
         mj = sph__vat(zero, in, pm, om);
@@ -7714,6 +7724,76 @@ SPH__INLINE void sph__hpow_lanes(sph_real *vi, sph_real *vj, sph_real alpha, sph
 #define SPH__PREFETCH(p) ((void)(p))
 #endif
 
+/* The batch in vector registers (SPH__BATCH_VEC: AVX2 or AVX-512 where the
+ * fast loops of section 6 are compiled, SPH_REAL double): SPH__VW lanes at a
+ * time through every step of sph__batch_fill_dim, the same operations in the
+ * same order (bit for bit; the minimum image as sph__image_chunk, the
+ * Horner steps unfused as the scalar forms), x_j and h_j loaded straight
+ * into registers, only the results stored. */
+#undef SPH__BATCH_VEC
+#if defined(SPH__FAST_LOOPS) && (SPH__OP_AVX512 || SPH__OP_AVX2) && SPH_BATCH >= 8
+#define SPH__BATCH_VEC 1
+#else
+#define SPH__BATCH_VEC 0
+#endif
+#if SPH__BATCH_VEC
+/* (K1) w(q) (G 0) or (K2) g(q) = w'(q) / q (G 1) on the lanes, as sph__nshape_wg_lanes */
+SPH__INLINE sph__vd sph__batch_wg(const sph__nshape *s, const int G, sph__vd q)
+{
+    sph__vd v = sph__nshape_vpick(s, G, q, 0);
+    if (G == 1 && s->npiece > 1)
+        v = SPH__V(div)(v, sph__vsel(sph__vge(q, SPH__V(set1)((double)s->lo[1])), q, SPH__V(set1)(1)));
+    return sph__vsel(sph__vlt(q, SPH__V(set1)((double)s->kappa)), v, SPH__V(setzero)());
+}
+
+/* x_ij, r, W and F at h_i and h_j of the n listed lanes (zeros past them)
+ * into b; xi the target's position, hiinv 1 / h_i, Oh and Ox the partners'
+ * offsets in h and x. */
+SPH__INLINE void sph__batch_vec(const sph_batch_src *S, const sph_real *xi, sph_real hiinv, const ptrdiff_t *Oh,
+                                const ptrdiff_t *Ox, int n, sph_batch *b, const int D)
+{
+    const sph__vd zero = SPH__V(setzero)(), vhi = SPH__V(set1)((double)hiinv), alpha = SPH__V(set1)((double)S->alpha);
+    const sph__vm all = sph__vfirst(SPH__VW);
+    const int want[2] = {(S->what & SPH_BATCH_W) != 0, (S->what & SPH_BATCH_F) != 0};
+    int l, a, d, G;
+    for (l = 0; l < SPH_BATCH; l += SPH__VW) {
+        const sph__vm valid = sph__vfirst(n - l);
+        const sph__vd hjinv = SPH__V(div)(SPH__V(set1)(1), sph__vat(zero, all, S->h.p[0], Oh + l));
+        sph__vd r2 = zero, r, q[2];
+        for (a = 0; a < 3; ++a) {
+            double *dxa = (double *)(void *)(b->dx[a] + l);
+            sph__vd e;
+            if (a >= D) {
+                SPH__V(storeu)(dxa, zero);
+                continue;
+            }
+            e = SPH__V(sub)(SPH__V(set1)((double)xi[a]), sph__vat(zero, all, S->x.p[a], Ox + l));
+            if (S->P.L[a] != 0) { /* e - L floor(e / L + 1/2), 1/L given */
+                const sph__vd f = sph__vfloor(SPH__V(add)(SPH__V(mul)(e, SPH__V(set1)((double)S->P.invL[a])), SPH__V(set1)(0.5)));
+                e = SPH__V(sub)(e, SPH__V(mul)(SPH__V(set1)((double)S->P.L[a]), f));
+            }
+            r2 = a > 0 ? SPH__V(add)(r2, SPH__V(mul)(e, e)) : SPH__V(mul)(e, e);
+            SPH__V(storeu)(dxa, e);
+        }
+        r = sph__vsqrt(r2);
+        SPH__V(storeu)((double *)(void *)(b->r + l), r);
+        q[0] = SPH__V(mul)(r, vhi), q[1] = SPH__V(mul)(r, hjinv);
+        for (G = 0; G < 2; ++G) { /* W = alpha w h^-dim (G 0), F = alpha g h^-(dim + 2) (G 1), as sph__hpow_lanes */
+            double *vi = (double *)(void *)((G ? b->F_i : b->W_i) + l), *vj = (double *)(void *)((G ? b->F_j : b->W_j) + l);
+            sph__vd pi, pj;
+            if (!want[G]) {
+                SPH__V(storeu)(vi, zero), SPH__V(storeu)(vj, zero);
+                continue;
+            }
+            pi = SPH__V(mul)(alpha, sph__batch_wg(S->shape, G, q[0]));
+            pj = SPH__V(mul)(alpha, sph__batch_wg(S->shape, G, q[1]));
+            for (d = 0; d < D + 2 * G; ++d) pi = SPH__V(mul)(pi, vhi), pj = SPH__V(mul)(pj, hjinv);
+            SPH__V(storeu)(vi, sph__vsel(valid, pi, zero)), SPH__V(storeu)(vj, sph__vsel(valid, pj, zero));
+        }
+    }
+}
+#endif
+
 /* sph_batch_fill's work in D dimensions, D a constant in each call of its
  * switch, so that the loops over the axes and sph__hpow's powers unroll:
  * the pairs from position o0 of row i, left of them in the row. */
@@ -7747,9 +7827,19 @@ SPH__INLINE int sph__batch_fill_dim(const sph_batch_src *S, sph_idx i, sph_off o
             SPH__PREFETCH(hp + (ptrdiff_t)Jn[l] * hs);
         }
     }
+    sph__h_xi(S->x, D, i, xi);
+    hiinv = 1 / hp[(ptrdiff_t)i * hs];
+#if SPH__BATCH_VEC
+    if (sizeof(sph_real) == sizeof(double)) {
+        sph__batch_vec(S, xi, hiinv, hs != xs ? Oh : Ox, Ox, n, b, D);
+        SPH__LANES
+        for (l = 0; l < SPH_BATCH; ++l) b->j[l] = J[l], b->k[l] = l < n ? o0 + l : -1;
+        b->n = n;
+        return n;
+    }
+#endif
     sph__batch_gather(hp, hs != xs ? Oh : Ox, hj); /* the gathers, on their own: the loops below read contiguous lanes */
     for (a = 0; a < D; ++a) sph__batch_gather(S->x.p[a], Ox, xj[a]);
-    sph__h_xi(S->x, D, i, xi);
     for (a = 0; a < 3; ++a) {
         const sph_real *xa = xj[a], xia = xi[a], La = S->P.L[a], iLa = S->P.invL[a];
         sph_real dx[SPH_BATCH]; /* local: the compiler need not fear that b overlaps x */
@@ -7767,7 +7857,6 @@ SPH__INLINE int sph__batch_fill_dim(const sph_batch_src *S, sph_idx i, sph_off o
         for (l = 0; l < SPH_BATCH; ++l) b->dx[a][l] = dx[l];
     }
     sph_batch_sqrt(r); /* r^2, then r */
-    hiinv = 1 / hp[(ptrdiff_t)i * hs];
     SPH__LANES
     for (l = 0; l < SPH_BATCH; ++l) {
         hjinv[l] = 1 / hj[l];
@@ -7866,6 +7955,8 @@ SPH_API int sph_batch_fill(const sph_batch_src *S, sph_idx i, sph_off *next, sph
 #define sph__batch_fill_dim SPH__LN(sph__batch_fill_dim)
 #define sph__batch_gather SPH__LN(sph__batch_gather)
 #define sph__batch_index SPH__LN(sph__batch_index)
+#define sph__batch_vec SPH__LN(sph__batch_vec)
+#define sph__batch_wg SPH__LN(sph__batch_wg)
 #define sph__chunk_axpy SPH__LN(sph__chunk_axpy)
 #define sph__chunk_correction SPH__LN(sph__chunk_correction)
 #define sph__chunk_eval SPH__LN(sph__chunk_eval)
@@ -8090,6 +8181,7 @@ SPH_API int sph_batch_fill(const sph_batch_src *S, sph_idx i, sph_off *next, sph
 #define sph__vat SPH__LN(sph__vat)
 #define sph__vd SPH__LN(sph__vd)
 #define sph__vdx SPH__LN(sph__vdx)
+#define sph__vfirst SPH__LN(sph__vfirst)
 #define sph__vfloor SPH__LN(sph__vfloor)
 #define sph__vge SPH__LN(sph__vge)
 #define sph__vidx SPH__LN(sph__vidx)
@@ -8188,6 +8280,8 @@ SPH_API int sph_batch_fill(const sph_batch_src *S, sph_idx i, sph_off *next, sph
 #undef sph__batch_fill_dim
 #undef sph__batch_gather
 #undef sph__batch_index
+#undef sph__batch_vec
+#undef sph__batch_wg
 #undef sph__chunk_axpy
 #undef sph__chunk_correction
 #undef sph__chunk_eval
@@ -8412,6 +8506,7 @@ SPH_API int sph_batch_fill(const sph_batch_src *S, sph_idx i, sph_off *next, sph
 #undef sph__vat
 #undef sph__vd
 #undef sph__vdx
+#undef sph__vfirst
 #undef sph__vfloor
 #undef sph__vge
 #undef sph__vidx
