@@ -841,6 +841,9 @@ SPH__TABLE sph__nshape sph__nshapes[] = {
           { SPH__Q(2, 1), 0, 5, 3, { SPH__Q(-9, 64), SPH__Q(-45, 128), SPH__Q(117, 256), SPH__Q(945, 512), 0, 0 } } }
     } }
 };
+/* Every shape index: the pair loops of sections 6 and 9 are instantiated once
+   per shape, and a case per shape selects the instance. */
+#define SPH__SHAPE_IDS(X) X(0) X(1) X(2) X(3) X(4) X(5) X(6) X(7) X(8) X(9)
 
 /* Per kernel (SPH_KERNEL_LIST order) and dimension 1..3: shape, alpha_d and
    sigma_d / h (exact integration, rounded once). */
@@ -2581,11 +2584,8 @@ SPH__INLINE void sph__shape_run(const sph__nshape *s, const sph_real *q, sph_rea
     }
 }
 
-#define SPH__SHAPE_IDS(X) X(0) X(1) X(2) X(3) X(4) X(5) X(6) X(7) X(8) X(9)
-#if SPH__FIRST
-typedef char sph__shape_ids_cover_every_shape[(int)(sizeof sph__nshapes / sizeof sph__nshapes[0]) == 10 ? 1 : -1];
-#endif /* SPH__FIRST */
-
+/* One instance per shape: SPH__SHAPE_IDS, beside the tables in section 3,
+ * lists every shape's index (the generator writes both). */
 #define SPH__X(S)                                                                          \
     SPH__NOINLINE void sph__shape_run##S(const sph_real *q, sph_real *w, sph_real *g, int n) \
     {                                                                                      \

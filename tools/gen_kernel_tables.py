@@ -211,6 +211,9 @@ def block(kernels):
     for i, s in enumerate(shapes):
         out += shape_entry(s, i, i + 1 == len(shapes))
     out.append('};')
+    out.append('/* Every shape index: the pair loops of sections 6 and 9 are instantiated once')
+    out.append('   per shape, and a case per shape selects the instance. */')
+    out.append('#define SPH__SHAPE_IDS(X) %s' % ' '.join('X(%d)' % i for i in range(len(shapes))))
     out.append('')
     out.append('/* Per kernel (SPH_KERNEL_LIST order) and dimension 1..3: shape, alpha_d and')
     out.append('   sigma_d / h (exact integration, rounded once). */')
