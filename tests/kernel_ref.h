@@ -39,8 +39,10 @@ typedef long double ref_real;
 /* Each test uses a part of this file: no unused-function warnings. */
 #if defined(__GNUC__)
 #define REF_FN static __attribute__((unused))
+#define REF_DATA static const __attribute__((unused))
 #else
 #define REF_FN static
+#define REF_DATA static const
 #endif
 
 #define REF_PI 3.141592653589793238462643383279502884L
@@ -51,19 +53,22 @@ REF_FN ref_real ref_kappa(sph_kernel k)
     return k == SPH_KERNEL_LUCY ? 1.0L : k == SPH_KERNEL_QUINTIC ? 3.0L : 2.0L;
 }
 
-/* alpha_d from the table of design.md section 2. */
+/* alpha_d per kernel (enum order) and dimension: design.md section 2. A
+ * kernel without its row does not compile. */
+REF_DATA ref_real ref_alpha_table[][3] = {
+    {1.0L, 15.0L / (7.0L * REF_PI), 3.0L / (2.0L * REF_PI)},
+    {5.0L / 4.0L, 5.0L / REF_PI, 105.0L / (16.0L * REF_PI)},
+    {1.0L, 15.0L / (7.0L * REF_PI), 315.0L / (208.0L * REF_PI)},
+    {1.0L / 120.0L, 7.0L / (478.0L * REF_PI), 1.0L / (120.0L * REF_PI)},
+    {5.0L / 8.0L, 7.0L / (4.0L * REF_PI), 21.0L / (16.0L * REF_PI)},
+    {3.0L / 4.0L, 9.0L / (4.0L * REF_PI), 495.0L / (256.0L * REF_PI)},
+    {55.0L / 64.0L, 39.0L / (14.0L * REF_PI), 1365.0L / (512.0L * REF_PI)},
+};
+typedef char ref_alpha_table_covers_every_kernel[sizeof ref_alpha_table / sizeof ref_alpha_table[0] == SPH_KERNEL_COUNT ? 1 : -1];
+
 REF_FN ref_real ref_alpha(sph_kernel k, int dim)
 {
-    static const ref_real a[SPH_KERNEL_COUNT][3] = {
-        {1.0L, 15.0L / (7.0L * REF_PI), 3.0L / (2.0L * REF_PI)},
-        {5.0L / 4.0L, 5.0L / REF_PI, 105.0L / (16.0L * REF_PI)},
-        {1.0L, 15.0L / (7.0L * REF_PI), 315.0L / (208.0L * REF_PI)},
-        {1.0L / 120.0L, 7.0L / (478.0L * REF_PI), 1.0L / (120.0L * REF_PI)},
-        {5.0L / 8.0L, 7.0L / (4.0L * REF_PI), 21.0L / (16.0L * REF_PI)},
-        {3.0L / 4.0L, 9.0L / (4.0L * REF_PI), 495.0L / (256.0L * REF_PI)},
-        {55.0L / 64.0L, 39.0L / (14.0L * REF_PI), 1365.0L / (512.0L * REF_PI)},
-    };
-    return a[k][dim - 1];
+    return ref_alpha_table[k][dim - 1];
 }
 
 REF_FN ref_real ref_pow(ref_real x, int n)
@@ -230,10 +235,11 @@ REF_FN double ref_rand(uint64_t *state)
     return (double)(*state >> 12) / 2251799813685248.0 - 1.0;
 }
 
-/* Kernel list, in enum order, for loops. */
-static const sph_kernel ref_kernels[SPH_KERNEL_COUNT] = {
-    SPH_KERNEL_CUBIC, SPH_KERNEL_LUCY, SPH_KERNEL_NEW_QUARTIC, SPH_KERNEL_QUINTIC,
+/* Kernel list, in enum order, for loops; one missing does not compile. */
+static const sph_kernel ref_kernels[] = {
+    SPH_KERNEL_CUBIC,       SPH_KERNEL_LUCY,        SPH_KERNEL_NEW_QUARTIC, SPH_KERNEL_QUINTIC,
     SPH_KERNEL_WENDLAND_C2, SPH_KERNEL_WENDLAND_C4, SPH_KERNEL_WENDLAND_C6};
+typedef char ref_kernels_cover_every_kernel[sizeof ref_kernels / sizeof ref_kernels[0] == SPH_KERNEL_COUNT ? 1 : -1];
 
 /* Largest relative error seen, per quantity, for the informative summary. */
 REF_FN double ref_worst[8];

@@ -34,13 +34,20 @@ static double ulp_of(double x) /* spacing of sph_real at |x| */
  *       C6 (1-4q+7q^2)(1+4q+25/4q^2) -> -11/4 q^2: w'' -11/2; w0 1
  *   Wendland 1-D in s = q/2: C2 (1-s)^3(1+3s) -> -6 s^2: w'' -3;
  *       C4 (1-s)^5(1+5s+8s^2) -> -7 s^2: w'' -7/2;
- *       C6 (1-s)^7(1+7s+19s^2+21s^3) -> -9 s^2: w'' -9/2; w0 1 */
-static double w0_of(int k) { return k == 0 || k == 2 ? 2.0 / 3 : k == 3 ? 66 : 1; }
+ *       C6 (1-s)^7(1+7s+19s^2+21s^3) -> -9 s^2: w'' -9/2; w0 1
+ * One entry per kernel in enum order: a kernel without one does not compile. */
+static const double w0_k[] = {2.0 / 3, 1, 2.0 / 3, 66, 1, 1, 1};
+static const double w2_k[] = {-2, -12, -9.0 / 4, -120, -5, -14.0 / 3, -11.0 / 2};
+typedef char w0_w2_cover_every_kernel[sizeof w0_k / sizeof w0_k[0] == SPH_KERNEL_COUNT &&
+                                              sizeof w2_k / sizeof w2_k[0] == SPH_KERNEL_COUNT
+                                          ? 1
+                                          : -1];
+static double w0_of(int k) { return w0_k[k]; }
 static double w2_of(int k, int dim)
 {
-    static const double w2[7] = {-2, -12, -9.0 / 4, -120, -5, -14.0 / 3, -11.0 / 2};
-    static const double w2_1d[3] = {-3, -7.0 / 2, -9.0 / 2};
-    return k >= 4 && dim == 1 ? w2_1d[k - 4] : w2[k];
+    static const double w2_1d[3] = {-3, -7.0 / 2, -9.0 / 2}; /* Wendland C2, C4, C6 */
+    return k >= SPH_KERNEL_WENDLAND_C2 && k <= SPH_KERNEL_WENDLAND_C6 && dim == 1 ? w2_1d[k - SPH_KERNEL_WENDLAND_C2]
+                                                                                   : w2_k[k];
 }
 
 /* ---- a small scene from given positions: V = m = vol, rho = 1, linear fields ---- */
@@ -223,13 +230,19 @@ static void test_support_edge(void)
             for (ih = 0; ih < 3; ++ih) {
                 const sph_real h = (sph_real)hs[ih];
                 sph_real R = sph_kernel_support(K(k)) * h, out, in;
-                /* "at the support": the first r whose q = r / h (one rounding,
-                 * as the library forms it) is kappa; fl(kappa h) may sit one
-                 * ulp below (then W there is the one-ulp-inside value) */
+                /* "at the support": an r whose q = r / h (one rounding, as
+                 * the library forms it) is kappa; fl(kappa h) may sit one ulp
+                 * below (then W there is the one-ulp-inside value). "One ulp
+                 * in": the largest r whose q is below kappa, which for kappa
+                 * h not exact (2.5 x 0.7) can be more than one ulp of r below
+                 * R, as r / h rounds to kappa over more than one r */
                 while ((sph_real)(R / h) < sph_kernel_support(K(k)))
                     R = TH_IS_FLOAT ? nextafterf((float)R, FLT_MAX) : nextafter((double)R, DBL_MAX);
                 out = TH_IS_FLOAT ? nextafterf((float)R, FLT_MAX) : nextafter((double)R, DBL_MAX);
-                in = TH_IS_FLOAT ? nextafterf((float)R, 0) : nextafter((double)R, 0);
+                in = R;
+                do
+                    in = TH_IS_FLOAT ? nextafterf((float)in, 0) : nextafter((double)in, 0);
+                while (!((sph_real)(in / h) < sph_kernel_support(K(k))));
                 const double scale = (double)sph_kernel_alpha(K(k), dim) / pow((double)h, dim);
                 /* the new quartic is (2-q)^2 (1/6 + q/6 - 5q^2/32): negative and
                  * rising near q = 2; every other kernel positive and falling */
