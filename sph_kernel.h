@@ -684,7 +684,8 @@ SPH_API int sph_isa_dispatch(void) { return SPH__DISPATCH; }
     X(QUINTIC, quintic, "quintic B-spline M6 (Morris 1996), kappa 3, C4", C)           \
     X(WENDLAND_C2, wendland_c2, "Wendland C2 (Wendland 1995), kappa 2", C)             \
     X(WENDLAND_C4, wendland_c4, "Wendland C4 (Wendland 1995), kappa 2", C)             \
-    X(WENDLAND_C6, wendland_c6, "Wendland C6 (Wendland 1995), kappa 2", C)
+    X(WENDLAND_C6, wendland_c6, "Wendland C6 (Wendland 1995), kappa 2", C)             \
+    X(QUARTIC, quartic, "quartic B-spline M5 (Schoenberg 1946; Price 2012), kappa 2.5, C3", C)
 
 #define SPH__KERNEL_ENUM(ID, name, description, C) SPH_KERNEL_##ID,
 typedef enum { SPH_KERNEL_LIST(SPH__KERNEL_ENUM, ) SPH_KERNEL_COUNT } sph_kernel;
@@ -839,11 +840,32 @@ SPH__TABLE sph__nshape sph__nshapes[] = {
         { { SPH__Q(2, 1), 0, 7, 3, { SPH__Q(1, 128), SPH__Q(7, 256), SPH__Q(19, 512), SPH__Q(21, 1024), 0, 0 } },
           { SPH__Q(2, 1), 0, 6, 2, { SPH__Q(-9, 128), SPH__Q(-27, 128), SPH__Q(-105, 512), 0, 0, 0 } },
           { SPH__Q(2, 1), 0, 5, 3, { SPH__Q(-9, 64), SPH__Q(-45, 128), SPH__Q(117, 256), SPH__Q(945, 512), 0, 0 } } }
+    } },
+    /* 10 quartic, kappa = 5/2 */
+    { 3, SPH__Q(5, 2), { 0, SPH__Q(1, 2), SPH__Q(3, 2) }, {
+        /* [0, 1/2): w          = (48 q^4 - 120 q^2 + 115)/8
+                     w'/q       = 6 (4 q^2 - 5)
+                     w''        = 6 (12 q^2 - 5) */
+        { { SPH__Q(1, 2), 0, 0, 4, { SPH__Q(115, 8), 0, SPH__Q(-15, 1), 0, SPH__Q(6, 1), 0 } },
+          { SPH__Q(1, 2), 0, 0, 2, { SPH__Q(-30, 1), 0, SPH__Q(24, 1), 0, 0, 0 } },
+          { SPH__Q(1, 2), SPH__Q(1, 2), 0, 2, { SPH__Q(-12, 1), SPH__Q(72, 1), SPH__Q(72, 1), 0, 0, 0 } } },
+        /* [1/2, 3/2): w          = -(16 q^4 - 80 q^3 + 120 q^2 - 20 q - 55)/4
+                       w'         = -16 q^3 + 60 q^2 - 60 q + 5
+                       w''        = -12 (4 q^2 - 10 q + 5) */
+        { { SPH__Q(3, 2), SPH__Q(3, 2), 0, 4, { SPH__Q(1, 1), SPH__Q(-4, 1), SPH__Q(6, 1), SPH__Q(-4, 1), SPH__Q(-4, 1), 0 } },
+          { SPH__Q(3, 2), SPH__Q(3, 2), 0, 3, { SPH__Q(-4, 1), SPH__Q(12, 1), SPH__Q(-12, 1), SPH__Q(-16, 1), 0, 0 } },
+          { SPH__Q(3, 2), SPH__Q(1, 1), 0, 2, { SPH__Q(12, 1), SPH__Q(24, 1), SPH__Q(-48, 1), 0, 0, 0 } } },
+        /* [3/2, 5/2): w          = (5/2 - q)^4
+                       w'         = -4 (5/2 - q)^3
+                       w''        = 12 (5/2 - q)^2 */
+        { { SPH__Q(5, 2), SPH__Q(3, 2), 4, 0, { SPH__Q(1, 1), 0, 0, 0, 0, 0 } },
+          { SPH__Q(5, 2), SPH__Q(3, 2), 3, 0, { SPH__Q(-4, 1), 0, 0, 0, 0, 0 } },
+          { SPH__Q(5, 2), SPH__Q(3, 2), 2, 0, { SPH__Q(12, 1), 0, 0, 0, 0, 0 } } }
     } }
 };
 /* Every shape index: the pair loops of sections 6 and 9 are instantiated once
    per shape, and a case per shape selects the instance. */
-#define SPH__SHAPE_IDS(X) X(0) X(1) X(2) X(3) X(4) X(5) X(6) X(7) X(8) X(9)
+#define SPH__SHAPE_IDS(X) X(0) X(1) X(2) X(3) X(4) X(5) X(6) X(7) X(8) X(9) X(10)
 
 /* Per kernel (SPH_KERNEL_LIST order) and dimension 1..3: shape, alpha_d and
    sigma_d / h (exact integration, rounded once). */
@@ -882,6 +904,11 @@ SPH__TABLE sph__kdim sph__kdims[][3] = {
         { 9, SPH__C(0.859375000000000000000), SPH__C(0.452910813657838300244) }, /* 1D: alpha = 55/64, sigma/h = 2*sqrt(78)/39 */
         { 8, SPH__C(0.886720397226274013569), SPH__C(0.414039335605412530678) }, /* 2D: alpha = 39/(14*pi), sigma/h = sqrt(210)/35 */
         { 8, SPH__C(0.848619130157957552049), SPH__C(0.408248290463863016366) }  /* 3D: alpha = 1365/(512*pi), sigma/h = sqrt(6)/6 */
+    },
+    { /* quartic: quartic B-spline M5 (Schoenberg 1946; Price 2012), kappa 2.5, C3 */
+        { 10, SPH__C(0.0416666666666666666667), SPH__C(0.645497224367902814197) }, /* 1D: alpha = 1/24, sigma/h = sqrt(15)/6 */
+        { 10, SPH__C(0.0254860292524135983883), SPH__C(0.632215880892298243746) }, /* 2D: alpha = 96/(1199*pi), sigma/h = sqrt(14892234)/6104 */
+        { 10, SPH__C(0.0159154943091895335769), SPH__C(0.619139187366890332366) }  /* 3D: alpha = 1/(20*pi), sigma/h = sqrt(345)/30 */
     }
 };
 /* ---- end of GENERATED tables ---- */
@@ -7965,6 +7992,7 @@ SPH_API int sph_batch_fill(const sph_batch_src *S, sph_idx i, sph_off *next, sph
 #define sph__dg SPH__LN(sph__dg)
 #define sph__dgc_0 SPH__LN(sph__dgc_0)
 #define sph__dgc_1 SPH__LN(sph__dgc_1)
+#define sph__dgc_10 SPH__LN(sph__dgc_10)
 #define sph__dgc_2 SPH__LN(sph__dgc_2)
 #define sph__dgc_3 SPH__LN(sph__dgc_3)
 #define sph__dgc_4 SPH__LN(sph__dgc_4)
@@ -7976,6 +8004,7 @@ SPH_API int sph_batch_fill(const sph_batch_src *S, sph_idx i, sph_off *next, sph
 #define sph__dgc_body SPH__LN(sph__dgc_body)
 #define sph__dgv_0 SPH__LN(sph__dgv_0)
 #define sph__dgv_1 SPH__LN(sph__dgv_1)
+#define sph__dgv_10 SPH__LN(sph__dgv_10)
 #define sph__dgv_2 SPH__LN(sph__dgv_2)
 #define sph__dgv_3 SPH__LN(sph__dgv_3)
 #define sph__dgv_4 SPH__LN(sph__dgv_4)
@@ -8027,6 +8056,7 @@ SPH_API int sph_batch_fill(const sph_batch_src *S, sph_idx i, sph_off *next, sph
 #define sph__h_sums SPH__LN(sph__h_sums)
 #define sph__h_sums_0 SPH__LN(sph__h_sums_0)
 #define sph__h_sums_1 SPH__LN(sph__h_sums_1)
+#define sph__h_sums_10 SPH__LN(sph__h_sums_10)
 #define sph__h_sums_2 SPH__LN(sph__h_sums_2)
 #define sph__h_sums_3 SPH__LN(sph__h_sums_3)
 #define sph__h_sums_4 SPH__LN(sph__h_sums_4)
@@ -8043,6 +8073,7 @@ SPH_API int sph_batch_fill(const sph_batch_src *S, sph_idx i, sph_off *next, sph
 #define sph__hpow_lanes SPH__LN(sph__hpow_lanes)
 #define sph__hsv_0 SPH__LN(sph__hsv_0)
 #define sph__hsv_1 SPH__LN(sph__hsv_1)
+#define sph__hsv_10 SPH__LN(sph__hsv_10)
 #define sph__hsv_2 SPH__LN(sph__hsv_2)
 #define sph__hsv_3 SPH__LN(sph__hsv_3)
 #define sph__hsv_4 SPH__LN(sph__hsv_4)
@@ -8166,6 +8197,7 @@ SPH_API int sph_batch_fill(const sph_batch_src *S, sph_idx i, sph_off *next, sph
 #define sph__shape_run SPH__LN(sph__shape_run)
 #define sph__shape_run0 SPH__LN(sph__shape_run0)
 #define sph__shape_run1 SPH__LN(sph__shape_run1)
+#define sph__shape_run10 SPH__LN(sph__shape_run10)
 #define sph__shape_run2 SPH__LN(sph__shape_run2)
 #define sph__shape_run3 SPH__LN(sph__shape_run3)
 #define sph__shape_run4 SPH__LN(sph__shape_run4)
@@ -8290,6 +8322,7 @@ SPH_API int sph_batch_fill(const sph_batch_src *S, sph_idx i, sph_off *next, sph
 #undef sph__dg
 #undef sph__dgc_0
 #undef sph__dgc_1
+#undef sph__dgc_10
 #undef sph__dgc_2
 #undef sph__dgc_3
 #undef sph__dgc_4
@@ -8301,6 +8334,7 @@ SPH_API int sph_batch_fill(const sph_batch_src *S, sph_idx i, sph_off *next, sph
 #undef sph__dgc_body
 #undef sph__dgv_0
 #undef sph__dgv_1
+#undef sph__dgv_10
 #undef sph__dgv_2
 #undef sph__dgv_3
 #undef sph__dgv_4
@@ -8352,6 +8386,7 @@ SPH_API int sph_batch_fill(const sph_batch_src *S, sph_idx i, sph_off *next, sph
 #undef sph__h_sums
 #undef sph__h_sums_0
 #undef sph__h_sums_1
+#undef sph__h_sums_10
 #undef sph__h_sums_2
 #undef sph__h_sums_3
 #undef sph__h_sums_4
@@ -8368,6 +8403,7 @@ SPH_API int sph_batch_fill(const sph_batch_src *S, sph_idx i, sph_off *next, sph
 #undef sph__hpow_lanes
 #undef sph__hsv_0
 #undef sph__hsv_1
+#undef sph__hsv_10
 #undef sph__hsv_2
 #undef sph__hsv_3
 #undef sph__hsv_4
@@ -8491,6 +8527,7 @@ SPH_API int sph_batch_fill(const sph_batch_src *S, sph_idx i, sph_off *next, sph
 #undef sph__shape_run
 #undef sph__shape_run0
 #undef sph__shape_run1
+#undef sph__shape_run10
 #undef sph__shape_run2
 #undef sph__shape_run3
 #undef sph__shape_run4

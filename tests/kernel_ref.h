@@ -5,7 +5,10 @@
  * closed forms of /work/shared/design.md section 2 (checked there by exact
  * integration; the 1-D Wendland constants 5/8, 3/4, 55/64 are Wendland 1995
  * for support 2h, i.e. Dehnen & Aly 2012 table 1's 5/4, 3/2, 55/32 for support
- * 1 halved).
+ * 1 halved). The quartic M5's 1/24, 96/(1199 pi), 1/(20 pi) are Price 2012's,
+ * and Dehnen & Aly 2012 table 1's 3125/768, 46875/(2398 pi),
+ * 15625/(512 pi) for support 1 divided by (5/2)^(d+4) (the support 5/2 and
+ * the 4th-power scale of w with it).
  *
  * Sources of the shapes:
  *   cubic M4       Monaghan & Lattanzio 1985: [(2-q)^3 - 4 (1-q)_+^3] / 6
@@ -14,6 +17,10 @@
  *                  evaluated factored, (2-q)^2 (1/6 + q/6 - 5/32 q^2)
  *                  (design.md), as the expanded form cancels near q = 2
  *   quintic M6     Morris 1996: (3-q)^5 - 6 (2-q)_+^5 + 15 (1-q)_+^5
+ *   quartic M5     Schoenberg 1946, Price 2012:
+ *                  (5/2-q)^4 - 5 (3/2-q)_+^4 + 10 (1/2-q)_+^4, and its
+ *                  derivatives term by term, but w' = 6 q (4 q^2 - 5) on
+ *                  [0, 1/2), where the terms' sum would cancel to O(q)
  *   Wendland       Wendland 1995 (support 2): 2-/3-D
  *                  C2 (1-q/2)^4 (1+2q), C4 (1-q/2)^6 (1+3q+35/12 q^2),
  *                  C6 (1-q/2)^8 (1+4q+25/4 q^2+4q^3); 1-D
@@ -25,9 +32,9 @@
  * far better than double precision.
  *
  * Also: Gauss-Legendre nodes computed here (Newton on P_n), and a quadrature
- * over [0, kappa] split at every multiple of 1/2 (the header's piece width, a
- * refinement of every knot), exact for the piecewise polynomials up to degree
- * 2 n - 1.
+ * over [0, kappa] split at every multiple of 1/2 (a refinement of every knot:
+ * the quartic's 1/2, 3/2, 5/2 and the others' integers), exact for the
+ * piecewise polynomials up to degree 2 n - 1.
  */
 #ifndef SPH_TEST_KERNEL_REF_H
 #define SPH_TEST_KERNEL_REF_H
@@ -50,11 +57,11 @@ typedef long double ref_real;
 /* support kappa of kernel k (units of h). */
 REF_FN ref_real ref_kappa(sph_kernel k)
 {
-    return k == SPH_KERNEL_LUCY ? 1.0L : k == SPH_KERNEL_QUINTIC ? 3.0L : 2.0L;
+    return k == SPH_KERNEL_LUCY ? 1.0L : k == SPH_KERNEL_QUINTIC ? 3.0L : k == SPH_KERNEL_QUARTIC ? 2.5L : 2.0L;
 }
 
-/* alpha_d per kernel (enum order) and dimension: design.md section 2. A
- * kernel without its row does not compile. */
+/* alpha_d per kernel (enum order) and dimension: design.md section 2, and the
+ * quartic's from the sources above. A kernel without its row does not compile. */
 REF_DATA ref_real ref_alpha_table[][3] = {
     {1.0L, 15.0L / (7.0L * REF_PI), 3.0L / (2.0L * REF_PI)},
     {5.0L / 4.0L, 5.0L / REF_PI, 105.0L / (16.0L * REF_PI)},
@@ -63,6 +70,7 @@ REF_DATA ref_real ref_alpha_table[][3] = {
     {5.0L / 8.0L, 7.0L / (4.0L * REF_PI), 21.0L / (16.0L * REF_PI)},
     {3.0L / 4.0L, 9.0L / (4.0L * REF_PI), 495.0L / (256.0L * REF_PI)},
     {55.0L / 64.0L, 39.0L / (14.0L * REF_PI), 1365.0L / (512.0L * REF_PI)},
+    {1.0L / 24.0L, 96.0L / (1199.0L * REF_PI), 1.0L / (20.0L * REF_PI)},
 };
 typedef char ref_alpha_table_covers_every_kernel[sizeof ref_alpha_table / sizeof ref_alpha_table[0] == SPH_KERNEL_COUNT ? 1 : -1];
 
@@ -76,6 +84,12 @@ REF_FN ref_real ref_pow(ref_real x, int n)
     ref_real p = 1;
     while (n-- > 0) p *= x;
     return p;
+}
+
+/* (x)_+^n: the truncated power of the B-splines, 0 where x <= 0. */
+REF_FN ref_real ref_tpow(ref_real x, int n)
+{
+    return x > 0 ? ref_pow(x, n) : 0;
 }
 
 /* Dimensionless shape w(q), w'(q), w''(q) for 0 <= q (zero at q >= kappa). */
@@ -121,6 +135,13 @@ REF_FN void ref_shape(sph_kernel k, int dim, ref_real q, ref_real *w, ref_real *
             *w2 = 20 * ref_pow(3 - q, 3);
         }
         break;
+    case SPH_KERNEL_QUARTIC: { /* knots 1/2, 3/2, 5/2: u_n = n/2 - q */
+        const ref_real u5 = 2.5L - q, u3 = 1.5L - q, u1 = 0.5L - q;
+        *w = ref_pow(u5, 4) - 5 * ref_tpow(u3, 4) + 10 * ref_tpow(u1, 4);
+        *w1 = q < 0.5L ? 6 * q * (4 * q * q - 5) : -4 * (ref_pow(u5, 3) - 5 * ref_tpow(u3, 3));
+        *w2 = 12 * (u5 * u5 - 5 * ref_tpow(u3, 2) + 10 * ref_tpow(u1, 2));
+        break;
+    }
     case SPH_KERNEL_WENDLAND_C2:
         if (dim == 1) {
             *w = ref_pow(1 - q / 2, 3) * (1 + 1.5L * q);
@@ -238,7 +259,7 @@ REF_FN double ref_rand(uint64_t *state)
 /* Kernel list, in enum order, for loops; one missing does not compile. */
 static const sph_kernel ref_kernels[] = {
     SPH_KERNEL_CUBIC,       SPH_KERNEL_LUCY,        SPH_KERNEL_NEW_QUARTIC, SPH_KERNEL_QUINTIC,
-    SPH_KERNEL_WENDLAND_C2, SPH_KERNEL_WENDLAND_C4, SPH_KERNEL_WENDLAND_C6};
+    SPH_KERNEL_WENDLAND_C2, SPH_KERNEL_WENDLAND_C4, SPH_KERNEL_WENDLAND_C6, SPH_KERNEL_QUARTIC};
 typedef char ref_kernels_cover_every_kernel[sizeof ref_kernels / sizeof ref_kernels[0] == SPH_KERNEL_COUNT ? 1 : -1];
 
 /* Largest relative error seen, per quantity, for the informative summary. */

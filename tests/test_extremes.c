@@ -35,9 +35,11 @@ static double ulp_of(double x) /* spacing of sph_real at |x| */
  *   Wendland 1-D in s = q/2: C2 (1-s)^3(1+3s) -> -6 s^2: w'' -3;
  *       C4 (1-s)^5(1+5s+8s^2) -> -7 s^2: w'' -7/2;
  *       C6 (1-s)^7(1+7s+19s^2+21s^3) -> -9 s^2: w'' -9/2; w0 1
+ *   quartic (5/2-q)^4 - 5(3/2-q)^4 + 10(1/2-q)^4: w0 (625 - 405 + 10)/16
+ *       = 115/8, w'' = 12 (25/4 - 5*9/4 + 10/4) = -30
  * One entry per kernel in enum order: a kernel without one does not compile. */
-static const double w0_k[] = {2.0 / 3, 1, 2.0 / 3, 66, 1, 1, 1};
-static const double w2_k[] = {-2, -12, -9.0 / 4, -120, -5, -14.0 / 3, -11.0 / 2};
+static const double w0_k[] = {2.0 / 3, 1, 2.0 / 3, 66, 1, 1, 1, 115.0 / 8};
+static const double w2_k[] = {-2, -12, -9.0 / 4, -120, -5, -14.0 / 3, -11.0 / 2, -30};
 typedef char w0_w2_cover_every_kernel[sizeof w0_k / sizeof w0_k[0] == SPH_KERNEL_COUNT &&
                                               sizeof w2_k / sizeof w2_k[0] == SPH_KERNEL_COUNT
                                           ? 1

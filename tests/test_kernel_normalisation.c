@@ -14,7 +14,9 @@
  * Published cross-check: Dehnen & Aly 2012 (MNRAS 425, 1068), table 1, give
  * H/(2 sigma) (H = kappa h, the support radius) to 6 decimals; those used
  * here: cubic M4 1-D 1.732051 (= sqrt 3), 3-D 1.825742; quintic M6 3-D
- * 2.195775; Wendland 3-D C2 1.936492, C4 2.207940, C6 2.449490.
+ * 2.195775; Wendland 3-D C2 1.936492, C4 2.207940, C6 2.449490; quartic M5
+ * 1-D 1.936492, 2-D 1.977173, 3-D 2.018932 (also SWIFT's kernel_gamma of
+ * its quartic spline, src/kernel_hydro.h).
  */
 #include "kernel_ref.h"
 
@@ -91,7 +93,9 @@ static void test_published(void)
         double ratio;
     } da[] = {{SPH_KERNEL_CUBIC, 1, 1.732051},       {SPH_KERNEL_CUBIC, 3, 1.825742},
               {SPH_KERNEL_QUINTIC, 3, 2.195775},     {SPH_KERNEL_WENDLAND_C2, 3, 1.936492},
-              {SPH_KERNEL_WENDLAND_C4, 3, 2.207940}, {SPH_KERNEL_WENDLAND_C6, 3, 2.449490}};
+              {SPH_KERNEL_WENDLAND_C4, 3, 2.207940}, {SPH_KERNEL_WENDLAND_C6, 3, 2.449490},
+              {SPH_KERNEL_QUARTIC, 1, 1.936492},     {SPH_KERNEL_QUARTIC, 2, 1.977173},
+              {SPH_KERNEL_QUARTIC, 3, 2.018932}};
     size_t i;
     for (i = 0; i < sizeof da / sizeof da[0]; ++i) {
         const double ratio = (double)sph_kernel_support(da[i].k) / (2 * (double)sph_kernel_sigma(da[i].k, da[i].dim));

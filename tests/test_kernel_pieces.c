@@ -2,7 +2,7 @@
  * loops (sph__nshape_w, sph__nshape_g: every natural piece in product form
  * (b - q)^m P(q - e) evaluated in sph_real and the one holding q selected by
  * comparisons) against the textbook closed forms of tests/kernel_ref.h in long
- * double, for all 7 kernels in 1-, 2- and 3-D. The scalar functions evaluate
+ * double, for every kernel in 1-, 2- and 3-D. The scalar functions evaluate
  * the same forms (sph__shape_at, in double and with the rounding of b - q
  * taken back); test_kernel_values.c holds those to the closed forms.
  *

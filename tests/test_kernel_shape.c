@@ -11,7 +11,8 @@
  *    exactly on (9/5, 2);
  *  - smoothness: cubic M4 and Lucy are C2 on the whole line (w'' -> 0 at the
  *    support edge: 2 - q and -12 (q-1)(3q-1)); quintic M6 is C4 (20 (3-q)^3
- *    -> 0); every Wendland function here has w'' with a factor (2-q)^k, k >= 1,
+ *    -> 0); quartic M5 is C3 (12 (5/2-q)^2 -> 0; its knots are at 1/2 and
+ *    3/2); every Wendland function here has w'' with a factor (2-q)^k, k >= 1,
  *    so it is at least C2; the new quartic is one polynomial inside its
  *    support but w''(2) = -1/4 != 0: d2W/dr2 jumps at the support edge only.
  *    So W and dW/dr are continuous at every knot and piece boundary (edge

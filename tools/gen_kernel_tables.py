@@ -13,8 +13,8 @@ the list without a shape here, or a shape here for no kernel of the list, is
 an error. tests/check_tables.sh fails when the header's block differs from
 what this prints.
 
-Every shape is stored over its NATURAL pieces (cubic 2, quintic 3, new quartic
-2, the others 1), each quantity in product form
+Every shape is stored over its NATURAL pieces (cubic 2, quintic and quartic 3,
+new quartic 2, the others 1), each quantity in product form
 
   value = (b - q)^m P(q - e),
 
@@ -53,6 +53,10 @@ SHAPES = {
     'wendland_c2_1d': (2, [(0, 2, (1 - q / 2)**3 * (1 + R(3, 2) * q))]),
     'wendland_c4_1d': (2, [(0, 2, (1 - q / 2)**5 * (1 + R(5, 2) * q + 2 * q**2))]),
     'wendland_c6_1d': (2, [(0, 2, (1 - q / 2)**7 * (1 + R(7, 2) * q + R(19, 4) * q**2 + R(21, 8) * q**3))]),
+    # M5, Schoenberg's quartic B-spline on knots -5/2, ..., 5/2 (Price 2012)
+    'quartic': (R(5, 2), [(0, R(1, 2), (R(5, 2) - q)**4 - 5 * (R(3, 2) - q)**4 + 10 * (R(1, 2) - q)**4),
+                          (R(1, 2), R(3, 2), (R(5, 2) - q)**4 - 5 * (R(3, 2) - q)**4),
+                          (R(3, 2), R(5, 2), (R(5, 2) - q)**4)]),
 }
 
 # Kernel (name of SPH_KERNEL_LIST) -> shape in 1-, 2- and 3-D: the Wendland
@@ -66,6 +70,7 @@ KERNEL_SHAPES = {
     'wendland_c2': ('wendland_c2_1d', 'wendland_c2', 'wendland_c2'),
     'wendland_c4': ('wendland_c4_1d', 'wendland_c4', 'wendland_c4'),
     'wendland_c6': ('wendland_c6_1d', 'wendland_c6', 'wendland_c6'),
+    'quartic': ('quartic',) * 3,
 }
 
 # The new quartic is one polynomial, but (2 - q)^2 P(q - e) cannot be both

@@ -31,6 +31,9 @@ KERNELS = [
     ('wendland_c4_1d', 2, [(0, 2, (1 - q / 2)**5 * (1 + R(5, 2) * q + 2 * q**2))]),
     ('wendland_c6_1d', 2, [(0, 2, (1 - q / 2)**7 * (1 + R(7, 2) * q + R(19, 4) * q**2
                                                      + R(21, 8) * q**3))]),
+    ('quartic', R(5, 2), [(0, R(1, 2), (R(5, 2) - q)**4 - 5 * (R(3, 2) - q)**4 + 10 * (R(1, 2) - q)**4),
+                          (R(1, 2), R(3, 2), (R(5, 2) - q)**4 - 5 * (R(3, 2) - q)**4),
+                          (R(3, 2), R(5, 2), (R(5, 2) - q)**4)]),
 ]
 # which shape serves which dimension (2-D/3-D Wendland differ from 1-D)
 DIMS = {'wendland_c2': (2, 3), 'wendland_c4': (2, 3), 'wendland_c6': (2, 3),
