@@ -1,6 +1,6 @@
 /* studies/error_vs_runtime.c - error against run time of every operator of
  * sph_kernel.h: interpolation/density, the five gradient schemes, two
- * divergence schemes and the Laplacian, for all seven kernels in 2-D and 3-D,
+ * divergence schemes and the Laplacian, for every kernel in 2-D and 3-D,
  * on a lattice, on lattices perturbed by 10 % and 30 % of dx and at a free
  * surface, for a sine, a linear and a quadratic field with analytic
  * derivatives. Writes docs/results/report.md and the CSV files of docs/results/report/
@@ -657,7 +657,7 @@ static void md_sweep_tables(FILE *md, const table *t, char sweep, int dim, int N
 /* sweep_<A|B>.csv for the plots: difference and corrected gradient and the
  * Laplacian, sine field, every kernel at equal sigma h; one block per
  * (dim, arrangement, operator, kernel) in resolution order, blocks separated
- * by two blank lines (gnuplot index ((dim-2)*4 + arrangement)*21 + operator*7 + kernel) */
+ * by two blank lines (gnuplot index ((dim-2)*4 + arrangement)*3*NK + operator*NK + kernel) */
 static void write_sweep_csv(const table *t, const char *dir, char sweep)
 {
     static const int ops[3] = {OP_GRAD_DIFF, OP_GRAD_CORR, OP_LAPLACIAN};

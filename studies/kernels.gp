@@ -5,8 +5,8 @@
 if (!exists("datadir")) datadir = 'build/plots'
 if (!exists("outdir")) outdir = 'docs/results/plots'
 
-names = "cubic Lucy new\\_quartic quintic Wendland\\_C2 Wendland\\_C4 Wendland\\_C6"
-nk = 7
+names = "cubic Lucy new\\_quartic quintic Wendland\\_C2 Wendland\\_C4 Wendland\\_C6 quartic"
+nk = words(names) # the kernels, in the order of SPH_KERNEL_LIST
 set linetype 1 lc rgb "#000000" lw 2.5 dt 1
 set linetype 2 lc rgb "#e69f00" lw 2.5 dt 2
 set linetype 3 lc rgb "#56b4e9" lw 2.5 dt 4
@@ -14,6 +14,7 @@ set linetype 4 lc rgb "#009e73" lw 2.5 dt 5
 set linetype 5 lc rgb "#d55e00" lw 2.5 dt 1
 set linetype 6 lc rgb "#cc79a7" lw 2.5 dt 1
 set linetype 7 lc rgb "#0072b2" lw 2.5 dt 1
+set linetype 8 lc rgb "#999999" lw 2.5 dt 3
 
 set terminal pngcairo size 1800,560 font "Sans,13"
 set grid xtics ytics lt 1 lw 1 lc rgb "#d8d8d8"
@@ -27,7 +28,7 @@ do for [dim in "2 3"] {
     file = sprintf("%s/kernels_%sd_%s.dat", datadir, dim, mode)
     set output sprintf("%s/kernels_%sd_%s.png", outdir, dim, mode)
     if (mode eq "equal_h") {
-      what = "all kernels at h = 1 (support: Lucy 1 h, quintic 3 h, the others 2 h)"
+      what = "all kernels at h = 1 (support: Lucy 1 h, quartic 2.5 h, quintic 3 h, the others 2 h)"
     } else {
       what = "equal standard deviation: h = sigma_{cubic} / sigma_k (the cubic at h = 1)"
     }

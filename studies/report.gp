@@ -8,7 +8,8 @@
 if (!exists("dir")) dir = 'docs/results/report'
 
 set datafile separator ","
-names = "cubic Lucy new\\_quartic quintic Wendland\\_C2 Wendland\\_C4 Wendland\\_C6"
+names = "cubic Lucy new\\_quartic quintic Wendland\\_C2 Wendland\\_C4 Wendland\\_C6 quartic"
+nk = words(names) # the kernels, in the order of SPH_KERNEL_LIST
 arrs = "lattice perturbed10 perturbed30 surface"
 set linetype 1 lc rgb "#000000" lw 2 pt 7 ps 1.3
 set linetype 2 lc rgb "#e69f00" lw 2 pt 7 ps 1.3
@@ -17,6 +18,7 @@ set linetype 4 lc rgb "#009e73" lw 2 pt 7 ps 1.3
 set linetype 5 lc rgb "#d55e00" lw 2 pt 7 ps 1.3
 set linetype 6 lc rgb "#cc79a7" lw 2 pt 7 ps 1.3
 set linetype 7 lc rgb "#0072b2" lw 2 pt 7 ps 1.3
+set linetype 8 lc rgb "#999999" lw 2 pt 7 ps 1.3
 # point type per scheme (operator row id of the CSV): plain operators and
 # difference = filled circle, standard = square, symmetric = triangle,
 # corrected = diamond, pressure = inverted triangle
@@ -41,10 +43,10 @@ do for [g in "density interpolation gradient divergence laplacian"] {
     if (dim == 2) { unset key } else { set key }
     # legend: colour = kernel (filled circles), shape = scheme (grey); the
     # data points themselves take their shape from the scheme (pt variable)
-    plot for [k=0:6] sprintf("%s/pareto_%s.csv", dir, g) \
+    plot for [k=0:nk-1] sprintf("%s/pareto_%s.csv", dir, g) \
            using (($1 == dim && strcol(2) eq "perturbed10" && $4 == k) ? $8 : 1/0):9:(ptype($7)) \
            every ::1 with points lt k+1 pt variable notitle, \
-         for [k=0:6] keyentry with points lt k+1 pt 7 title word(names, k+1), \
+         for [k=0:nk-1] keyentry with points lt k+1 pt 7 title word(names, k+1), \
          for [s=1:words(schemes)] keyentry with points pt (word(spts, s) + 0) ps 1.3 lc rgb "#808080" title word(schemes, s), \
          sprintf("%s/pareto_front_%s.csv", dir, g) index blk using 8:9 with steps lc rgb "#000000" lw 1.5 title "front", \
          "" index blk using 8:9 with points pt 6 ps 2.2 lc rgb "#000000" notitle
@@ -67,7 +69,7 @@ do for [sw in "A B"] {
   do for [dim=2:3] {
     set output sprintf("%s/sweep_%s_%dd.png", dir, sw, dim)
     # the default run has no perturbed30 sweeps in 3-D (--full has): plot the arrangements with data
-    stats sprintf("%s/sweep_%s.csv", dir, sw) index ((dim - 2) * 4 + 2) * 21 using 9:10 nooutput
+    stats sprintf("%s/sweep_%s.csv", dir, sw) index ((dim - 2) * 4 + 2) * 3 * nk using 9:10 nooutput
     na = exists("STATS_records") ? (STATS_records > 0 ? 4 : 3) : 3
     if (sw eq "A") {
       set multiplot layout 3,na title sprintf("sweep A, %d-D: h -> 0 at fixed dx/h (h = 1.3 dx for the cubic, kernels at equal sigma h), sine field", dim)
@@ -81,15 +83,15 @@ do for [sw in "A B"] {
         set xlabel (sw eq "A" ? "h" : "dx / h")
         set ylabel "L2 error"
         if (o == 0 && ai == na - 1) { set key } else { unset key }
-        base = ((dim - 2) * 4 + a) * 21 + o * 7
-        stats sprintf("%s/sweep_%s.csv", dir, sw) index base:base+6 using 10 nooutput
+        base = ((dim - 2) * 4 + a) * 3 * nk + o * nk
+        stats sprintf("%s/sweep_%s.csv", dir, sw) index base:base+nk-1 using 10 nooutput
         if (STATS_min > 0 && STATS_max / STATS_min >= 5) {
           set logscale y; set format y "%g"; set ytics ()
           do for [e=-8:3] { set ytics add (1 * 10.0**e, 2 * 10.0**e, 5 * 10.0**e) }
         } else {
           unset logscale y; set format y "%.3g"; set ytics autofreq
         }
-        plot for [k=0:6] sprintf("%s/sweep_%s.csv", dir, sw) index base+k \
+        plot for [k=0:nk-1] sprintf("%s/sweep_%s.csv", dir, sw) index base+k \
              using (sw eq "A" ? $8 : $9):10 with linespoints lt k+1 title word(names, k+1)
       }
     }

@@ -541,7 +541,7 @@ static void gauss_legendre(int n, double *x, double *w)
 }
 
 #define GL_N 8
-#define GL_SUB 24 /* sub-intervals per unit of q (knots of every kernel are at integers) */
+#define GL_SUB 24 /* sub-intervals per unit of q (knots of every kernel are at multiples of 1/2) */
 static double gl_x[GL_N], gl_w[GL_N];
 
 /* Radial quadrature of int_0^qmax f(q) dq with the kernel's knots as sub-interval ends. */
@@ -586,16 +586,22 @@ static double kernel_ft(int k, int dim, double kh, const radial_rule *R, const d
     return s;
 }
 
-/* 3-D transform of the B-spline M_n (cubic n = 4, quintic n = 6, h = 1) in
- * closed form, normalised to 1 at 0: the 1-D transform of the n-fold
- * convolution of the unit box is s^n, s = sin(k/2) / (k/2), and a radial
- * function's 3-D transform is -(2 pi / k) d/dk of its 1-D one (Bracewell,
- * The Fourier Transform and its Applications, ch. 12), so
- * W^(k) = -(12 / k) s^(n-1) s'. Its first zero is k = 2 pi, of order n - 1
- * (odd: a sign change). Returns 0 for the other kernels and dimensions. */
+/* 3-D transform of the B-spline M_n (cubic n = 4, quartic n = 5, quintic
+ * n = 6, h = 1) in closed form, normalised to 1 at 0: the 1-D transform of
+ * the n-fold convolution of the unit box is s^n, s = sin(k/2) / (k/2), and a
+ * radial function's 3-D transform is -(2 pi / k) d/dk of its 1-D one
+ * (Bracewell, The Fourier Transform and its Applications, ch. 12), so
+ * W^(k) = -(12 / k) s^(n-1) s'. Its first zero is k = 2 pi, of order n - 1:
+ * a sign change for the cubic and quintic; the quartic's transform only
+ * touches 0 there and first turns negative where s' does, at k/2 = tan(k/2),
+ * k = 8.9868. Returns 0 for the other kernels and dimensions. */
 static int bspline_order(int k, int dim)
 {
-    return dim != 3 ? 0 : k == SPH_KERNEL_CUBIC ? 4 : k == SPH_KERNEL_QUINTIC ? 6 : 0;
+    return dim != 3                 ? 0
+         : k == SPH_KERNEL_CUBIC   ? 4
+         : k == SPH_KERNEL_QUARTIC ? 5
+         : k == SPH_KERNEL_QUINTIC ? 6
+                                   : 0;
 }
 
 static double bspline_ft3(int n, double kh)
@@ -1162,8 +1168,8 @@ static void diffusion_tables(FILE *tb)
                 "`growth` is `||T_n|| / ||T_0||` after the stated number of steps from mean-free noise at 0.95\n"
                 "and 1.05 `dt_max` (a run stops early once it has grown by 1e20). `rule/limit` is the rule of thumb `dt = 0.125 h^2 / D` divided by `dt_max`\n"
                 "(below 1: the rule is safe, by that factor). h is each kernel's own h: the kappa = 2 kernels\n"
-                "at the listed h/dx, Lucy (kappa = 1) and the quintic (kappa = 3) at `2 h / kappa`, the same\n"
-                "support radius and neighbour number. Perturbed: every coordinate moved by up to 0.2 dx\n"
+                "at the listed h/dx, Lucy (kappa = 1), the quartic (kappa = 5/2) and the quintic (kappa = 3) at\n"
+                "`2 h / kappa`, the same support radius and neighbour number. Perturbed: every coordinate moved by up to 0.2 dx\n"
                 "(uniform, seeded).\n\n");
     for (dim = 2; dim <= 3; ++dim)
         for (pert = 0; pert < 2; ++pert) {
@@ -1224,7 +1230,7 @@ static void symmetry_table(FILE *tb)
     fprintf(tb, "## 2. Symmetry and sign of the Laplacian\n\n"
                 "Four pairs of random vectors u, v (not mean-free) per row: `asym = max |u.Lv - v.Lu| / (|u| |Lv|)`,\n"
                 "`sign = max u.Lu / (|u| |Lu|)` (negative semi-definite: <= 0). Perturbed lattice (0.2 dx), h = 1.3 dx\n"
-                "(equal support radius for Lucy and the quintic). With uniform volumes `L_ij = 2 V F_ij` is symmetric;\n"
+                "(equal support radius for Lucy, the quartic and the quintic). With uniform volumes `L_ij = 2 V F_ij` is symmetric;\n"
                 "with volumes varying by +-20 %% it is not, but `V_i L_ij` is: the V-weighted products\n"
                 "(`sum V_i u_i (Lv)_i`) are symmetric again, so conjugate gradients must use that inner product.\n\n");
     fprintf(tb, "| kernel | dim | asym (uniform V) | sign (uniform V) | asym (varying V) | asym V-weighted (varying V) |"
@@ -1314,11 +1320,12 @@ static void fourier_tables(FILE *tb)
                 "`W^(k) = 2 pi int W(r) J0(kr) r dr` (2-D) and `4 pi int W(r) sin(kr)/(kr) r^2 dr` (3-D), h = 1,\n"
                 "normalised to `W^(0) = 1`; Gauss-Legendre on sub-intervals between the kernel's knots, J0 by\n"
                 "the trapezoid rule on its integral representation. Scanned for 0 < kh <= %g in steps of %g,\n"
-                "roots by bisection, minima by golden section. In 3-D the cubic and quintic B-splines have a\n"
-                "closed form, used instead of quadrature (`closed form` column): `W^(k) = -(12 / k) s^(n-1) s'`,\n"
-                "`s = sin(k/2) / (k/2)`, n = 4 (cubic), 6 (quintic), whose first zero is exactly kh = 2 pi, of\n"
-                "order 3 and 5 (the quintic's flat fifth-order zero is why quadrature can only place it to about\n"
-                "0.01). A kernel whose transform is negative somewhere is prone to the pairing instability\n"
+                "roots by bisection, minima by golden section. In 3-D the cubic, quartic and quintic B-splines\n"
+                "have a closed form, used instead of quadrature (`closed form` column): `W^(k) = -(12 / k)\n"
+                "s^(n-1) s'`, `s = sin(k/2) / (k/2)`, n = 4 (cubic), 5 (quartic), 6 (quintic), whose first zero\n"
+                "is exactly kh = 2 pi, of order 3, 4 and 5 (the quintic's flat fifth-order zero is why quadrature\n"
+                "can only place it to about 0.01); the quartic's even-order zero is no sign change, its transform\n"
+                "first turns negative where s' = 0, at kh/2 = tan(kh/2), kh = 8.9868. A kernel whose transform is negative somewhere is prone to the pairing instability\n"
                 "(Dehnen & Aly 2012); Wendland's functions are positive definite in up to three dimensions, so\n"
                 "theirs stay non-negative.\n\n", kmax, dk);
     fprintf(tb, "| kernel | dim | W^(0) | first negative at kh | most negative W^ | at kh | negative? | closed form |\n"
@@ -1512,7 +1519,7 @@ static void tensile_tables(FILE *tb)
                 "The set-up of table 5 (relaxed random cloud, seed 0, summation density, pressure form, damping\n"
                 "tau = %g, kick-drift-kick at `c0 dt = 0.5 kappa h / 2`) under tension: `p = c0^2 (rho - rho0) + p_b`\n"
                 "with p_b < 0, so p is close to p_b everywhere. Every kernel at the support radius of a kappa = 2\n"
-                "kernel with h = 1.3 dx (the examples' default; Lucy and the quintic at `2.6 dx / kappa`). `AP`: Monaghan's\n"
+                "kernel with h = 1.3 dx (the examples' default; Lucy, the quartic and the quintic at `2.6 dx / kappa`). `AP`: Monaghan's\n"
                 "(2000) artificial pressure, `-sum_j m_j R_ij f_ij^4 grad_i W_ij` added to the acceleration with\n"
                 "`f_ij = W_ij / W(dx)`, `R_ij = R_i + R_j`, `R_i = 0.2 |p_i| / rho_i^2` where p_i < 0. Columns: the\n"
                 "fraction of particles with a neighbour closer than dx / 2 (clumped) at six times, then the\n"
@@ -1564,8 +1571,8 @@ static void acoustic_tables(FILE *tb)
                 "damping from rest plus velocities of 1e-8 c0 for up to 150 steps at 0.95 and 1.05 dt_max:\n"
                 "the largest displacement reached at 0.95 (on the relaxed cloud it is the residual relaxation,\n"
                 "bounded), and the step at which a particle has moved by more than dx at 1.05. h: each\n"
-                "kernel's own h at the support radius of a kappa = 2 kernel with the listed h/dx (Lucy and the\n"
-                "quintic at `2 h / kappa`). `CFL margin`: the limit over the 0.25 the examples use\n"
+                "kernel's own h at the support radius of a kappa = 2 kernel with the listed h/dx (Lucy, the\n"
+                "quartic and the quintic at `2 h / kappa`). `CFL margin`: the limit over the 0.25 the examples use\n"
                 "(`dt = 0.25 h / (c0 + v_max)`).\n\n");
     for (dim = 2; dim <= 3; ++dim) {
         fprintf(tb, "### 7%c. %d-D, %d^%d particles\n\n", dim == 2 ? 'a' : 'b', dim, pair_n(dim), dim);
@@ -1954,7 +1961,7 @@ static void guide(FILE *md)
         for (dim = 2; dim <= 3; ++dim)
             for (k = 0; k < NK; ++k) {
                 nc0 += G.tens[dim - 1][k][0] > PAIR_FRAC, nc1 += G.tens[dim - 1][k][1] > PAIR_FRAC;
-                if (k >= SPH_KERNEL_WENDLAND_C2) wc += G.tens[dim - 1][k][0] > PAIR_FRAC;
+                if (k >= SPH_KERNEL_WENDLAND_C2 && k <= SPH_KERNEL_WENDLAND_C6) wc += G.tens[dim - 1][k][0] > PAIR_FRAC;
             }
         for (k = 0; k < NK; ++k)
             slo = fmin(slo, G.tens_strong[k][1]), shi = fmax(shi, G.tens_strong[k][1]), ns1 += G.tens_strong[k][1] > PAIR_FRAC;
@@ -2091,7 +2098,7 @@ static int run_check(void)
         for (k = 0; k < NK; ++k) {
             ft_row r = ft_scan(k, dim, 30, 0.1);
             const int wend = k == SPH_KERNEL_WENDLAND_C2 || k == SPH_KERNEL_WENDLAND_C4 || k == SPH_KERNEL_WENDLAND_C6;
-            const int bspl = dim == 3 && (k == SPH_KERNEL_CUBIC || k == SPH_KERNEL_QUINTIC);
+            const int bspl = bspline_order(k, dim) != 0;
             sprintf(msg, "%d-D %s: W^(0) = %.14f, min W^ on kh <= 30 = %.3e%s", dim, kname(k), r.ft_at0, r.ft_min,
                     wend ? " (Wendland: must be >= 0)" : bspl ? " (B-spline in 3-D: must be < 0)" : "");
             expect(fabs(r.ft_at0 - 1) < 1e-12 && (!wend || r.ft_min > -1e-12) && (!bspl || r.ft_min < -1e-6), msg);
@@ -2139,11 +2146,13 @@ static int run_check(void)
         expect(fabs(r.amp / r.amp_be - 1) < 1e-8 && r.noise1 < r.noise0 && r.explicit_growth > 1e3, msg);
         scene_free(&s);
     }
-    { /* 3-D B-splines: closed-form transform against quadrature, first zero 2 pi */
-        const int ks[2] = {SPH_KERNEL_CUBIC, SPH_KERNEL_QUINTIC};
-        double err = 0, z[2];
+    { /* 3-D B-splines: closed-form transform against quadrature; the first sign change at 2 pi (cubic,
+       * quintic) and, for the quartic, at twice the first positive root of tan x = x, 4.493409457909064
+       * (Abramowitz & Stegun, table 4.19) */
+        const int ks[3] = {SPH_KERNEL_CUBIC, SPH_KERNEL_QUINTIC, SPH_KERNEL_QUARTIC};
+        double err = 0, z[3];
         int i, j;
-        for (i = 0; i < 2; ++i) {
+        for (i = 0; i < 3; ++i) {
             radial_rule R = radial_rule_make(0, kappa_of(ks[i]));
             double *Wq = (double *)xmalloc(sizeof(double) * R.n);
             for (j = 0; j < R.n; ++j) Wq[j] = sph_kernel_w((sph_kernel)ks[i], 3, R.q[j], 1);
@@ -2151,12 +2160,14 @@ static int run_check(void)
                 const double kh = 0.37 + 2.3 * j;
                 err = fmax(err, fabs(kernel_ft(ks[i], 3, kh, &R, Wq) - bspline_ft3(bspline_order(ks[i], 3), kh)));
             }
-            z[i] = ft_scan(ks[i], 3, 8, 0.1).k_zero;
+            z[i] = ft_scan(ks[i], 3, 10, 0.1).k_zero;
             free(R.q), free(R.w), free(Wq);
         }
-        sprintf(msg, "3-D cubic / quintic transform: closed form vs quadrature max difference %.1e (kh < 26); "
-                     "first zeros %.12f, %.12f vs 2 pi", err, z[0], z[1]);
-        expect(err < 1e-12 && fabs(z[0] - 2 * PI) < 1e-10 && fabs(z[1] - 2 * PI) < 1e-10, msg);
+        sprintf(msg, "3-D cubic / quintic / quartic transform: closed form vs quadrature max difference %.1e (kh < 26); "
+                     "first sign changes %.12f, %.12f vs 2 pi, %.12f vs 2 x 4.493409457909064", err, z[0], z[1], z[2]);
+        expect(err < 1e-12 && fabs(z[0] - 2 * PI) < 1e-10 && fabs(z[1] - 2 * PI) < 1e-10 &&
+                   fabs(z[2] - 2 * 4.493409457909064) < 1e-10,
+               msg);
     }
     { /* sign of the lattice Laplacian: the new quartic anti-diffusive for 1/2 < h/dx < 5/9 */
         double lo2, hi2, lo3, hi3, lo6, hi6, loc, hic;
