@@ -14,7 +14,7 @@ set linetype 4 lc rgb "#009e73" lw 2.5 dt 5
 set linetype 5 lc rgb "#d55e00" lw 2.5 dt 1
 set linetype 6 lc rgb "#cc79a7" lw 2.5 dt 1
 set linetype 7 lc rgb "#0072b2" lw 2.5 dt 1
-set linetype 8 lc rgb "#999999" lw 2.5 dt 3
+set linetype 8 lc rgb "#8c510a" lw 2.5 dt 3 # the colour report.gp gives the quartic
 
 set terminal pngcairo size 1800,560 font "Sans,13"
 set grid xtics ytics lt 1 lw 1 lc rgb "#d8d8d8"

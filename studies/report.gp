@@ -18,7 +18,7 @@ set linetype 4 lc rgb "#009e73" lw 2 pt 7 ps 1.3
 set linetype 5 lc rgb "#d55e00" lw 2 pt 7 ps 1.3
 set linetype 6 lc rgb "#cc79a7" lw 2 pt 7 ps 1.3
 set linetype 7 lc rgb "#0072b2" lw 2 pt 7 ps 1.3
-set linetype 8 lc rgb "#999999" lw 2 pt 7 ps 1.3
+set linetype 8 lc rgb "#8c510a" lw 2 pt 7 ps 1.3 # brown: grey (#808080) marks the schemes in the legend
 # point type per scheme (operator row id of the CSV): plain operators and
 # difference = filled circle, standard = square, symmetric = triangle,
 # corrected = diamond, pressure = inverted triangle
