@@ -220,6 +220,8 @@
  *   sph_pair_signal_velocity(dim, beta, c_i, c_j, dx, dv)            v_sig,ij (S2)
  *   sph_pair_av_signal(dim, alpha, beta, c_i, c_j, rho_ij, dx, dv)   Pi_ij (S3)
  *   sph_pair_av_apply(dim, m_j, Pi_ij, F, dx, dv, acc)   acc += (S4), returns du_i/dt's term
+ *   sph_av_init(form, alpha, beta)               the viscosity of (S1) or (S3), no per-particle view
+ *   sph_pair_av_alpha(alpha_i, alpha_j, B_i, B_j)        alpha_ij with the Balsara factors (S14)
  *   sph_pair_viscosity(dim, m_j, mu_i, mu_j, rho_i, rho_j, h, F, dx, dv, acc)  acc += (S5)
  *   sph_pair_density_diffusion(dim, V_j, rho_i, rho_j, g_i, g_j, F, dx)   (S6)
  *   sph_pair_wall(dim, W, p_f, rho_f, v_f, g_eff, dx, sum)    sums of a wall particle (S8)
@@ -227,6 +229,7 @@
  *   sph_dt_coef_default()                        C of the time-step limits (S9)-(S12)
  *   sph_dt_reason_name(reason)                   "cfl", "force", ...: the limit that holds
  *   sph_dt_limit(&coef, h, vsig, |a|, nu, D, &reason)        one particle's dt (S9)-(S12)
+ *   sph_switch_balsara(div_v, curl_v, c, h)      Balsara factor B (S13)
  *   sph_artificial_viscosity(c, &av, v, v_t, cs, cs_t, acc, dudt, vsig)   (S1)-(S4)
  *   sph_viscosity(c, kind, mu_or_nu, coef_t, v, v_t, acc)    (S5)
  *   sph_density_diffusion(c, delta, c0, grad_rho, grad_rho_t, out)        (S6), (S7)
@@ -264,9 +267,10 @@
  *   (N1)-(N8)   neighbour search, docs/neighbours.md: criteria (N1)-(N3),
  *               grid (N4), permutation and inverse (N5)-(N6), periodic
  *               image of a run of cells (N7), lists kept over steps (N8)
- *   (S1)-(S12)  solver terms, docs/solver.md: artificial viscosity
+ *   (S1)-(S14)  solver terms, docs/solver.md: artificial viscosity
  *               (S1)-(S4), viscosity (S5), density diffusion (S6)-(S7),
- *               walls (S8), time-step limits (S9)-(S12)
+ *               walls (S8), time-step limits (S9)-(S12), the Balsara factor
+ *               and alpha per particle (S13)-(S14)
  *   (H1)-(H8)   smoothing length, grad-h equations, pair-once sums,
  *               docs/smoothing_length.md
  */
@@ -3365,8 +3369,8 @@ SPH_API int sph__op_h(sph_real h, int dim)
 
 /* Value checks of n entries, ncomp components: kind 0 finite (SPH_ENONFINITE),
  * 1 usable h in dim dimensions (SPH_EH), 2 positive (SPH_EVALUE; densities),
- * 3 positions: |x| <= SPH__XMAX (SPH_EVALUE). NaN and Inf are SPH_ENONFINITE
- * for every kind but h. */
+ * 3 positions: |x| <= SPH__XMAX (SPH_EVALUE), 4 not negative (SPH_EVALUE;
+ * coefficients). NaN and Inf are SPH_ENONFINITE for every kind but h. */
 SPH_API int sph__scan(sph_view v, int ncomp, sph_idx n, int kind, int dim)
 {
     sph_idx i;
@@ -3377,6 +3381,7 @@ SPH_API int sph__scan(sph_view v, int ncomp, sph_idx n, int kind, int dim)
             if (kind == 1 && sph__op_h(y, dim) != SPH_OK) return SPH_EH;
             if (!sph__finite(y)) return SPH_ENONFINITE;
             if (kind == 2 && !(y > 0)) return SPH_EVALUE;
+            if (kind == 4 && y < 0) return SPH_EVALUE;
             if (kind == 3 && !(y <= SPH__XMAX && y >= -SPH__XMAX)) return SPH_EVALUE;
         }
     return SPH_OK;
@@ -6175,7 +6180,7 @@ SPH_API int sph_permute(sph_view in, int ncomp, sph_idx n, const sph_idx *perm, 
 
 /* The dissipative terms, boundary and time-step rules that a weakly
  * compressible or compressible SPH solver adds to the operators of section 6
- * (docs/solver.md, equations (S1)-(S12)). As in section 5, pair terms come
+ * (docs/solver.md, equations (S1)-(S14)). As in section 5, pair terms come
  * first (usable under SPH_ONLY_PAIRS and in device code), then the array
  * operators over a CSR list and a context (section 6). Conventions as in
  * section 5: dx = x_ij = x_i - x_j, dv = v_ij = v_i - v_j, F = F_ij at the
@@ -6241,14 +6246,40 @@ SPH_API sph_real sph_pair_av_signal(int dim, sph_real alpha, sph_real beta, sph_
 /* The artificial viscosity of sph_artificial_viscosity: (S1) or (S3), and
  * its coefficients (usual values: Monaghan alpha = 1, beta = 2 for shocks,
  * alpha ~ 0.01-0.1, beta = 0 for weakly compressible flow; signal velocity
- * alpha = 1, beta = 3 as SWIFT, or beta = 2 as Price 2012). */
+ * alpha = 1, beta = 3 as SWIFT, or beta = 2 as Price 2012). A switch gives
+ * alpha per particle, and the Balsara factor (S13) limits it: the pair then
+ * takes alpha_ij of (S14). Fill with sph_av_init, then set the views a scene
+ * has. */
 #if SPH__FIRST
 typedef enum { SPH_AV_MONAGHAN = 0, SPH_AV_SIGNAL = 1 } sph_av_form;
 typedef struct {
     sph_av_form form;
     sph_real alpha, beta;
+    sph_view alpha_source;   /* per-particle alpha of the sources; absent: alpha for every particle */
+    sph_view alpha_target;   /* of the targets, when they are not the sources */
+    sph_view balsara_source; /* per-particle Balsara factor B (S13) of the sources; absent: B = 1 */
+    sph_view balsara_target; /* of the targets, when they are not the sources */
 } sph_av;
 #endif /* SPH__FIRST */
+
+/* The viscosity form with one alpha and beta for every particle (no view). */
+SPH_API sph_av sph_av_init(sph_av_form form, sph_real alpha, sph_real beta)
+{
+    sph_av av;
+    av.form = form;
+    av.alpha = alpha;
+    av.beta = beta;
+    av.alpha_source = av.alpha_target = av.balsara_source = av.balsara_target = sph_view_soa(NULL, NULL, NULL);
+    return av;
+}
+
+/* (S14) the pair's alpha_ij = (alpha_i + alpha_j) / 2 (B_i + B_j) / 2 (Borrow
+ * et al. 2022, eq. 20): B = 1 without the Balsara limiter, and alpha_ij =
+ * alpha bit for bit where alpha_i = alpha_j = alpha. */
+SPH_API sph_real sph_pair_av_alpha(sph_real alpha_i, sph_real alpha_j, sph_real B_i, sph_real B_j)
+{
+    return (alpha_i + alpha_j) / 2 * ((B_i + B_j) / 2);
+}
 
 /* (S4) applies Pi_ij to target i: acc += -m_j Pi_ij F dx (momentum) and
  * returns du_i/dt's share (1/2) m_j Pi_ij F v_ij . x_ij (thermal energy):
@@ -6407,6 +6438,16 @@ SPH_API sph_real sph_dt_limit(const sph_dt_coef *k, sph_real h, sph_real vsig, s
     return why == SPH_DT_INVALID ? 0 : dt;
 }
 
+/* (S13) Balsara (1995) factor B = |div v| / (|div v| + |curl v| + 1e-4 c / h)
+ * in [0, 1]: near 1 in compression, near 0 in shear; 0 for c < 0, h <= 0 and
+ * where the denominator is not positive and finite (no flow and c = 0, a NaN). */
+SPH_API sph_real sph_switch_balsara(sph_real div_v, sph_real curl_v, sph_real c, sph_real h)
+{
+    const sph_real d = div_v > 0 ? div_v : 0 - div_v, w = curl_v > 0 ? curl_v : 0 - curl_v;
+    const sph_real den = d + w + SPH__C(1e-4) * c / h;
+    return c >= 0 && h > 0 && den > 0 && den <= SPH__REAL_MAX ? d / den : 0;
+}
+
 #if !defined(SPH_ONLY_PAIRS) && !defined(SPH_NO_OPERATORS) /* the operators of section 8 use section 6 */
 
 /* SPH_OK for an absent output (p[0] NULL: not written) or a usable one. */
@@ -6442,12 +6483,14 @@ SPH__INLINE sph_real sph__vpair(const sph__args *A, const sph__tgt *t, const sph
     return A->hv ? (t->hi + SPH__AT(A->hs, 0, j)) / 2 : A->h;
 }
 
-/* (S1)-(S4) at target i: acceleration, heating and the largest v_sig. */
-SPH_API int sph__av_target(const sph__args *A, const sph_av *av, sph_idx i, sph_out acc, sph_out dudt,
-                           sph_out vsig)
+/* (S1)-(S4) at target i: acceleration, heating and the largest v_sig; p:
+ * the views of alpha and B, sources and targets (absent: alpha, 1). */
+SPH_API int sph__av_target(const sph__args *A, const sph_av *av, const sph_view *p, sph_idx i, sph_out acc,
+                           sph_out dudt, sph_out vsig)
 {
-    const int D = SPH__DIM(A);
+    const int D = SPH__DIM(A), each = p[0].p[0] != NULL || p[2].p[0] != NULL;
     const sph_real ci = SPH__AT(A->kt, 0, i), rhoi = SPH__AT(A->rhot, 0, i);
+    const sph_real ali = p[0].p[0] != NULL ? SPH__AT(p[1], 0, i) : av->alpha, Bi = p[2].p[0] != NULL ? SPH__AT(p[3], 0, i) : 1;
     sph_real vi[3], a[3] = {0, 0, 0}, du = 0, vs = 0, dx[3], dv[3], F;
     sph__tgt t;
     sph_off o;
@@ -6457,10 +6500,12 @@ SPH_API int sph__av_target(const sph__args *A, const sph_av *av, sph_idx i, sph_
         const sph_idx j = A->idx[o];
         const sph_real cj = SPH__AT(A->k, 0, j), rhoij = (rhoi + SPH__AT(A->rho, 0, j)) / 2;
         const sph_real hij = sph__vpair(A, &t, vi, j, dx, dv, &F);
+        const sph_real al = !each ? av->alpha
+                                  : sph_pair_av_alpha(ali, p[0].p[0] != NULL ? SPH__AT(p[0], 0, j) : av->alpha, Bi,
+                                                      p[2].p[0] != NULL ? SPH__AT(p[2], 0, j) : 1);
         sph_real Pi, s;
-        Pi = av->form == SPH_AV_MONAGHAN
-                 ? sph_pair_av_monaghan(D, av->alpha, av->beta, hij, (ci + cj) / 2, rhoij, dx, dv)
-                 : sph_pair_av_signal(D, av->alpha, av->beta, ci, cj, rhoij, dx, dv);
+        Pi = av->form == SPH_AV_MONAGHAN ? sph_pair_av_monaghan(D, al, av->beta, hij, (ci + cj) / 2, rhoij, dx, dv)
+                                         : sph_pair_av_signal(D, al, av->beta, ci, cj, rhoij, dx, dv);
         du += sph_pair_av_apply(D, SPH__AT(A->m, 0, j), Pi, F, dx, dv, a);
         s = sph_pair_signal_velocity(D, av->beta, ci, cj, dx, dv);
         vs = s > vs ? s : vs;
@@ -6476,25 +6521,34 @@ SPH_API int sph__av_target(const sph__args *A, const sph_av *av, sph_idx i, sph_
  * vsig_i = max_j v_sig,ij (S2) with av's beta (0 for an empty list). v and c
  * are velocities (dim components) and sound speeds, with target views as in
  * sph_gradient; needs ctx.m and ctx.rho (and ctx.rho_target with targets of
- * their own); h_ij as the derivative operators. dudt and vsig may be absent
- * (not written). SPH_EOPTION for an unknown form, SPH_ERANGE for an alpha or
- * beta not finite and >= 0. */
+ * their own); h_ij as the derivative operators. With av's per-particle alpha
+ * or Balsara factor (sources, and targets of their own as v_target), Pi_ij
+ * takes alpha_ij of (S14). dudt and vsig may be absent (not written).
+ * SPH_EOPTION for an unknown form, SPH_ERANGE for an alpha or beta not finite
+ * and >= 0, SPH_EVALUE for a per-particle alpha or B < 0. */
 SPH_API int sph_artificial_viscosity(const sph_ctx *c, const sph_av *av, sph_view v, sph_view v_target, sph_view cs,
                                      sph_view cs_target, sph_out acc, sph_out dudt, sph_out vsig)
 {
     SPH__DISPATCH_TO(sph_artificial_viscosity, (c, av, v, v_target, cs, cs_target, acc, dudt, vsig))
     sph__args A;
-    int st;
+    sph_view p[4];
+    int st, k;
     if (av == NULL) return SPH_ENULL;
     if (av->form != SPH_AV_MONAGHAN && av->form != SPH_AV_SIGNAL) return SPH_EOPTION;
     if (!(av->alpha >= 0 && sph__finite(av->alpha)) || !(av->beta >= 0 && sph__finite(av->beta))) return SPH_ERANGE;
     st = sph__setup(c, SPH__N_M | SPH__N_RHO | SPH__N_FI | SPH__N_K, c != NULL ? c->dim : 1, v, v_target, cs,
                     cs_target, &A);
+    for (k = 0; k < 2; ++k) { /* alpha, then B: each absent, or sources and targets as v */
+        const sph_view src = k == 0 ? av->alpha_source : av->balsara_source;
+        p[2 * k] = p[2 * k + 1] = src;
+        if (st == SPH_OK && src.p[0] != NULL)
+            st = sph__field(c, src, k == 0 ? av->alpha_target : av->balsara_target, 1, 1, 4, &p[2 * k], &p[2 * k + 1]);
+    }
     if (st == SPH_OK) st = sph__out_ok(acc, c->dim);
     if (st == SPH_OK) st = sph__out_opt(dudt, 1);
     if (st == SPH_OK) st = sph__out_opt(vsig, 1);
     if (st != SPH_OK) return st;
-    SPH__EACH_TARGET(A.nt, st, sph__av_target(&A, av, i, acc, dudt, vsig));
+    SPH__EACH_TARGET(A.nt, st, sph__av_target(&A, av, p, i, acc, dudt, vsig));
     return SPH_OK;
 }
 
@@ -8229,6 +8283,7 @@ SPH_API int sph_batch_fill(const sph_batch_src *S, sph_idx i, sph_off *next, sph
 #define sph__w_approach SPH__LN(sph__w_approach)
 #define sph__wall_target SPH__LN(sph__wall_target)
 #define sph_artificial_viscosity SPH__LN(sph_artificial_viscosity)
+#define sph_av_init SPH__LN(sph_av_init)
 #define sph_batch_fill SPH__LN(sph_batch_fill)
 #define sph_batch_select SPH__LN(sph_batch_select)
 #define sph_batch_source SPH__LN(sph_batch_source)
@@ -8269,6 +8324,7 @@ SPH_API int sph_batch_fill(const sph_batch_src *S, sph_idx i, sph_off *next, sph
 #define sph_nsearch_skin SPH__LN(sph_nsearch_skin)
 #define sph_nsearch_stats SPH__LN(sph_nsearch_stats)
 #define sph_nsearch_workspace_size SPH__LN(sph_nsearch_workspace_size)
+#define sph_pair_av_alpha SPH__LN(sph_pair_av_alpha)
 #define sph_pair_av_apply SPH__LN(sph_pair_av_apply)
 #define sph_pair_av_monaghan SPH__LN(sph_pair_av_monaghan)
 #define sph_pair_av_signal SPH__LN(sph_pair_av_signal)
@@ -8299,6 +8355,7 @@ SPH_API int sph_batch_fill(const sph_batch_src *S, sph_idx i, sph_off *next, sph
 #define sph_permutation_invert SPH__LN(sph_permutation_invert)
 #define sph_permute SPH__LN(sph_permute)
 #define sph_pressure_factor SPH__LN(sph_pressure_factor)
+#define sph_switch_balsara SPH__LN(sph_switch_balsara)
 #define sph_time_step SPH__LN(sph_time_step)
 #define sph_view_none SPH__LN(sph_view_none)
 #define sph_viscosity SPH__LN(sph_viscosity)
@@ -8559,6 +8616,7 @@ SPH_API int sph_batch_fill(const sph_batch_src *S, sph_idx i, sph_off *next, sph
 #undef sph__w_approach
 #undef sph__wall_target
 #undef sph_artificial_viscosity
+#undef sph_av_init
 #undef sph_batch_fill
 #undef sph_batch_select
 #undef sph_batch_source
@@ -8599,6 +8657,7 @@ SPH_API int sph_batch_fill(const sph_batch_src *S, sph_idx i, sph_off *next, sph
 #undef sph_nsearch_skin
 #undef sph_nsearch_stats
 #undef sph_nsearch_workspace_size
+#undef sph_pair_av_alpha
 #undef sph_pair_av_apply
 #undef sph_pair_av_monaghan
 #undef sph_pair_av_signal
@@ -8629,6 +8688,7 @@ SPH_API int sph_batch_fill(const sph_batch_src *S, sph_idx i, sph_off *next, sph
 #undef sph_permutation_invert
 #undef sph_permute
 #undef sph_pressure_factor
+#undef sph_switch_balsara
 #undef sph_time_step
 #undef sph_view_none
 #undef sph_viscosity

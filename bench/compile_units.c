@@ -130,7 +130,7 @@ int cost_unit(sph_kernel k, int dim, const sph_neighbours *L, const sph_real *x,
     const sph_view sv = sph_view_soa(cs, NULL, NULL);
     const sph_out o1 = sph_out_soa(out, NULL, NULL), o3 = sph_out_interleaved(acc, dim);
     const sph_real g[3] = {0, -9.81, 0};
-    const sph_av av = {SPH_AV_SIGNAL, 1, 3};
+    const sph_av av = sph_av_init(SPH_AV_SIGNAL, 1, 3);
     const sph_wall w = sph_wall_init(dim, g);
     sph_hctx hc = sph_hctx_init(k, dim, L, xv, sph_view_soa(m, NULL, NULL), 0);
     sph_ctx c = sph_ctx_init(k, dim, h[0], L, xv);

@@ -143,7 +143,7 @@ static inline int tank_continuity(tank *t, const sph_real *vel)
 static inline int tank_momentum(tank *t, const sph_real *vel)
 {
     const sph_real grav[2] = {0, (sph_real)-t->g};
-    const sph_av av = {SPH_AV_MONAGHAN, (sph_real)t->alpha, 0};
+    const sph_av av = sph_av_init(SPH_AV_MONAGHAN, (sph_real)t->alpha, 0);
     sph_wall w = sph_wall_init(2, grav);
     sph_ctx cw = sph_ctx_init(SPH_KERNEL_CUBIC, 2, (sph_real)t->h, &t->Lw.list, sph_view_interleaved(t->x, 3));
     sph_ctx cf = sph_ctx_init(SPH_KERNEL_CUBIC, 2, (sph_real)t->h, &t->Lf.list, sph_view_interleaved(t->x, 3));

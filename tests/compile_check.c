@@ -23,7 +23,7 @@ int main(void)
 #if !defined(SPH_NO_SOLVER)
     { /* section 8: pair terms (also under SPH_ONLY_PAIRS), then operators */
         const sph_real dx[2] = {1, 0}, dv[2] = {-1, 0};
-        ok = ok && sph_pair_av_monaghan(2, 1, 2, 1, 1, 1, dx, dv) > 0;
+        ok = ok && sph_pair_av_monaghan(2, 1, 2, 1, 1, 1, dx, dv) > 0 && sph_switch_balsara(-1, 0, 1, 1) > 0;
 #if !defined(SPH_ONLY_PAIRS) && !defined(SPH_NO_OPERATORS)
         ok = ok && sph_artificial_viscosity(NULL, NULL, sph_view_none(), sph_view_none(), sph_view_none(),
                                             sph_view_none(), sph_out_soa(NULL, NULL, NULL),

@@ -840,6 +840,33 @@ static void test_search(void)
     th_end();
 }
 
+/* ---- section 8 ---- */
+
+/* The Balsara factor (S13) in [0, 1] for every combination of values; the pair alpha (S14) with one argument at a
+ * time over every value (the others moderate), finite for finite arguments up to half the largest sph_real. */
+static void test_switches(void)
+{
+    int v, w, x, y, arg;
+    th_begin("(S13), (S14): every value of every argument gives a finite result within the bounds");
+    for (v = 0; v < NV; ++v)
+        for (w = 0; w < NV; ++w)
+            for (x = 0; x < NV; ++x)
+                for (y = 0; y < NV; ++y) {
+                    const sph_real B = sph_switch_balsara(val[v], val[w], val[x], val[y]);
+                    TH_CHECK(B >= 0 && B <= 1, "balsara(%s, %s, %s, %s) = %g", vname[v], vname[w], vname[x], vname[y],
+                             (double)B);
+                }
+    for (arg = 0; arg < 4; ++arg)
+        for (v = 0; v < NV; ++v) {
+            sph_real q[4] = {(sph_real)0.5, (sph_real)-0.5, (sph_real)0.5, (sph_real)0.5}, p;
+            q[arg] = val[v];
+            p = sph_pair_av_alpha(q[0], q[1], q[2], q[3]);
+            TH_CHECK(!finite_arg(v) || v == V_MAX || v == V_NMAX || fin(p), "pair alpha argument %d = %s: %g", arg,
+                     vname[v], (double)p);
+        }
+    th_end();
+}
+
 int main(void)
 {
     vals_init();
@@ -853,5 +880,6 @@ int main(void)
     test_correction_invert();
     test_operators();
     test_search();
+    test_switches();
     return th_summary();
 }

@@ -1,9 +1,11 @@
-/* Solver terms: artificial viscosity (S1)-(S4), docs/solver.md.
+/* Solver terms: artificial viscosity (S1)-(S4), docs/solver.md, with alpha
+ * per particle and the Balsara factor (S14).
  *
  * Reference values: (S1) and (S3) written out in double from their sources
  * (Monaghan 1992, as restated by Monaghan 2005; Price
- * 2012, eqs. 101-103), evaluated here independently of the library's pair
- * terms; the conservation laws are exact identities of the pair sum:
+ * 2012, eqs. 101-103; alpha_ij = (alpha_i + alpha_j) / 2 (B_i + B_j) / 2,
+ * Borrow et al. 2022, eq. 20), evaluated here independently of the library's
+ * pair terms; the conservation laws are exact identities of the pair sum:
  * Pi_ij = Pi_ji and F_ij = F_ji (symmetric h_ij) with x_ji = -x_ij make the
  * momentum term antisymmetric and m_i v_i . a_i + m_i du_i/dt sum to zero
  * over every pair, so in a closed (periodic) system
@@ -14,23 +16,30 @@
  */
 #include "solver_scene.h"
 
-static const sph_av AV_M = {SPH_AV_MONAGHAN, 1, 2}, AV_S = {SPH_AV_SIGNAL, 1, 3};
+static sph_av AV_M, AV_S; /* sph_av_init(SPH_AV_MONAGHAN, 1, 2), sph_av_init(SPH_AV_SIGNAL, 1, 3): set by main */
 
-/* (S1) and (S3) in double, from the papers' formulas. */
-static double ref_pi(const sph_av *av, int dim, double h, double ci, double cj, double rho_ij, const double *dx,
-                     const double *dv)
+/* (S1) and (S3) in double, from the papers' formulas, with av's alpha or alpha_ij >= 0. */
+static double ref_pi_alpha(const sph_av *av, double alpha_ij, int dim, double h, double ci, double cj, double rho_ij,
+                           const double *dx, const double *dv)
 {
     double vr = 0, r2 = 0;
     int a;
     for (a = 0; a < dim; ++a) vr += dv[a] * dx[a], r2 += dx[a] * dx[a];
     if (vr >= 0) return 0;
+    if (alpha_ij < 0) alpha_ij = (double)av->alpha;
     if (av->form == SPH_AV_MONAGHAN) {
         const double mu = h * vr / (r2 + 0.01 * h * h);
-        return (-(double)av->alpha * 0.5 * (ci + cj) * mu + (double)av->beta * mu * mu) / rho_ij;
+        return (-alpha_ij * 0.5 * (ci + cj) * mu + (double)av->beta * mu * mu) / rho_ij;
     } else {
         const double w = vr / sqrt(r2);
-        return -0.5 * (double)av->alpha * (ci + cj - (double)av->beta * w) * w / rho_ij;
+        return -0.5 * alpha_ij * (ci + cj - (double)av->beta * w) * w / rho_ij;
     }
+}
+
+static double ref_pi(const sph_av *av, int dim, double h, double ci, double cj, double rho_ij, const double *dx,
+                     const double *dv)
+{
+    return ref_pi_alpha(av, -1, dim, h, ci, cj, rho_ij, dx, dv);
 }
 
 static void test_pair_values(void)
@@ -90,8 +99,9 @@ static void test_random_pairs(void)
     th_end();
 }
 
-/* The operator against the pair sum written out in double. */
-static void check_against_reference(ss_cloud *s, const sph_av *av)
+/* The operator against the pair sum written out in double; al, B: alpha and the Balsara factor per particle (NULL:
+ * av's alpha, B = 1). */
+static void check_against_reference_ab(ss_cloud *s, const sph_av *av, const sph_real *al, const sph_real *B)
 {
     int i, a;
     double err = 0, scale = 0, derr = 0, dscale = 0;
@@ -103,8 +113,12 @@ static void check_against_reference(ss_cloud *s, const sph_av *av)
             double dx[3], dv[3] = {0, 0, 0}, F, Pi, vr = 0;
             F = ss_pair(s, i, j, dx);
             for (a = 0; a < s->dim; ++a) dv[a] = (double)s->v[3 * i + a] - s->v[3 * j + a], vr += dv[a] * dx[a];
-            Pi = ref_pi(av, s->dim, 0.5 * ((double)s->h[i] + s->h[j]), s->c[i], s->c[j],
-                        0.5 * ((double)s->rho[i] + s->rho[j]), dx, dv);
+            Pi = ref_pi_alpha(av,
+                              al == NULL && B == NULL ? -1
+                              : (al != NULL ? 0.5 * ((double)al[i] + al[j]) : (double)av->alpha) *
+                                    (B != NULL ? 0.5 * ((double)B[i] + B[j]) : 1),
+                              s->dim, 0.5 * ((double)s->h[i] + s->h[j]), s->c[i], s->c[j],
+                              0.5 * ((double)s->rho[i] + s->rho[j]), dx, dv);
             for (a = 0; a < s->dim; ++a) acc[a] -= (double)s->m[j] * Pi * F * dx[a];
             du += 0.5 * (double)s->m[j] * Pi * F * vr;
         }
@@ -118,6 +132,8 @@ static void check_against_reference(ss_cloud *s, const sph_av *av)
     TH_CHECK(scale > 0 && err <= 1e3 * TH_EPS * scale, "acceleration off by %.3g of %.3g", err, scale);
     TH_CHECK(dscale > 0 && derr <= 1e3 * TH_EPS * dscale, "du/dt off by %.3g of %.3g", derr, dscale);
 }
+
+static void check_against_reference(ss_cloud *s, const sph_av *av) { check_against_reference_ab(s, av, NULL, NULL); }
 
 static void test_operator_conservation(void)
 {
@@ -252,13 +268,135 @@ static void test_empty_targets(void)
     th_end();
 }
 
+/* Per-particle alpha and Balsara factor (S14): all alphas equal and B = 1 give the scalar result bit for bit;
+ * different ones the pair sum with alpha_ij, momentum and energy still conserved (alpha_ij is symmetric). */
+static void test_alpha_per_particle(void)
+{
+    int f, dim, i, a;
+    for (f = 0; f < 2; ++f)
+        for (dim = 1; dim <= 3; ++dim) {
+            ss_cloud s;
+            sph_av av = f ? AV_S : AV_M;
+            const sph_view none = sph_view_none();
+            sph_view v;
+            sph_real *a0, *du0, *vs0, *al, *B;
+            tp_rng g;
+            int st, diff = 0;
+            double P[3] = {0, 0, 0}, Pm[3] = {0, 0, 0}, E = 0, Em = 0;
+            th_begin("%s viscosity, %dD: per-particle alpha all equal = the scalar alpha bit for bit; alpha_i, B_i "
+                     "random: the pair sum with alpha_ij, momentum and energy conserved",
+                     f ? "signal-velocity" : "Monaghan", dim);
+            ss_make(&s, dim, dim == 1 ? 80 : dim == 2 ? 200 : 343, 3, 31 + dim + 7 * f);
+            g.s = 5 + (uint64_t)dim;
+            v = sph_view_interleaved(s.v, 3);
+            a0 = ts_vec(3 * s.n), du0 = ts_vec(s.n), vs0 = ts_vec(s.n), al = ts_vec(s.n), B = ts_vec(s.n);
+            av.alpha = (sph_real)0.7;
+            st = sph_artificial_viscosity(&s.ctx, &av, v, none, sph_view_soa(s.c, NULL, NULL), none,
+                                          sph_out_interleaved(a0, 3), sph_out_soa(du0, NULL, NULL),
+                                          sph_out_soa(vs0, NULL, NULL));
+            for (i = 0; i < s.n; ++i) al[i] = (sph_real)0.7, B[i] = 1;
+            av.alpha = 3; /* unused where the views are given */
+            av.alpha_source = sph_view_soa(al, NULL, NULL), av.balsara_source = sph_view_soa(B, NULL, NULL);
+            st |= sph_artificial_viscosity(&s.ctx, &av, v, none, sph_view_soa(s.c, NULL, NULL), none,
+                                           sph_out_interleaved(s.a, 3), sph_out_soa(s.du, NULL, NULL),
+                                           sph_out_soa(s.vs, NULL, NULL));
+            TH_CHECK(st == SPH_OK, "status %d", st);
+            for (i = 0; i < s.n; ++i) {
+                diff += s.du[i] != du0[i] || s.vs[i] != vs0[i];
+                for (a = 0; a < dim; ++a) diff += s.a[3 * i + a] != a0[3 * i + a];
+            }
+            TH_CHECK(diff == 0, "%d values differ from the scalar alpha's", diff);
+            for (i = 0; i < s.n; ++i) al[i] = (sph_real)tp_range(&g, 0, 2), B[i] = (sph_real)tp_range(&g, 0, 1);
+            st = sph_artificial_viscosity(&s.ctx, &av, v, none, sph_view_soa(s.c, NULL, NULL), none,
+                                          sph_out_interleaved(s.a, 3), sph_out_soa(s.du, NULL, NULL),
+                                          sph_out_soa(s.vs, NULL, NULL));
+            TH_CHECK(st == SPH_OK, "status %d", st);
+            check_against_reference_ab(&s, &av, al, B);
+            for (i = 0; i < s.n; ++i) {
+                double e = (double)s.m[i] * s.du[i];
+                for (a = 0; a < dim; ++a) {
+                    const double p = (double)s.m[i] * s.a[3 * i + a];
+                    P[a] += p, Pm[a] += fabs(p), e += p * s.v[3 * i + a], Em += fabs(p * s.v[3 * i + a]);
+                }
+                E += e, Em += fabs((double)s.m[i] * s.du[i]);
+            }
+            for (a = 0; a < dim; ++a)
+                TH_CHECK(fabs(P[a]) <= 64 * TH_EPS * Pm[a], "momentum axis %d: %.3g of %.3g", a, P[a], Pm[a]);
+            TH_CHECK(fabs(E) <= 64 * TH_EPS * Em, "total energy rate %.3g of %.3g", E, Em);
+            av.balsara_source = none; /* alpha alone: B = 1 */
+            st = sph_artificial_viscosity(&s.ctx, &av, v, none, sph_view_soa(s.c, NULL, NULL), none,
+                                          sph_out_interleaved(s.a, 3), sph_out_soa(s.du, NULL, NULL),
+                                          sph_out_soa(NULL, NULL, NULL));
+            TH_CHECK(st == SPH_OK, "status %d", st);
+            check_against_reference_ab(&s, &av, al, NULL);
+            av.alpha_source = none, av.balsara_source = sph_view_soa(B, NULL, NULL); /* B alone: the scalar alpha */
+            st = sph_artificial_viscosity(&s.ctx, &av, v, none, sph_view_soa(s.c, NULL, NULL), none,
+                                          sph_out_interleaved(s.a, 3), sph_out_soa(s.du, NULL, NULL),
+                                          sph_out_soa(NULL, NULL, NULL));
+            TH_CHECK(st == SPH_OK, "status %d", st);
+            check_against_reference_ab(&s, &av, NULL, B);
+            free(a0), free(du0), free(vs0), free(al), free(B);
+            ss_free(&s);
+            th_end();
+        }
+}
+
+static void test_alpha_errors(void)
+{
+    ss_cloud s;
+    sph_av av = AV_S;
+    sph_real *al, *xt;
+    sph_view v, c;
+    sph_out a, none = sph_out_soa(NULL, NULL, NULL);
+    int i;
+    th_begin("sph_artificial_viscosity: a per-particle alpha or B negative, NaN, or without the targets' view, gets "
+             "a status code, nothing written");
+    ss_make(&s, 2, 50, 1, 3);
+    al = ts_vec(s.n), xt = ts_vec(3 * s.n);
+    for (i = 0; i < s.n; ++i) al[i] = 1;
+    v = sph_view_interleaved(s.v, 3), c = sph_view_soa(s.c, NULL, NULL), a = sph_out_interleaved(s.a, 3);
+    s.a[0] = 12345;
+    av.alpha_source = sph_view_soa(al, NULL, NULL);
+    al[7] = -1;
+    TH_CHECK(sph_artificial_viscosity(&s.ctx, &av, v, sph_view_none(), c, sph_view_none(), a, none, none) ==
+                 SPH_EVALUE, "alpha < 0");
+    al[7] = (sph_real)NAN;
+    TH_CHECK(sph_artificial_viscosity(&s.ctx, &av, v, sph_view_none(), c, sph_view_none(), a, none, none) ==
+                 SPH_ENONFINITE, "alpha NaN");
+    al[7] = 1;
+    av.alpha_source = sph_view_none(), av.balsara_source = sph_view_soa(al, NULL, NULL);
+    al[3] = -2;
+    TH_CHECK(sph_artificial_viscosity(&s.ctx, &av, v, sph_view_none(), c, sph_view_none(), a, none, none) ==
+                 SPH_EVALUE, "B < 0");
+    al[3] = 1;
+    av.alpha_source = av.balsara_source = sph_view_soa(al, NULL, NULL);
+    memcpy(xt, s.x, sizeof(sph_real) * 3 * (size_t)s.n);
+    s.ctx.x_target = sph_view_interleaved(xt, 3), s.ctx.h_target = sph_view_soa(s.h, NULL, NULL);
+    s.ctx.rho_target = sph_view_soa(s.rho, NULL, NULL);
+    TH_CHECK(sph_artificial_viscosity(&s.ctx, &av, v, v, c, c, a, none, none) == SPH_ENULL,
+             "targets of their own, no alpha_target");
+    av.alpha_target = sph_view_soa(al, NULL, NULL);
+    TH_CHECK(sph_artificial_viscosity(&s.ctx, &av, v, v, c, c, a, none, none) == SPH_ENULL,
+             "targets of their own, no balsara_target");
+    TH_CHECK(s.a[0] == 12345, "output written on failure");
+    av.balsara_target = sph_view_soa(al, NULL, NULL);
+    TH_CHECK(sph_artificial_viscosity(&s.ctx, &av, v, v, c, c, a, none, none) == SPH_OK, "targets' views given");
+    free(al), free(xt);
+    ss_free(&s);
+    th_end();
+}
+
 int main(void)
 {
+    AV_M = sph_av_init(SPH_AV_MONAGHAN, 1, 2);
+    AV_S = sph_av_init(SPH_AV_SIGNAL, 1, 3);
     test_empty_targets();
     test_pair_values();
     test_random_pairs();
     test_operator_conservation();
     test_galilean();
     test_av_errors();
+    test_alpha_per_particle();
+    test_alpha_errors();
     return th_summary();
 }

@@ -126,7 +126,7 @@ static void test_cfl_rule(void)
     sph_neighbours list = SPH_NEIGHBOURS_INIT(N, N, NULL, NULL); /* box_known 0: no box of its own */
     sph_ctx c;
     sph_dt_input in = sph_dt_input_init(h);
-    const sph_av av = {SPH_AV_SIGNAL, 1, 3};
+    const sph_av av = sph_av_init(SPH_AV_SIGNAL, 1, 3);
     int i, j, st, why = -9;
     th_begin("(S9) the pair signal velocity of sph_artificial_viscosity at rest (2 c0) with C_cfl = 0.5: "
              "dt = 0.25 h / c0");
