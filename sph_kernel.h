@@ -126,9 +126,9 @@
  *   5. pair terms           1-4: one neighbour's contribution to each operator
  *   6. array operators      1-5: the operators over a CSR list (deletable)
  *   7. neighbour search     1-4: builds the CSR lists (deletable)
- *   8. solver terms         1-6: artificial viscosity, density diffusion, wall
- *                           boundaries, viscosity, time step (deletable; pair
- *                           terms 1-5)
+ *   8. solver terms         1-6: artificial viscosity and its switches,
+ *                           density diffusion, wall boundaries, viscosity,
+ *                           time step (deletable; pair terms 1-5)
  *   9. smoothing length     1-5: adaptive h with grad-h terms, pair-once
  *      and pair-once loops  loops over a half list (deletable)
  *
@@ -229,7 +229,11 @@
  *   sph_dt_coef_default()                        C of the time-step limits (S9)-(S12)
  *   sph_dt_reason_name(reason)                   "cfl", "force", ...: the limit that holds
  *   sph_dt_limit(&coef, h, vsig, |a|, nu, D, &reason)        one particle's dt (S9)-(S12)
+ *   sph_switch_default()                         the switches' parameters, SPHENIX's (S15)-(S17)
  *   sph_switch_balsara(div_v, curl_v, c, h)      Balsara factor B (S13)
+ *   sph_switch_mm97(&s, alpha, div_v, c, h)      d alpha/dt of Morris & Monaghan (S15)
+ *   sph_switch_sphenix(&s, alpha, div_v, ddiv_v_dt, c, H, dt)      new alpha, SPHENIX (S16)
+ *   sph_switch_conductivity(&s, alpha_d, lap_u, u, v_sig, H, alpha_visc, dt)  new alpha_D (S17)
  *   sph_artificial_viscosity(c, &av, v, v_t, cs, cs_t, acc, dudt, vsig)   (S1)-(S4)
  *   sph_viscosity(c, kind, mu_or_nu, coef_t, v, v_t, acc)    (S5)
  *   sph_density_diffusion(c, delta, c0, grad_rho, grad_rho_t, out)        (S6), (S7)
@@ -237,6 +241,8 @@
  *   sph_wall_adami(c, &wall, p, v, p_w, v_w, &n_empty)       (S8)
  *   sph_dt_input_init(h)                         inputs of sph_time_step
  *   sph_time_step(&in, dim, n, &dt, &reason, &which)         (S9)-(S12)
+ *   sph_switch_input_init(kappa)                 inputs of sph_switch_update: SPHENIX, dt 0, no view
+ *   sph_switch_update(&in, n, alpha, div_v_prev, B, alpha_d)  (S13), (S16), (S17) over the particles
  * 9. Smoothing length and pair-once loops (docs/smoothing_length.md)
  *   sph_hctx_init(k, dim, list, x, m, h_list_max)  a context; eta 1.2, tol 1e-6; box as sph_ctx
  *   sph_h_solve(c, h, rho, omega, iters, state, &report)  h, rho, Omega per particle (H1)-(H4)
@@ -267,10 +273,11 @@
  *   (N1)-(N8)   neighbour search, docs/neighbours.md: criteria (N1)-(N3),
  *               grid (N4), permutation and inverse (N5)-(N6), periodic
  *               image of a run of cells (N7), lists kept over steps (N8)
- *   (S1)-(S14)  solver terms, docs/solver.md: artificial viscosity
+ *   (S1)-(S17)  solver terms, docs/solver.md: artificial viscosity
  *               (S1)-(S4), viscosity (S5), density diffusion (S6)-(S7),
  *               walls (S8), time-step limits (S9)-(S12), the Balsara factor
- *               and alpha per particle (S13)-(S14)
+ *               and alpha per particle (S13)-(S14), viscosity and
+ *               conductivity switches (S15)-(S17)
  *   (H1)-(H8)   smoothing length, grad-h equations, pair-once sums,
  *               docs/smoothing_length.md
  */
@@ -6180,7 +6187,7 @@ SPH_API int sph_permute(sph_view in, int ncomp, sph_idx n, const sph_idx *perm, 
 
 /* The dissipative terms, boundary and time-step rules that a weakly
  * compressible or compressible SPH solver adds to the operators of section 6
- * (docs/solver.md, equations (S1)-(S14)). As in section 5, pair terms come
+ * (docs/solver.md, equations (S1)-(S17)). As in section 5, pair terms come
  * first (usable under SPH_ONLY_PAIRS and in device code), then the array
  * operators over a CSR list and a context (section 6). Conventions as in
  * section 5: dx = x_ij = x_i - x_j, dv = v_ij = v_i - v_j, F = F_ij at the
@@ -6438,6 +6445,40 @@ SPH_API sph_real sph_dt_limit(const sph_dt_coef *k, sph_real h, sph_real vsig, s
     return why == SPH_DT_INVALID ? 0 : dt;
 }
 
+/* ---- viscosity and conductivity switches (S13)-(S17), per particle ---- */
+/* A solver calls them once per particle and step, after the sums of div v,
+ * |curl v| and lap u (sph_divergence, sph_curl, sph_laplacian, or its own
+ * loop), and gives the alphas to the next force loop (sph_av's views, or
+ * sph_pair_av_alpha in its own loop). Plain arithmetic, as the pair terms:
+ * no status; the fallbacks are documented per function. docs/solver.md,
+ * "Viscosity and conductivity switches". */
+
+/* The parameters of the switches (S15)-(S17). sph_switch_default() gives
+ * SPHENIX's (Borrow et al. 2022; SWIFT's src/hydro/SPHENIX and its
+ * documentation): alpha in [0, 2], ell = 0.25, alpha_D in [0, 1], beta_D =
+ * 1. For (S15) examples/sod_shock.c takes ell = 0.1 (its first scheme: alpha
+ * in [0.1, 1]). */
+#if SPH__FIRST
+typedef struct {
+    sph_real alpha_min, alpha_max;  /* bounds of the viscosity's alpha */
+    sph_real length;                /* ell: alpha decays at the rate ell c / H (S16), ell c / h (S15) */
+    sph_real alpha_d_min, alpha_d_max; /* bounds of the conductivity's alpha_D (S17) */
+    sph_real beta_d;                /* beta_D: the source coefficient of (S17) */
+} sph_switch;
+#endif /* SPH__FIRST */
+
+SPH_API sph_switch sph_switch_default(void)
+{
+    sph_switch s;
+    s.alpha_min = 0;
+    s.alpha_max = 2;
+    s.length = SPH__C(0.25);
+    s.alpha_d_min = 0;
+    s.alpha_d_max = 1;
+    s.beta_d = 1;
+    return s;
+}
+
 /* (S13) Balsara (1995) factor B = |div v| / (|div v| + |curl v| + 1e-4 c / h)
  * in [0, 1]: near 1 in compression, near 0 in shear; 0 for c < 0, h <= 0 and
  * where the denominator is not positive and finite (no flow and c = 0, a NaN). */
@@ -6446,6 +6487,62 @@ SPH_API sph_real sph_switch_balsara(sph_real div_v, sph_real curl_v, sph_real c,
     const sph_real d = div_v > 0 ? div_v : 0 - div_v, w = curl_v > 0 ? curl_v : 0 - curl_v;
     const sph_real den = d + w + SPH__C(1e-4) * c / h;
     return c >= 0 && h > 0 && den > 0 && den <= SPH__REAL_MAX ? d / den : 0;
+}
+
+/* (S15) Morris & Monaghan (1997) switch with the source of Rosswog et al.
+ * (2000): d alpha / dt = -(alpha - alpha_min) ell c / h + max(-div v, 0)
+ * (alpha_max - alpha), for the solver's integrator (then clamp alpha to
+ * [alpha_min, alpha_max]). 0 for s NULL, h not positive and finite, or a
+ * rate that is not finite (a NaN, an overflow). */
+SPH_API sph_real sph_switch_mm97(const sph_switch *s, sph_real alpha, sph_real div_v, sph_real c, sph_real h)
+{
+    const sph_real src = div_v < 0 ? -div_v : 0;
+    sph_real rate;
+    if (s == NULL || !(h > 0 && h <= SPH__REAL_MAX)) return 0;
+    rate = -(alpha - s->alpha_min) * s->length * c / h + src * (s->alpha_max - alpha);
+    return sph__finite(rate) ? rate : 0;
+}
+
+/* (S16) SPHENIX viscosity switch (Borrow et al. 2022, eqs. 18, 19, 21; after
+ * Cullen & Dehnen 2010): alpha_loc = alpha_max S / (c^2 + S), S = H^2
+ * max(0, -d(div v)/dt) where div v < 0; the new alpha is alpha_loc where that
+ * is larger, else (alpha + r alpha_loc) / (1 + r), r = ell dt c / H (the decay
+ * to alpha_loc, implicit: stable at any dt); then clamped to [alpha_min,
+ * alpha_max]. H = kappa h, the kernel's support radius; ddiv_v_dt, e.g.
+ * (div v - div v of the last step) / dt. No source where S is 0, no decay for
+ * dt or H not positive; s NULL returns alpha; a NaN alpha gives alpha_max. */
+SPH_API sph_real sph_switch_sphenix(const sph_switch *s, sph_real alpha, sph_real div_v, sph_real ddiv_v_dt,
+                                    sph_real c, sph_real H, sph_real dt)
+{
+    sph_real S, loc, r, a;
+    if (s == NULL) return alpha;
+    S = div_v < 0 && ddiv_v_dt < 0 ? -H * H * ddiv_v_dt : 0;
+    loc = S > 0 ? s->alpha_max * S / (c * c + S) : 0;
+    r = dt > 0 && H > 0 ? dt * s->length * c / H : 0;
+    a = loc > alpha ? loc : (alpha + loc * r) / (1 + r);
+    a = a < s->alpha_max ? a : s->alpha_max;
+    return a > s->alpha_min ? a : s->alpha_min;
+}
+
+/* (S17) SPHENIX conductivity switch (Borrow et al. 2022, eqs. 28, 29): alpha_D
+ * + dt (beta_D H lap u / sqrt(u) - (alpha_D - alpha_D,min) v_sig / H), at most
+ * alpha_D,max (1 - alpha_visc / alpha_max) (none in viscous flow) and at least
+ * alpha_D,min. v_sig: SPHENIX the largest signal velocity of the neighbours
+ * (2 c at rest); alpha_visc: SWIFT the largest viscosity alpha of the
+ * neighbours, or the particle's own. No source for u <= 0, no decay for H <= 0,
+ * no change for dt <= 0 (but the bounds); s NULL returns alpha_d. */
+SPH_API sph_real sph_switch_conductivity(const sph_switch *s, sph_real alpha_d, sph_real lap_u, sph_real u,
+                                         sph_real v_sig, sph_real H, sph_real alpha_visc, sph_real dt)
+{
+    sph_real src, dec, lim, a;
+    if (s == NULL) return alpha_d;
+    src = u > 0 ? s->beta_d * H * lap_u / sph__sqrt(u) : 0;
+    dec = H > 0 ? (alpha_d - s->alpha_d_min) * v_sig / H : 0;
+    a = alpha_d + (dt > 0 ? dt : 0) * (src - dec);
+    lim = s->alpha_max > 0 ? s->alpha_d_max * (1 - alpha_visc / s->alpha_max) : s->alpha_d_max;
+    lim = lim < s->alpha_d_max ? lim : s->alpha_d_max;
+    a = a < lim ? a : lim;
+    return a > s->alpha_d_min ? a : s->alpha_d_min;
 }
 
 #if !defined(SPH_ONLY_PAIRS) && !defined(SPH_NO_OPERATORS) /* the operators of section 8 use section 6 */
@@ -6800,6 +6897,121 @@ SPH_API int sph_time_step(const sph_dt_input *in, int dim, sph_idx n, sph_real *
     *dt = best;
     if (reason != NULL) *reason = why;
     if (which != NULL) *which = at;
+    return SPH_OK;
+}
+
+/* The viscosity switch of sph_switch_update: alpha left as it is (a caller
+ * that integrates (S15) itself), or by (S16). */
+#if SPH__FIRST
+typedef enum { SPH_SWITCH_NONE = 0, SPH_SWITCH_SPHENIX = 1 } sph_switch_kind;
+
+/* Inputs of sph_switch_update: per-particle views of one component (stride 0:
+ * one value for all), absent where the switch they feed is not wanted. */
+typedef struct {
+    sph_switch par;            /* the parameters of (S15)-(S17) */
+    sph_switch_kind viscosity; /* SPH_SWITCH_SPHENIX: alpha by (S16); SPH_SWITCH_NONE: alpha only read */
+    sph_real dt;               /* the step since the last update; 0 at the first: no d(div v)/dt, no decay */
+    sph_real kappa;            /* H = kappa h, the kernel's support radius (sph_kernel_support) */
+    sph_view div_v;            /* div v of this evaluation */
+    sph_view curl_v;           /* |curl v|, for the Balsara factor (S13) */
+    sph_view c;                /* sound speed */
+    sph_view h;                /* smoothing length */
+    sph_view lap_u, u;         /* lap u and u, for the conductivity switch (S17) */
+    sph_view v_sig;            /* speed of the decay of (S17); absent: 2 c */
+    sph_view alpha_visc;       /* alpha of the limiter of (S17); absent: the particle's alpha after (S16) */
+} sph_switch_input;
+#endif /* SPH__FIRST */
+
+/* Inputs with SPHENIX's parameters and switch, dt = 0, and every view absent. */
+SPH_API sph_switch_input sph_switch_input_init(sph_real kappa)
+{
+    sph_switch_input in;
+    in.par = sph_switch_default();
+    in.viscosity = SPH_SWITCH_SPHENIX;
+    in.dt = 0;
+    in.kappa = kappa;
+    in.div_v = in.curl_v = in.c = in.h = in.lap_u = in.u = in.v_sig = in.alpha_visc = sph_view_none();
+    return in;
+}
+
+/* (S13), (S16), (S17) at particle i, in the order of SPHENIX: B from div v and
+ * curl v, alpha, the div v kept for the next rate, then alpha_D. */
+SPH_API int sph__switch_one(const sph_switch_input *in, sph_idx i, sph_out alpha, sph_out div_prev, sph_out B,
+                            sph_out alpha_d)
+{
+    const sph_real dv = SPH__AT(in->div_v, 0, i), c = SPH__AT(in->c, 0, i), h = SPH__AT(in->h, 0, i);
+    const sph_real H = in->kappa * h;
+    sph_real a = SPH__AT(alpha, 0, i);
+    if (B.p[0] != NULL) SPH__AT(B, 0, i) = sph_switch_balsara(dv, SPH__AT(in->curl_v, 0, i), c, h);
+    if (in->viscosity == SPH_SWITCH_SPHENIX) {
+        const sph_real rate = in->dt > 0 ? (dv - SPH__AT(div_prev, 0, i)) / in->dt : 0;
+        SPH__AT(alpha, 0, i) = a = sph_switch_sphenix(&in->par, a, dv, rate, c, H, in->dt);
+    }
+    if (div_prev.p[0] != NULL) SPH__AT(div_prev, 0, i) = dv;
+    if (alpha_d.p[0] != NULL)
+        SPH__AT(alpha_d, 0, i) = sph_switch_conductivity(
+            &in->par, SPH__AT(alpha_d, 0, i), SPH__AT(in->lap_u, 0, i), SPH__AT(in->u, 0, i),
+            in->v_sig.p[0] != NULL ? SPH__AT(in->v_sig, 0, i) : 2 * c, H,
+            in->alpha_visc.p[0] != NULL ? SPH__AT(in->alpha_visc, 0, i) : a, in->dt);
+    return 0;
+}
+
+/* SPH_OK when the field p (one component, stride >= 0 for an input, > 0 for
+ * an output) is absent and not needed, or present with usable values over n
+ * particles: kind 0 finite, 4 also >= 0 (sph__scan), 5 h positive and finite
+ * (SPH_EH). */
+SPH_API int sph__switch_field(const sph_real *p, ptrdiff_t stride, int need, int out, int kind, sph_idx n)
+{
+    sph_view v = sph_view_soa(p, NULL, NULL);
+    sph_idx i;
+    if (p == NULL) return need ? SPH_ENULL : SPH_OK;
+    if (stride < 0 || (out && stride == 0)) return SPH_ESTRIDE;
+    v.stride = stride;
+    if (kind != 5) return sph__scan(v, 1, n, kind, 1);
+    for (i = 0; i < n; ++i)
+        if (!(SPH__AT(v, 0, i) > 0 && SPH__AT(v, 0, i) <= SPH__REAL_MAX)) return SPH_EH;
+    return SPH_OK;
+}
+
+/* (S13), (S16), (S17) over particles 0..n-1, each as sph__switch_one: alpha
+ * (read; updated by (S16) with in.viscosity SPH_SWITCH_SPHENIX), div_v_prev
+ * (div v of the last update, then this one's; needed by (S16), may be absent
+ * otherwise), balsara (written where present, from in.curl_v), alpha_d
+ * (updated by (S17) where present, from in.lap_u and in.u). Nothing is
+ * written on an error: SPH_ENULL (in NULL, a view needed and absent),
+ * SPH_ECOUNT (n < 0), SPH_EOPTION (in.viscosity), SPH_ERANGE (a parameter
+ * not finite, negative or bounds out of order, dt < 0, kappa <= 0),
+ * SPH_ESTRIDE (an input stride < 0, an output's <= 0), SPH_EH (h not positive
+ * and finite), SPH_ENONFINITE, SPH_EVALUE (c, curl v, u, v_sig, alpha,
+ * alpha_D negative). */
+SPH_API int sph_switch_update(const sph_switch_input *in, sph_idx n_part, sph_out alpha, sph_out div_v_prev,
+                              sph_out balsara, sph_out alpha_d)
+{
+    sph_real q[8];
+    int st, k, visc, bal, cond;
+    if (in == NULL) return SPH_ENULL;
+    if (n_part < 0) return SPH_ECOUNT;
+    if (in->viscosity != SPH_SWITCH_NONE && in->viscosity != SPH_SWITCH_SPHENIX) return SPH_EOPTION;
+    q[0] = in->par.alpha_min, q[1] = in->par.alpha_max, q[2] = in->par.length, q[3] = in->par.alpha_d_min;
+    q[4] = in->par.alpha_d_max, q[5] = in->par.beta_d, q[6] = in->dt, q[7] = in->kappa;
+    for (k = 0; k < 8; ++k)
+        if (!(q[k] >= 0 && q[k] <= SPH__REAL_MAX)) return SPH_ERANGE;
+    if (!(q[7] > 0) || q[0] > q[1] || q[3] > q[4]) return SPH_ERANGE;
+    visc = in->viscosity == SPH_SWITCH_SPHENIX, bal = balsara.p[0] != NULL, cond = alpha_d.p[0] != NULL;
+    st = sph__switch_field(alpha.p[0], alpha.stride, 1, 1, 4, n_part);
+    if (st == SPH_OK) st = sph__switch_field(div_v_prev.p[0], div_v_prev.stride, visc, 1, 0, n_part);
+    if (st == SPH_OK) st = sph__switch_field(balsara.p[0], balsara.stride, 0, 1, 0, 0);
+    if (st == SPH_OK) st = sph__switch_field(alpha_d.p[0], alpha_d.stride, 0, 1, 4, n_part);
+    if (st == SPH_OK) st = sph__switch_field(in->div_v.p[0], in->div_v.stride, 1, 0, 0, n_part);
+    if (st == SPH_OK) st = sph__switch_field(in->c.p[0], in->c.stride, 1, 0, 4, n_part);
+    if (st == SPH_OK) st = sph__switch_field(in->h.p[0], in->h.stride, 1, 0, 5, n_part);
+    if (st == SPH_OK) st = sph__switch_field(in->curl_v.p[0], in->curl_v.stride, bal, 0, 4, n_part);
+    if (st == SPH_OK) st = sph__switch_field(in->lap_u.p[0], in->lap_u.stride, cond, 0, 0, n_part);
+    if (st == SPH_OK) st = sph__switch_field(in->u.p[0], in->u.stride, cond, 0, 4, n_part);
+    if (st == SPH_OK) st = sph__switch_field(in->v_sig.p[0], in->v_sig.stride, 0, 0, 4, n_part);
+    if (st == SPH_OK) st = sph__switch_field(in->alpha_visc.p[0], in->alpha_visc.stride, 0, 0, 4, n_part);
+    if (st != SPH_OK) return st;
+    SPH__EACH_TARGET(n_part, st, sph__switch_one(in, i, alpha, div_v_prev, balsara, alpha_d));
     return SPH_OK;
 }
 
@@ -8261,6 +8473,8 @@ SPH_API int sph_batch_fill(const sph_batch_src *S, sph_idx i, sph_off *next, sph
 #define sph__shape_run8 SPH__LN(sph__shape_run8)
 #define sph__shape_run9 SPH__LN(sph__shape_run9)
 #define sph__sqrt_chunk SPH__LN(sph__sqrt_chunk)
+#define sph__switch_field SPH__LN(sph__switch_field)
+#define sph__switch_one SPH__LN(sph__switch_one)
 #define sph__target_opt SPH__LN(sph__target_opt)
 #define sph__tinit SPH__LN(sph__tinit)
 #define sph__vand SPH__LN(sph__vand)
@@ -8356,6 +8570,12 @@ SPH_API int sph_batch_fill(const sph_batch_src *S, sph_idx i, sph_off *next, sph
 #define sph_permute SPH__LN(sph_permute)
 #define sph_pressure_factor SPH__LN(sph_pressure_factor)
 #define sph_switch_balsara SPH__LN(sph_switch_balsara)
+#define sph_switch_conductivity SPH__LN(sph_switch_conductivity)
+#define sph_switch_default SPH__LN(sph_switch_default)
+#define sph_switch_input_init SPH__LN(sph_switch_input_init)
+#define sph_switch_mm97 SPH__LN(sph_switch_mm97)
+#define sph_switch_sphenix SPH__LN(sph_switch_sphenix)
+#define sph_switch_update SPH__LN(sph_switch_update)
 #define sph_time_step SPH__LN(sph_time_step)
 #define sph_view_none SPH__LN(sph_view_none)
 #define sph_viscosity SPH__LN(sph_viscosity)
@@ -8594,6 +8814,8 @@ SPH_API int sph_batch_fill(const sph_batch_src *S, sph_idx i, sph_off *next, sph
 #undef sph__shape_run8
 #undef sph__shape_run9
 #undef sph__sqrt_chunk
+#undef sph__switch_field
+#undef sph__switch_one
 #undef sph__target_opt
 #undef sph__tinit
 #undef sph__vand
@@ -8689,6 +8911,12 @@ SPH_API int sph_batch_fill(const sph_batch_src *S, sph_idx i, sph_off *next, sph
 #undef sph_permute
 #undef sph_pressure_factor
 #undef sph_switch_balsara
+#undef sph_switch_conductivity
+#undef sph_switch_default
+#undef sph_switch_input_init
+#undef sph_switch_mm97
+#undef sph_switch_sphenix
+#undef sph_switch_update
 #undef sph_time_step
 #undef sph_view_none
 #undef sph_viscosity

@@ -28,6 +28,8 @@ int main(void)
         ok = ok && sph_artificial_viscosity(NULL, NULL, sph_view_none(), sph_view_none(), sph_view_none(),
                                             sph_view_none(), sph_out_soa(NULL, NULL, NULL),
                                             sph_out_soa(NULL, NULL, NULL), sph_out_soa(NULL, NULL, NULL)) == SPH_ENULL;
+        ok = ok && sph_switch_update(NULL, 0, sph_out_soa(NULL, NULL, NULL), sph_out_soa(NULL, NULL, NULL),
+                                     sph_out_soa(NULL, NULL, NULL), sph_out_soa(NULL, NULL, NULL)) == SPH_ENULL;
 #endif
     }
 #endif

@@ -31,7 +31,10 @@ __global__ void eval_solver_terms(sph_real *out, int n)
     sph_pair_wall(3, 1, 1, 1, dv, dv, dx, sum);
     out[i] += acc[0] + sph_pair_density_diffusion(3, 1, 1, 2, dx, dv, -1, dx) + sph_wall_end(3, SPH_WALL_NOSLIP, sum, dv, &pw, vw) +
               pw + sph_dt_limit(&k, 1, 1, 1, 1, 1, &why);
-    out[i] += sph_pair_av_alpha(1, 2, sph_switch_balsara(-1, 1, 1, 1), 1); // alpha per particle, (S13), (S14)
+    // the switches of the viscosity and conductivity, per particle
+    sph_switch s = sph_switch_default();
+    out[i] += sph_pair_av_alpha(1, 2, sph_switch_balsara(-1, 1, 1, 1), 1) + sph_switch_mm97(&s, 1, -1, 1, 1) +
+              sph_switch_sphenix(&s, 1, -1, -1, 1, 1, 1) + sph_switch_conductivity(&s, 0, 1, 1, 2, 1, 1, 1);
 }
 
 // The grad-h pair terms (section 9) in device code.

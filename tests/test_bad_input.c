@@ -842,12 +842,14 @@ static void test_search(void)
 
 /* ---- section 8 ---- */
 
-/* The Balsara factor (S13) in [0, 1] for every combination of values; the pair alpha (S14) with one argument at a
- * time over every value (the others moderate), finite for finite arguments up to half the largest sph_real. */
+/* The switches (S13)-(S17) with one argument at a time over every value (the others moderate): (S13) in [0, 1]
+ * for every combination, (S16) and (S17) within their bounds, (S15) finite, (S14) finite for finite arguments up
+ * to half the largest sph_real; sph_switch_update's parameters over every value: SPH_ERANGE or SPH_OK. */
 static void test_switches(void)
 {
+    const sph_switch s = sph_switch_default();
     int v, w, x, y, arg;
-    th_begin("(S13), (S14): every value of every argument gives a finite result within the bounds");
+    th_begin("switches (S13)-(S17): every value of every argument gives a finite result within the bounds");
     for (v = 0; v < NV; ++v)
         for (w = 0; w < NV; ++w)
             for (x = 0; x < NV; ++x)
@@ -856,14 +858,57 @@ static void test_switches(void)
                     TH_CHECK(B >= 0 && B <= 1, "balsara(%s, %s, %s, %s) = %g", vname[v], vname[w], vname[x], vname[y],
                              (double)B);
                 }
-    for (arg = 0; arg < 4; ++arg)
+    for (arg = 0; arg < 8; ++arg)
         for (v = 0; v < NV; ++v) {
-            sph_real q[4] = {(sph_real)0.5, (sph_real)-0.5, (sph_real)0.5, (sph_real)0.5}, p;
+            sph_real q[8] = {(sph_real)0.5, (sph_real)-0.5, (sph_real)0.5, (sph_real)0.5,
+                             (sph_real)0.5, (sph_real)0.5, (sph_real)0.5, (sph_real)0.5};
+            sph_real a, d, r, p;
             q[arg] = val[v];
+            a = sph_switch_sphenix(&s, q[0], q[1], q[2], q[3], q[4], q[5]);
+            d = sph_switch_conductivity(&s, q[0], q[1], q[2], q[3], q[4], q[5], q[6]);
+            r = sph_switch_mm97(&s, q[0], q[1], q[2], q[3]);
             p = sph_pair_av_alpha(q[0], q[1], q[2], q[3]);
+            TH_CHECK(a >= s.alpha_min && a <= s.alpha_max, "sphenix argument %d = %s: %g", arg, vname[v], (double)a);
+            TH_CHECK(d >= s.alpha_d_min && d <= s.alpha_d_max, "conductivity argument %d = %s: %g", arg, vname[v],
+                     (double)d);
+            TH_CHECK(fin(r), "mm97 argument %d = %s: %g", arg, vname[v], (double)r);
             TH_CHECK(!finite_arg(v) || v == V_MAX || v == V_NMAX || fin(p), "pair alpha argument %d = %s: %g", arg,
                      vname[v], (double)p);
         }
+    TH_CHECK(sph_switch_sphenix(NULL, (sph_real)0.3, -1, -1, 1, 1, 1) == (sph_real)0.3 &&
+                 sph_switch_conductivity(NULL, (sph_real)0.3, 1, 1, 1, 1, 0, 1) == (sph_real)0.3 &&
+                 sph_switch_mm97(NULL, 1, -1, 1, 1) == 0,
+             "NULL parameters");
+    th_end();
+
+    th_begin("sph_switch_update: each parameter, dt and kappa over every value, bad counts: SPH_ERANGE / SPH_ECOUNT "
+             "with nothing written, or SPH_OK");
+    {
+        sph_real dv[3] = {-1, 0, 2}, cc = 1, hh = (sph_real)0.1, al[3] = {1, 1, 1}, prev[3] = {0, 0, 0};
+        sph_switch_input in = sph_switch_input_init(2);
+        const sph_out ao = sph_out_soa(al, NULL, NULL), po = sph_out_soa(prev, NULL, NULL);
+        in.dt = (sph_real)0.01;
+        in.div_v = sph_view_soa(dv, NULL, NULL), in.c = sph_view_aos(&cc, 1, 0), in.h = sph_view_aos(&hh, 1, 0);
+        for (arg = 0; arg < 8; ++arg)
+            for (v = 0; v < NV; ++v) {
+                sph_switch_input e = in;
+                sph_real *f[8] = {&e.par.alpha_min, &e.par.alpha_max, &e.par.length, &e.par.alpha_d_min,
+                                  &e.par.alpha_d_max, &e.par.beta_d, &e.dt, &e.kappa};
+                int st, ok;
+                *f[arg] = val[v];
+                ok = val[v] >= 0 && fin(val[v]) && (arg != 7 || val[v] > 0) && e.par.alpha_min <= e.par.alpha_max &&
+                     e.par.alpha_d_min <= e.par.alpha_d_max;
+                al[0] = al[1] = al[2] = 1, prev[0] = prev[1] = prev[2] = 7;
+                st = sph_switch_update(&e, 3, ao, po, sph_out_soa(NULL, NULL, NULL), sph_out_soa(NULL, NULL, NULL));
+                TH_CHECK(ok ? st == SPH_OK : st == SPH_ERANGE && prev[0] == 7, "parameter %d = %s: status %d", arg,
+                         vname[v], st);
+                TH_CHECK(fin(al[0]) && fin(al[1]) && fin(al[2]), "parameter %d = %s: alpha not finite", arg, vname[v]);
+            }
+        for (v = 0; v < 3; ++v) /* INT_MIN, -1, 0 (the arrays hold 3) */
+            TH_CHECK(sph_switch_update(&in, bad_int[v], ao, po, sph_out_soa(NULL, NULL, NULL),
+                                       sph_out_soa(NULL, NULL, NULL)) == (bad_int[v] < 0 ? SPH_ECOUNT : SPH_OK),
+                     "n %d", bad_int[v]);
+    }
     th_end();
 }
 
