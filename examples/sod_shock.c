@@ -45,18 +45,19 @@
  *     rho_i) + F_j / (Omega_j rho_j)) r with v_u = sqrt(|P_i - P_j| /
  *     rho_ij), and the sums of div v_i = -(1 / (Omega_i rho_i)) sum_j m_j
  *     v_ij . grad_i W_ij(h_i) (Price 2012), curl v_i and lap u_i;
- *   - after the sums, SPHENIX's switches per particle: the Balsara (1995)
- *     factor B_i = |div v| / (|div v| + |curl v| + 1e-4 c / h); alpha_i =
+ *   - after the sums, SPHENIX's switches per particle (section 8,
+ *     sph_switch_update, docs/solver.md (S13)-(S17)): the Balsara (1995)
+ *     factor B_i = |div v| / (|div v| + |curl v| + 1e-4 c / h) (S13); alpha_i =
  *     alpha_max S / (c^2 + S), S = H^2 max(0, -d(div v)/dt) (H = kappa h,
  *     d(div v)/dt over the last step) where that is larger, else a decay
- *     to it at the rate 0.25 c / H, alpha in [0, 2]; d alpha_D / dt =
- *     H lap u / sqrt(u) - alpha_D 2 c / H, alpha_D <= 1 - alpha_i / 2. The
- *     example's first scheme stays behind options: --switch mm97 (Morris &
- *     Monaghan 1997 with the source of Rosswog et al. 2000: d alpha_i / dt
- *     = -(alpha_i - alpha_min) 0.1 c_i / h_i + max(-div v_i, 0) (alpha_max
- *     - alpha_i)), --conductivity price08 (Price 2008: du_i/dt += sum_j m_j
- *     alpha_u v_u (u_i - u_j) F_ij r / rho_ij), --balsara 0, --alpha-min
- *     0.1 --alpha-max 1.
+ *     to it at the rate 0.25 c / H, alpha in [0, 2] (S16); d alpha_D / dt =
+ *     H lap u / sqrt(u) - alpha_D 2 c / H, alpha_D <= 1 - alpha_i / 2 (S17).
+ *     The example's first scheme stays behind options: --switch mm97 (Morris &
+ *     Monaghan 1997 with the source of Rosswog et al. 2000, (S15): d alpha_i
+ *     / dt = -(alpha_i - alpha_min) 0.1 c_i / h_i + max(-div v_i, 0)
+ *     (alpha_max - alpha_i)), --conductivity price08 (Price 2008: du_i/dt +=
+ *     sum_j m_j alpha_u v_u (u_i - u_j) F_ij r / rho_ij), --balsara 0,
+ *     --alpha-min 0.1 --alpha-max 1.
  *
  * The exact solution is the program's own iterative Riemann solver (Toro
  * 2009, chapter 4: Newton-Raphson on the pressure function, then the
@@ -211,6 +212,7 @@ typedef struct {
     sph_real *x, *v, *vp, *a, *u, *up, *du, *h, *rho, *om, *hl, *hle, *x0, *A, *cs, *alpha, *dalpha;
     sph_real *B, *alpha_d, *divv; /* Balsara factor, conductivity alpha_D, div v of the last force evaluation */
     sph_real *sw;                 /* div v, |curl v|, lap u of this evaluation: the switches' input */
+    sph_switch mm97;              /* --switch mm97: its parameters (S15), ell = 0.1 */
     double dt;                    /* the step since the last force evaluation (0 before the first) */
     int sphenix_av, sphenix_cond; /* P's switches as flags */
     int *state;
@@ -537,8 +539,8 @@ SD_INLINE void sd_batch(const sd_sim *S, sph_idx i, const sph_batch *b, sph_real
         const sph_real Fb = (Fi + Fj) / 2, rhob = (rhoi + rhoj[l]) / 2, pj = g1 * rhoj[l] * uj[l];
         const sph_real w = (e < 0 ? e : 0) * rinv;                    /* (S2) w_ij, no division by 0 */
         const sph_real v_sig = ci + cj[l] - beta * w;                 /* (S2) */
-        /* (S3) with alpha_ij = (alpha_i + alpha_j) / 2 (B_i + B_j) / 2 (SPHENIX eq. 20; B = 1 without Balsara) */
-        const sph_real Pi = -((ali + alj[l]) / 2 * (Bi + Bj[l]) / 4) * v_sig * w / rhob;
+        /* (S3) with alpha_ij of (S14) = (alpha_i + alpha_j) / 2 (B_i + B_j) / 2 (B = 1 without Balsara) */
+        const sph_real Pi = -(sph_pair_av_alpha(ali, alj[l], Bi, Bj[l]) / 2) * v_sig * w / rhob;
         const sph_real cav = m * Pi * Fb;                             /* (S4) */
         const sph_real cp = m * (Ai * Fi + Aj[l] * Fj) + cav;         /* (H5) + (S4): dv_i/dt = -cp x_ij */
         /* SPHENIX eqs. 24-26: m_j alpha_D,ij v_D (u_i - u_j) (F_i / (Omega_i rho_i) + F_j / (Omega_j rho_j)) r,
@@ -566,37 +568,6 @@ SD_INLINE void sd_batch(const sd_sim *S, sph_idx i, const sph_batch *b, sph_real
     *vs = vmax;
 }
 
-/* The viscosity switch of SPHENIX (Borrow et al. 2022, section 2.4) for particle i from div v and curl v at this
- * evaluation and div v at the last, then its conductivity switch (section 2.5) from lap u; dt: the step between. */
-static void sd_switch_sphenix(sd_sim *S, sph_idx i, sph_real divv, sph_real curl, sph_real lapu, double dt)
-{
-    const sd_param *P = &S->P;
-    const sph_real c = S->cs[i], H = S->kappa * S->h[i]; /* H: the kernel's support radius */
-    const sph_real ddivv = dt > 0 ? (divv - S->divv[i]) / (sph_real)dt : 0; /* d(div v)/dt by the last step (eq. 18) */
-    const sph_real src = divv < 0 && ddivv < 0 ? -H * H * ddivv : 0;    /* S_i = H^2 max(0, -d(div v)/dt) where div v < 0 (eq. 18) */
-    const sph_real loc = (sph_real)P->alpha_max * src / (c * c + src);  /* alpha_loc = alpha_max S / (c^2 + S) (eq. 19) */
-    const sph_real rate = (sph_real)(dt * P->av_length) * c / H;        /* dt ell c / H: the decay of eq. 21 */
-    sph_real ad;
-    if (P->balsara) /* B_i = |div v| / (|div v| + |curl v| + 1e-4 c / h) (Balsara 1995; SPHENIX eq. 22) */
-        S->B[i] = fabs(divv) / (fabs(divv) + curl + (sph_real)1e-4 * c / S->h[i]);
-    if (S->sphenix_av) {
-        /* alpha_i = alpha_loc where it is larger, else decays to it implicitly: (alpha + alpha_loc r) / (1 + r) (eq. 21) */
-        S->alpha[i] = loc > S->alpha[i] ? loc : (S->alpha[i] + loc * rate) / (1 + rate);
-        S->alpha[i] = S->alpha[i] < (sph_real)P->alpha_min ? (sph_real)P->alpha_min : S->alpha[i];
-        S->dalpha[i] = 0;
-    }
-    S->divv[i] = divv;
-    if (!S->sphenix_cond) return;
-    /* d alpha_D / dt = beta_D H lap u / sqrt(u) - alpha_D v_sig / H, v_sig = 2 c (SPHENIX eq. 28, alpha_D,min = 0) */
-    ad = S->alpha_d[i] + (sph_real)dt * ((sph_real)P->beta_u * H * lapu / sqrt(S->up[i]) - S->alpha_d[i] * 2 * c / H);
-    ad = ad < 0 ? 0 : ad;
-    /* alpha_D <= alpha_D,max (1 - alpha_i / alpha_max): none in viscous flow (SPHENIX eq. 29, with the own alpha) */
-    {
-        const sph_real lim = (sph_real)P->alpha_u * (1 - S->alpha[i] / (sph_real)P->alpha_max);
-        S->alpha_d[i] = ad < lim ? ad : lim;
-    }
-}
-
 /* This thread's number in an OpenMP team, 0 without OpenMP. */
 static int sd_thread(void)
 {
@@ -611,21 +582,19 @@ static int sd_thread(void)
  * dt and the switches' input; returns the largest signal velocity of its pairs. */
 SD_INLINE sph_real sd_force_row(sd_sim *S, const sph_batch_src *B, sph_idx i)
 {
-    const sd_param *P = &S->P;
     sph_real vs = 0, acc[SD_NT] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
     const sph_real orho = S->om[i] * S->rho[i];
-    sph_real divv, src, curl;
+    sph_real divv, curl;
     sph_off next = 0;
     sph_batch b;
     int a;
     while (sph_batch_fill(B, i, &next, &b) > 0) sd_batch(S, i, &b, &vs, acc);
     for (a = 0; a < 3; ++a) S->a[3 * i + a] = acc[a];
     S->du[i] = acc[3];
-    divv = -acc[4] / orho, src = divv < 0 ? -divv : 0; /* div v_i (Price 2012) */
+    divv = -acc[4] / orho; /* div v_i (Price 2012) */
     curl = sqrt(acc[5] * acc[5] + acc[6] * acc[6] + acc[7] * acc[7]) / orho;
-    /* Morris & Monaghan (1997) with the source of Rosswog et al. (2000); SPHENIX's switch replaces it */
-    S->dalpha[i] = -(S->alpha[i] - (sph_real)P->alpha_min) * (sph_real)0.1 * S->cs[i] / S->h[i] +
-                   src * ((sph_real)P->alpha_max - S->alpha[i]);
+    /* (S15) Morris & Monaghan (1997) with the source of Rosswog et al. (2000); SPHENIX's switch replaces it */
+    S->dalpha[i] = S->sphenix_av ? 0 : sph_switch_mm97(&S->mm97, S->alpha[i], divv, S->cs[i], S->h[i]);
     S->sw[3 * i] = divv, S->sw[3 * i + 1] = curl, S->sw[3 * i + 2] = acc[8];
     return vs;
 }
@@ -674,6 +643,30 @@ static double sd_rows_at(int isa, sd_sim *S, const sph_batch_src *B, sph_share *
     }
 }
 
+/* SPHENIX's switches of every particle (sph_switch_update) from div v, |curl v| and lap u of this evaluation (sw) and
+ * div v of the last (divv), dt the step between: the Balsara factor B (S13) with --balsara 1, alpha (S16) with
+ * --switch sphenix (else only read: the conductivity's limit), alpha_D (S17) with --conductivity sphenix, its decay
+ * at 2 c / H and its limit from the particle's own alpha (SWIFT: the neighbours' largest signal velocity and alpha).
+ * Borrow, Schaller, Bower & Schaye (2022, MNRAS 511, 2367), sections 2.4 and 2.5. */
+static int sd_switches(sd_sim *S)
+{
+    const sd_param *P = &S->P;
+    const size_t row = 3 * sizeof(sph_real); /* sw: three values per particle */
+    const sph_out none = sph_out_soa(NULL, NULL, NULL);
+    sph_switch_input in = sph_switch_input_init(S->kappa);
+    in.par.alpha_min = (sph_real)P->alpha_min, in.par.alpha_max = (sph_real)P->alpha_max;
+    in.par.length = (sph_real)P->av_length;
+    in.par.alpha_d_min = 0, in.par.alpha_d_max = (sph_real)P->alpha_u, in.par.beta_d = (sph_real)P->beta_u;
+    in.viscosity = S->sphenix_av ? SPH_SWITCH_SPHENIX : SPH_SWITCH_NONE;
+    in.dt = (sph_real)S->dt;
+    in.div_v = sph_view_aos(S->sw, 1, row), in.curl_v = sph_view_aos(S->sw + 1, 1, row);
+    in.lap_u = sph_view_aos(S->sw + 2, 1, row);
+    in.c = sph_view_soa(S->cs, NULL, NULL), in.h = sph_view_soa(S->h, NULL, NULL), in.u = sph_view_soa(S->up, NULL, NULL);
+    return sph_switch_update(&in, S->n, sph_out_soa(S->alpha, NULL, NULL), sph_out_soa(S->divv, NULL, NULL),
+                             P->balsara ? sph_out_soa(S->B, NULL, NULL) : none,
+                             S->sphenix_cond ? sph_out_soa(S->alpha_d, NULL, NULL) : none);
+}
+
 /* Accelerations, du/dt, d alpha/dt and the largest signal velocity at the positions x, velocities vp and energies
  * up: each particle sums over its row of the pruned list (each pair is evaluated from both ends: no scatter, no
  * reduction, no per-pair buffers; the pair terms are antisymmetric, so momentum is conserved to round-off). */
@@ -705,13 +698,8 @@ static int sd_forces(sd_sim *S)
         const double vs = sd_rows_at(isa, S, &B, &share, sd_thread());
         vmax = vs > vmax ? vs : vmax;
     }
-#ifdef _OPENMP
-#pragma omp parallel for schedule(static)
-#endif
-    for (i = 0; i < S->n; ++i) /* after the loop: it read alpha, B and alpha_D of the neighbours */
-        sd_switch_sphenix(S, i, S->sw[3 * i], S->sw[3 * i + 1], S->sw[3 * i + 2], S->dt);
     S->vsig_max = vmax;
-    return SPH_OK;
+    return sd_switches(S); /* after the loop: it read alpha, B and alpha_D of the neighbours */
 }
 
 /* --profile: the step loop's timing starts (the first forces before it and the densities after it are not timed). */
@@ -791,6 +779,8 @@ static int sd_run(const sd_param *P, sd_result *R, FILE *profile, const char *la
     S.P = *P;
     S.sphenix_av = strcmp(P->av_switch, "sphenix") == 0;
     S.sphenix_cond = strcmp(P->cond, "sphenix") == 0;
+    S.mm97 = sph_switch_default();
+    S.mm97.alpha_min = (sph_real)P->alpha_min, S.mm97.alpha_max = (sph_real)P->alpha_max, S.mm97.length = (sph_real)0.1;
     S.k = (sph_kernel)sph_kernel_from_name(P->kernel);
     S.kappa = sph_kernel_support(S.k);
     if (!sd_fits(P)) return SD_EREFUSED;
