@@ -521,7 +521,11 @@ SPH__INLINE sph_real sph__mul_rn(sph_real a, sph_real b)
 
 /* One list generates the status enum and the sentences of sph_strerror:
  * X(name, value, sentence). Every function that can fail returns SPH_OK or
- * one of the negative codes; the values never change between versions. */
+ * one of the negative codes; the values never change between versions.
+ * SPH_EINVAL is returned by no function of this header (it keeps its value;
+ * a caller may use it for errors of its own). Which function returns which
+ * code: the comment above each; tests/check_status_codes.sh holds the
+ * documentation to the code. */
 #define SPH_STATUS_LIST(X) \
     X(SPH_OK, 0, "success") \
     X(SPH_EKERNEL, -1, "unknown kernel") \
