@@ -2162,7 +2162,7 @@ typedef struct {
     sph_view h_source;          /* per-particle h of sources; absent: uniform h */
     sph_view h_target;          /* per-particle h of targets (needed when x_target is given) */
     sph_view V;                 /* source volumes V_j = m_j / rho_j (all but density, pressure) */
-    sph_view m;                 /* source masses (density, pressure form) */
+    sph_view m;                 /* source masses (density, pressure form); a stride 0 is refused, unlike sph_hctx's */
     sph_view rho;               /* source densities (pressure form) */
     sph_view rho_target;        /* target densities (pressure form, when x_target is given) */
     sph_real rcond_min;         /* corrected schemes: fall back below this 1-norm rcond (1e-3) */
@@ -7063,7 +7063,11 @@ SPH_API int sph_switch_update(const sph_switch_input *in, sph_idx n_part, sph_ou
  * for what is read (x, m, h_list in the context; v, h, A), sph_out for what
  * is written (h, rho, Omega, dv/dt, du/dt). The per-pair buffers and the
  * output of sph_pairs_reduce (up to 16 components) are raw interleaved
- * arrays, sized by sph_pairs_buffer_len and sph_gradh_pairs_buffer_len. */
+ * arrays, sized by sph_pairs_buffer_len and sph_gradh_pairs_buffer_len.
+ * One mass for every particle: m = sph_view_aos(&mass, 1, 0), a view of
+ * stride 0 (the same bits as an array of that mass; the operators of
+ * sections 6-8, sph_density and the others, refuse a stride 0 with
+ * SPH_ESTRIDE). */
 
 /* Per-particle outcome of sph_h_solve. */
 #if SPH__FIRST
@@ -7083,10 +7087,11 @@ typedef struct {
     const sph_neighbours *list; /* full CSR list; row i ascending (as the search gives) for sph_pairs_build */
     const sph_box *box;         /* periodic box, or NULL: the list's (SPH_EBOX when both are known and differ) */
     sph_view x;                 /* positions (dim components) */
-    sph_view m;                 /* masses, positive */
+    sph_view m;                 /* masses, positive; one for all: sph_view_aos(&m, 1, 0), stride 0 */
     sph_view h_list;            /* per particle: row i holds every j with r_ij < kappa h_list_i; absent: h_list_max */
     sph_real h_list_max;        /* the same for every particle (when h_list is absent) */
-    sph_real eta;               /* (H1); default 1.2 (about 58 neighbours for the 3-D cubic spline) */
+    sph_real eta;               /* (H1); default 1.2: the cubic spline's 58, 18, 4.8 neighbours in 3-D, 2-D, 1-D;
+                                   sph_kernel_h_for_neighbours(k, dim, N, 1) gives the eta of N neighbours */
     sph_real tol;               /* relative change of h that ends the iteration; default 1e-6 (float: 64 eps) */
     int max_iter;               /* density sums per particle at most; default 50 */
     int check_list;             /* 1 (default): one pass checks the list (offsets, indices); 0: the caller did */

@@ -8,7 +8,12 @@
  * should be 1), sigma/h from eq. (K5), and the neighbour count N of eq. (K6)
  * for particles on a lattice of spacing dx, at h = 1.2 dx and at the h of equal
  * resolution (the same sigma as the cubic spline at h = 1.2 dx).
- * Section 2 prints W and dW/dr at h = 1 and a few q = r/h.
+ * Section 2 prints W and dW/dr at h = 1 and a few q = r/h. Section 3 (alone
+ * with --eta: the tables of docs/smoothing_length.md, "Choosing eta") gives
+ * the eta of (H1), h = eta (m / rho)^(1/d), that puts N neighbours inside the
+ * support, sph_kernel_h_for_neighbours(k, dim, N, 1) (h in units of the
+ * particle spacing (m / rho)^(1/d)), for the usual N of each dimension, and
+ * the N of sph_hctx_init's default eta 1.2.
  *
  * Build and run: make demo   (or: cc -std=c99 -I. examples/kernel_table.c -lm)
  */
@@ -143,18 +148,49 @@ static void table_values(void)
     printf("\n");
 }
 
+/* Section 3: eta for N neighbours, one Markdown table per dimension. */
+static void table_eta(void)
+{
+    static const double N[4][5] = {{0}, {3, 4, 5, 6, 8}, {12, 18, 24, 32, 48}, {32, 58, 100, 200, 400}};
+    int k, dim, c;
+    for (dim = 1; dim <= 3; ++dim) {
+        printf("%d-D: eta for N neighbours in the support\n\n| kernel | kappa |", dim);
+        for (c = 0; c < 5; ++c) printf(" N = %g |", N[dim][c]);
+        printf(" N at eta 1.2 |\n|---|---:|");
+        for (c = 0; c <= 5; ++c) printf("---:|");
+        printf("\n");
+        for (k = 0; k < SPH_KERNEL_COUNT; ++k) {
+            const sph_kernel kk = (sph_kernel)k;
+            printf("| %s | %g |", sph_kernel_name(kk), (double)sph_kernel_support(kk));
+            for (c = 0; c < 5; ++c)
+                printf(" %.3f |", (double)sph_kernel_h_for_neighbours(kk, dim, (sph_real)N[dim][c], 1));
+            printf(" %.1f |\n", (double)sph_kernel_neighbours(kk, dim, (sph_real)1.2, 1));
+        }
+        if (dim < 3) printf("\n");
+    }
+}
+
 int main(int argc, char **argv)
 {
-    if (argc > 1) { /* it takes none: say so rather than ignore a typo */
+    const int eta = argc == 2 && strcmp(argv[1], "--eta") == 0;
+    if (argc > 1 && !eta) { /* --eta or nothing: say so rather than ignore a typo */
         const int help = strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0;
-        fprintf(help ? stdout : stderr, "%s: %s; takes no arguments%s%s%s\n", argv[0], "the constants of every kernel, checked by quadrature, and W, dW/dr at a few q",
+        fprintf(help ? stdout : stderr, "%s: %s; takes no arguments but --eta (section 3 alone)%s%s%s\n", argv[0],
+                "the constants of every kernel, checked by quadrature, W and dW/dr at a few q, eta for N neighbours",
                 help ? "" : " (got '", help ? "" : argv[1], help ? "" : "')");
         return help ? 0 : 2;
+    }
+    if (eta) {
+        table_eta();
+        return 0;
     }
     gauss_legendre_init();
     printf("sph_kernel.h %s, sph_real = %s\n\n", SPH_KERNEL_VERSION_STRING,
            sizeof(sph_real) == sizeof(float) ? "float" : "double");
     table_constants();
     table_values();
+    printf("3. eta of (H1), h = eta (m / rho)^(1/d), for N neighbours inside the support (self included),\n"
+           "   sph_kernel_h_for_neighbours(k, dim, N, 1), eq. (K6); N at the default eta 1.2 of sph_hctx_init\n\n");
+    table_eta();
     return 0;
 }

@@ -9,15 +9,25 @@
 #
 # and the program marks the region with a line `/* snippet: adaptive_h */`
 # before it and `/* end snippet */` after it. The block must equal the
-# region's lines with their common indentation removed. Fails (exit 1,
-# naming page, line and the first differing lines) on a block that differs,
-# a marker whose file or region does not exist, a region no page shows, and
-# when no snippet is found at all.
+# region's lines with their common indentation removed. A page shows what a
+# program prints (a table) as
+#
+#   <!-- output: examples/kernel_table.c --eta -->
+#   ...the lines...
+#   <!-- end output -->
+#
+# and the lines must be what the program, built here (gcc -O0 -std=c99,
+# this tree's header) and run with the marker's arguments, prints. Fails
+# (exit 1, naming page, line and the first differing lines) on a block that
+# differs, a marker whose file or region does not exist, a program that
+# does not build, a region no page shows, and when no snippet is found at
+# all.
 cd "$(dirname "$0")/.." || exit 2
 tmp=$(mktemp -d) || exit 2
 trap 'rm -rf "$tmp"' EXIT
 bad=0
 checked=0
+outputs=0
 
 region() { # region file name: the lines between the markers, dedented
     awk -v name="$2" '
@@ -36,7 +46,15 @@ region() { # region file name: the lines between the markers, dedented
         }' "$1"
 }
 
-find . -name '*.md' -not -path './.git/*' -not -path './build/*' | sort > "$tmp/pages"
+same() { # same where what program-lines page-lines: counts and reports a difference
+    if ! diff "$3" "$4" > "$tmp/diff"; then
+        echo "FAILED: $1 differs from $2 (< program, > page):"
+        head -n 12 "$tmp/diff" | sed 's/^/    /'
+        bad=$((bad + 1))
+    fi
+}
+
+find . -name '*.md' -not -path './.git/*' -not -path './build/*' | sed 's|^\./||' | sort > "$tmp/pages"
 : > "$tmp/shown"
 while IFS= read -r md; do
     grep -n '^<!-- snippet: [^ ]* [A-Za-z0-9_]* -->$' "$md" > "$tmp/markers"
@@ -65,11 +83,34 @@ while IFS= read -r md; do
             bad=$((bad + 1))
             continue
         }
-        if ! diff "$tmp/code" "$tmp/doc" > "$tmp/diff"; then
-            echo "FAILED: $md:$line differs from region '$name' of $src (< program, > page):"
-            head -n 12 "$tmp/diff" | sed 's/^/    /'
+        same "$md:$line" "region '$name' of $src" "$tmp/code" "$tmp/doc"
+    done < "$tmp/markers"
+    grep -n '^<!-- output: [^ ]*\( [^>]*\)\{0,1\} -->$' "$md" > "$tmp/markers"
+    while IFS= read -r m; do
+        line=${m%%:*}
+        m=${m#*:<!-- output: }
+        m=${m% -->}
+        src=${m%% *} args=
+        [ "$src" != "$m" ] && args=${m#* }
+        outputs=$((outputs + 1))
+        bin=$tmp/$(echo "$src" | tr '/.' '__')
+        if [ ! -x "$bin" ] && ! ${CC:-gcc} -O0 -std=c99 -I. "$src" -o "$bin" -lm 2> "$tmp/build"; then
+            echo "FAILED: $md:$line shows the output of $src, which does not build:"
+            head -n 12 "$tmp/build" | sed 's/^/    /'
             bad=$((bad + 1))
+            continue
         fi
+        # shellcheck disable=SC2086 # the marker's arguments are words
+        "$bin" $args > "$tmp/out" 2>&1 || echo "(exit status $?)" >> "$tmp/out"
+        # the lines up to the end marker
+        awk -v from="$line" 'NR > from && /^<!-- end output -->$/ { found = 1; exit }
+                             NR > from { print }
+                             END { exit !found }' "$md" > "$tmp/doc" || {
+            echo "FAILED: $md:$line: no <!-- end output --> line after the output marker"
+            bad=$((bad + 1))
+            continue
+        }
+        same "$md:$line" "the output of $src $args" "$tmp/out" "$tmp/doc"
     done < "$tmp/markers"
 done < "$tmp/pages"
 # every marked region is shown somewhere
@@ -90,4 +131,4 @@ if [ "$bad" -gt 0 ]; then
     echo "tests/check_doc_snippets.sh: $bad problems in $checked snippets"
     exit 1
 fi
-echo "tests/check_doc_snippets.sh: all $checked snippets equal the lines of their programs"
+echo "tests/check_doc_snippets.sh: all $checked snippets equal the lines of their programs, all $outputs outputs are what their programs print"

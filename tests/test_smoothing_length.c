@@ -6,7 +6,9 @@
  * its re-search, and that status (never a converged h) from any guess near
  * the list's radius when the solution lies beyond it; non-convergence
  * reported; bad input refused; h, rho and Omega written through an
- * array-of-structs view are bitwise those of separate arrays.
+ * array-of-structs view are bitwise those of separate arrays; one mass for
+ * all through a view of stride 0 gives the bits of an array of that mass
+ * (h solve, gather and pair-once grad-h forces), and the operators refuse it.
  */
 #include "harness.h"
 #include "support/particles.h"
@@ -396,6 +398,69 @@ static void sl_layout_case(void)
     th_end();
 }
 
+/* One mass for all through a view of stride 0 (sph_view_aos(&m, 1, 0), docs/smoothing_length.md "One mass for
+ * all"): the h solve and the gather and pair-once grad-h forces give the bits of an array holding that mass for
+ * every particle; the operators (sph_ctx) refuse the stride 0 with SPH_ESTRIDE. */
+static void scalar_mass_case(void)
+{
+    enum { n1 = 6, n = n1 * n1 * n1 };
+    sph_real x[3 * n], m[n], v[3 * n], A[n], h[2][n], rho[2][n], om[2][n], acc[2][3 * n], du[2][n], rho_op[n];
+    sph_real accp[2][3 * n], dup[2][n];
+    sph_real *buf;
+    const sph_real m1 = (sph_real)0.7;
+    sph_box box = {{0, 0, 0}, {n1, n1, n1}, {1, 1, 1}};
+    sph_off half_off[n + 1], t_off[n + 1], *t_slot, pairs;
+    sph_idx *half_idx;
+    sph_pairs P;
+    tp_list L;
+    sph_hctx c;
+    sph_ctx oc;
+    int i, r, st[2], sf[2], sp[2], same = 1, nb;
+    th_begin("h solve, grad-h forces: one mass through a view of stride 0 = an array of that mass, bitwise");
+    tp_lattice(3, n1, 1, x);
+    for (i = 0; i < n; ++i) {
+        x[3 * i] += (sph_real)(0.05 * ((i * 7) % 5)), x[3 * i + 1] += (sph_real)(0.04 * ((i * 3) % 4));
+        m[i] = m1, v[3 * i] = (sph_real)(0.1 * (i % 3)), v[3 * i + 1] = (sph_real)(0.05 * (i % 5)), v[3 * i + 2] = 0;
+    }
+    TH_CHECK(tp_brute_list(3, x, n, x, n, (sph_real)2.2, NULL, NULL, 2, TP_SYMMETRIC, &box, &L) == 0, "out of memory");
+    t_slot = malloc(sizeof(sph_off) * (size_t)L.list.offset[n]);
+    half_idx = malloc(sizeof(sph_idx) * (size_t)L.list.offset[n]);
+    TH_CHECK(t_slot != NULL && half_idx != NULL, "out of memory");
+    TH_CHECK(sph_pairs_build(&L.list, half_off, half_idx, L.list.offset[n], t_off, t_slot, &pairs, &P) == SPH_OK,
+             "sph_pairs_build");
+    nb = (int)sph_gradh_pairs_buffer_len(3, pairs);
+    buf = malloc(sizeof(sph_real) * (size_t)nb);
+    TH_CHECK(buf != NULL, "out of memory");
+    for (r = 0; r < 2; ++r) { /* r = 0: an array of masses; r = 1: one mass, stride 0 */
+        c = sph_hctx_init(SPH_KERNEL_CUBIC, 3, &L.list, sph_view_interleaved(x, 3),
+                          r == 0 ? sph_view_soa(m, NULL, NULL) : sph_view_aos(&m1, 1, 0), (sph_real)2.2);
+        c.box = &box;
+        for (i = 0; i < n; ++i) h[r][i] = 1;
+        st[r] = sph_h_solve(&c, th_out1(h[r]), th_out1(rho[r]), th_out1(om[r]), NULL, NULL, NULL);
+        for (i = 0; i < n; ++i) A[i] = sph_gradh_factor(rho[0][i], rho[0][i], om[0][i]); /* p = rho: any A will do */
+        sf[r] = sph_gradh_forces(&c, sph_view_interleaved(v, 3), th_in1(h[0]), th_in1(A), sph_out_interleaved(acc[r], 3),
+                                 th_out1(du[r]));
+        sp[r] = sph_gradh_forces_pairs(&c, &P, sph_view_interleaved(v, 3), th_in1(h[0]), th_in1(A), buf, nb,
+                                       sph_out_interleaved(accp[r], 3), th_out1(dup[r]));
+    }
+    for (i = 0; i < n; ++i)
+        same &= h[0][i] == h[1][i] && rho[0][i] == rho[1][i] && om[0][i] == om[1][i] && du[0][i] == du[1][i] &&
+                dup[0][i] == dup[1][i];
+    for (i = 0; i < 3 * n; ++i) same &= acc[0][i] == acc[1][i] && accp[0][i] == accp[1][i];
+    TH_CHECK(st[0] == SPH_OK && st[1] == SPH_OK && sf[0] == SPH_OK && sf[1] == SPH_OK && sp[0] == SPH_OK &&
+             sp[1] == SPH_OK, "status: solve %d %d, forces %d %d, pairs %d %d", st[0], st[1], sf[0], sf[1], sp[0], sp[1]);
+    TH_CHECK(same, "the stride-0 mass changed a bit: particle 0 h %.17g %.17g", (double)h[0][0], (double)h[1][0]);
+    TH_CHECK(rho[0][0] != rho[0][1], "the particles' densities should differ");
+    oc = sph_ctx_init(SPH_KERNEL_CUBIC, 3, 2, &L.list, sph_view_interleaved(x, 3));
+    oc.box = &box;
+    oc.m = sph_view_aos(&m1, 1, 0);
+    r = sph_density(&oc, th_out1(rho_op));
+    TH_CHECK(r == SPH_ESTRIDE, "sph_density with a stride-0 mass: %s (SPH_ESTRIDE expected)", sph_strerror(r));
+    tp_free_list(&L);
+    free(t_slot), free(half_idx), free(buf);
+    th_end();
+}
+
 /* The density sums of sph_h_solve in the fast loops (the operators' loops of
  * section 6, one pass in AVX-512 or AVX2 registers where the build has them)
  * against the reference loop, one pair at a time: every kernel in 1-3 D, a
@@ -478,6 +543,7 @@ int main(void)
     beyond_guess_cloud_case();
     bad_input_case();
     sl_layout_case();
+    scalar_mass_case();
     for (k = 0; k < SPH_KERNEL_COUNT; ++k)
         for (dim = 1; dim <= 3; ++dim) fast_sums_case((sph_kernel)k, dim);
     return th_summary();
