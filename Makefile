@@ -48,6 +48,7 @@ check:
 # arguments, CHECK_ARGS_<name> (default --check); one case each.
 CHECK_EXAMPLES := examples/cloud_quickstart examples/dam_break examples/taylor_green \
                   examples/heat_conduction examples/sod_shock examples/smoothing_length_quickstart \
+                  examples/step_recipe \
                   studies/error_vs_runtime studies/stability studies/hydrostatic_tank
 CHECK_ARGS     := --check
 

@@ -7067,7 +7067,9 @@ SPH_API int sph_switch_update(const sph_switch_input *in, sph_idx n_part, sph_ou
  * One mass for every particle: m = sph_view_aos(&mass, 1, 0), a view of
  * stride 0 (the same bits as an array of that mass; the operators of
  * sections 6-8, sph_density and the others, refuse a stride 0 with
- * SPH_ESTRIDE). */
+ * SPH_ESTRIDE). One step in order (kept lists, search, h solve, re-search,
+ * prune, every pair term in one sph_batch_fill loop, time step), with the
+ * kernel width each term takes: docs/step.md, examples/step_recipe.c. */
 
 /* Per-particle outcome of sph_h_solve. */
 #if SPH__FIRST
