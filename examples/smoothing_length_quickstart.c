@@ -30,6 +30,13 @@ static int fail(const char *what, int st)
     return 1;
 }
 
+/* A failure that is no status of the library's: what went wrong, in words. */
+static int stop(const char *what)
+{
+    fprintf(stderr, "smoothing_length_quickstart: %s\n", what);
+    return 1;
+}
+
 /* snippet: search */
 /* Symmetric lists (N2) at the per-particle radius kappa hl_i: the solver
  * needs row i to hold every j within kappa hl_i, the forces each pair in
@@ -112,12 +119,12 @@ int main(int argc, char **argv)
         printf("search %d: %ld list entries; %ld density sums (at most %d per particle), %ld not converged, "
                "%ld beyond their list\n", round, (long)offset[N], (long)rep.iterations, rep.max_iterations,
                (long)rep.n_not_converged, (long)rep.n_beyond_list);
-        if (rep.n_not_converged > 0) return fail("sph_h_solve", SPH_EINVAL);
+        if (rep.n_not_converged > 0) return stop("sph_h_solve: particles not converged (max_iter sums)");
         if (rep.n_beyond_list == 0) break;
         for (i = 0; i < N; ++i) /* h[i] holds the solver's estimate beyond the list: reach 1.2 times that */
             if (state[i] == SPH_H_BEYOND_LIST) hl[i] = (sph_real)1.2 * h[i];
     }
-    if (rep.n_beyond_list > 0) return fail("lists", SPH_EINVAL);
+    if (rep.n_beyond_list > 0) return stop("particles still beyond their lists after 5 searches");
     /* end snippet */
     for (i = 0; i < N; ++i) { /* (H1): the neighbour mass of eta, m (eta / h)^3, is the density */
         const double target = (double)m[i] * pow((double)eta / (double)h[i], 3);

@@ -28,8 +28,10 @@
 #        In a code block of a page: a code compared (==, !=, case) or named
 #        in a comment is tied to the function whose status the block last
 #        assigned or returned (st = sph_f(...), return sph_f(...)), else to
-#        the functions the comment names; a code that the block's own code
-#        returns or passes on (return SPH_ESIZE;) is the caller's own.
+#        the functions the comment names; a code passed beside a message
+#        that names a function (fail("sph_h_solve", SPH_EINVAL)) to that
+#        function; any other code that the block's own code returns or
+#        passes on (return SPH_ESIZE;) is the caller's own.
 #      - The heading the text is under (a page's heading that names
 #        functions, "## The grad-h forces (`sph_gradh_forces`, ...)"), or
 #        the header's numbered section.
@@ -352,7 +354,7 @@ function prose_header(f,    i, n, c, own, nb, prev, isrow, blank, attach, rowblk
 
 # A Markdown page: code blocks line by line; outside them blocks of prose
 # (paragraphs, list items, table rows).
-function prose_page(f,    i, n, s, incode, nb, pageset, head, last, cs, cm, t, lv, k, j, row) {
+function prose_page(f,    i, n, s, incode, nb, pageset, head, last, cs, cm, t, lv, k, j, row, lit) {
     n = lines[f]
     pageset = " "
     for (i = 1; i <= n; ++i) pageset = pageset funcs_in(text[f, i])
@@ -392,6 +394,16 @@ function prose_page(f,    i, n, s, incode, nb, pageset, head, last, cs, cm, t, l
             cs = cs codes_of(cm)
             check(f, i, cs, last != "" ? " " last " " : funcs_in(cm), last != "" ? "the code block's last call" : "the comment names it",
                   head, "the heading names it", pageset, "its page names it")
+            t = s # a message that names a function beside a code: fail("sph_h_solve", SPH_EINVAL)
+            lit = ""
+            while (match(t, /"[^"]*"/)) {
+                lit = lit " " substr(t, RSTART, RLENGTH)
+                t = substr(t, 1, RSTART - 1) " " substr(t, RSTART + RLENGTH)
+            }
+            if (!empty(funcs_in(lit))) {
+                sub(/\/\*.*/, "", t)
+                check(f, i, codes_of(t), funcs_in(lit), "a message of the line names it", " ", "", " ", "")
+            }
             k = split(codes_of(s), lv, " ") # the caller's own codes: status codes at all
             for (j = 1; j <= k; ++j)
                 if (!(lv[j] in known)) { print "FAILED: " f ":" i ": " lv[j] " is not a status code of sph_kernel.h (SPH_STATUS_LIST)"; bad++ }
