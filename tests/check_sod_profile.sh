@@ -15,18 +15,23 @@ fail() {
     echo "FAILED: $*"
     exit 1
 }
+# built as bench/bench_step.sh builds its O2 program, where that script then finds it (the same command in
+# sod_shock_O2.cmd beside it): one build of the example's several
+bin="$tmp/build/bench_step/sod_shock_O2"
+cmd="$CC -O2 -std=c99 -Wall -Wextra -pedantic -Werror $OPENMP -I. examples/sod_shock.c -o $bin -lm"
+mkdir -p "$tmp/build/bench_step" || exit 2
 # shellcheck disable=SC2086
-$CC -O2 -std=c99 -Wall -Wextra -pedantic -Werror $OPENMP -I. examples/sod_shock.c -o "$tmp/sod_shock" -lm ||
-    fail "examples/sod_shock.c does not build"
+$cmd || fail "examples/sod_shock.c does not build"
+echo "$cmd" > "$bin.cmd"
 mkdir -p "$tmp/plain" "$tmp/prof"
-OMP_NUM_THREADS=2 "$tmp/sod_shock" --nx 8 --t-end 0.03 --out "$tmp/plain" > "$tmp/plain.txt" 2>&1 ||
+OMP_NUM_THREADS=2 "$bin" --nx 8 --t-end 0.03 --out "$tmp/plain" > "$tmp/plain.txt" 2>&1 ||
     fail "sod_shock --nx 8 --t-end 0.03: $(cat "$tmp/plain.txt")"
-OMP_NUM_THREADS=2 "$tmp/sod_shock" --nx 8 --t-end 0.03 --out "$tmp/prof" --profile > "$tmp/prof.txt" 2>&1 ||
+OMP_NUM_THREADS=2 "$bin" --nx 8 --t-end 0.03 --out "$tmp/prof" --profile > "$tmp/prof.txt" 2>&1 ||
     fail "sod_shock --nx 8 --t-end 0.03 --profile: $(cat "$tmp/prof.txt")"
 cmp -s "$tmp/plain/sod_nx8.csv" "$tmp/prof/sod_nx8.csv" || fail "--profile changed the run: sod_nx8.csv differs"
 if [ -n "$OPENMP" ]; then # the same run on one thread: every loop of the step is the same for any thread count
     mkdir -p "$tmp/one"
-    "$tmp/sod_shock" --nx 8 --t-end 0.03 --threads 1 --out "$tmp/one" > "$tmp/one.txt" 2>&1 ||
+    "$bin" --nx 8 --t-end 0.03 --threads 1 --out "$tmp/one" > "$tmp/one.txt" 2>&1 ||
         fail "sod_shock --threads 1: $(cat "$tmp/one.txt")"
     cmp -s "$tmp/plain/sod_nx8.csv" "$tmp/one/sod_nx8.csv" || fail "1 and 2 threads differ: sod_nx8.csv"
 fi
@@ -50,7 +55,7 @@ awk '
 # 35 steps; the particles move beyond the smaller skin, so its lists are searched again on the way)
 for s in 0.3 0.6; do
     mkdir -p "$tmp/skin$s"
-    "$tmp/sod_shock" --nx 8 --t-end 0.2 --skin $s --out "$tmp/skin$s" --profile > "$tmp/skin$s.txt" 2>&1 ||
+    "$bin" --nx 8 --t-end 0.2 --skin $s --out "$tmp/skin$s" --profile > "$tmp/skin$s.txt" 2>&1 ||
         fail "sod_shock --nx 8 --t-end 0.2 --skin $s: $(cat "$tmp/skin$s.txt")"
 done
 cmp -s "$tmp/skin0.3/sod_nx8.csv" "$tmp/skin0.6/sod_nx8.csv" ||
@@ -64,7 +69,7 @@ awk '/^  searches/ { s = $2 } /^profile: / { n = $2 } END { if (!(s > 1 && s < n
 avx2=0
 grep -qw avx2 /proc/cpuinfo 2> /dev/null && avx2=1
 for cores in 1 0; do
-    BUILD="$tmp/build" BENCH_STEP_NX=8 BENCH_STEP_REPEATS=1 BENCH_STEP_T_END=0.01 BENCH_STEP_OUT="$tmp/step.md" \
+    CC="$CC" BUILD="$tmp/build" BENCH_STEP_NX=8 BENCH_STEP_REPEATS=1 BENCH_STEP_T_END=0.01 BENCH_STEP_OUT="$tmp/step.md" \
         BENCH_STEP_CORES=$cores sh bench/bench_step.sh > "$tmp/bench.txt" 2>&1 ||
         fail "bench/bench_step.sh: $(tail -n 5 "$tmp/bench.txt")"
     rows=$(awk -F'|' '$4 == " 8 " && $3 ~ /[a-z]/ && $8 + 0 > 0 && $9 + 0 > 0 && $10 + 0 > 0 && $11 + 0 > 0 &&
