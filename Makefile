@@ -48,7 +48,7 @@ check:
 # arguments, CHECK_ARGS_<name> (default --check); one case each.
 CHECK_EXAMPLES := examples/cloud_quickstart examples/dam_break examples/taylor_green \
                   examples/heat_conduction examples/sod_shock examples/smoothing_length_quickstart \
-                  examples/step_recipe \
+                  examples/step_recipe examples/gresho \
                   studies/error_vs_runtime studies/stability studies/hydrostatic_tank
 CHECK_ARGS     := --check
 
@@ -194,9 +194,9 @@ uninstall:
 clean:
 	rm -rf $(BUILD)
 
-# Flow examples: run-taylor-green, run-heat-conduction, plots-flows
-# (examples/taylor_green.c, examples/heat_conduction.c; docs/examples.md).
-.PHONY: run-taylor-green run-heat-conduction plots-flows run-sod plots-sod
+# Flow examples: run-taylor-green, run-heat-conduction, run-gresho, plots-flows
+# (examples/taylor_green.c, examples/heat_conduction.c, examples/gresho.c; docs/examples.md).
+.PHONY: run-taylor-green run-heat-conduction run-gresho plots-flows run-sod plots-sod
 
 $(BUILD)/flows/%: examples/%.c examples/example_io.h sph_kernel.h
 	@mkdir -p $(BUILD)/flows
@@ -207,6 +207,9 @@ run-taylor-green: $(BUILD)/flows/taylor_green
 
 run-heat-conduction: $(BUILD)/flows/heat_conduction
 	./$(BUILD)/flows/heat_conduction --out $(BUILD)/heat_conduction
+
+run-gresho: $(BUILD)/flows/gresho
+	./$(BUILD)/flows/gresho --out $(BUILD)/gresho
 
 # The --study runs write $(RESULTS)/*_results.md and the CSVs the plots read (a few minutes).
 plots-flows: $(BUILD)/flows/taylor_green $(BUILD)/flows/heat_conduction
