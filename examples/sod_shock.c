@@ -1086,7 +1086,7 @@ int main(int argc, char **argv)
          EX_OPEN_LO, NULL},
         {"t-end", "end time (the waves of x = 0 and x = +-1 meet after 0.25)", &P.t_end, NULL, NULL, NULL, 0, 0.25,
          EX_OPEN_LO, NULL},
-        {"eta", "h = eta (m / rho)^(1/3)", &P.eta, NULL, NULL, NULL, 1, 2, 0, NULL},
+        {"eta", "h = eta (m / rho)^(1/3)", &P.eta, NULL, NULL, NULL, 0.9, 4, 0, NULL},
         {"cfl", "dt = cfl h_min / v_sig,max", &P.cfl, NULL, NULL, NULL, 0, 0.5, EX_OPEN_LO, NULL},
         {"alpha-min", "viscosity switch: alpha far from shocks (at most alpha-max)", &P.alpha_min, NULL, NULL, NULL, 0,
          4, 0, NULL},
