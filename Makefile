@@ -7,6 +7,7 @@
 #   make demo       builds and runs the main example
 #   make plots      redraws the PNG plots in docs/results/ (needs gnuplot)
 #   make report     error against run time of every operator: docs/results/report.md, docs/results/report/
+#   make report-flows  error against run time of two flows (Gresho vortex, Sod tube): docs/results/flows.md
 #   make install PREFIX=/usr/local   header, pkg-config file, CMake package
 #   make bench      operator and neighbour-search timings (bench/benchmark.c)
 #   make bench-step the Sod shock tube's step per particle and phase (bench/bench_step.sh)
@@ -32,7 +33,7 @@ RESULTS := docs/results
 # not depend on the thread count)
 OPENMP  := $(shell printf 'int main(void){return 0;}\n' | $(CC) -fopenmp -x c - -o /dev/null > /dev/null 2>&1 && echo -fopenmp)
 
-.PHONY: all test check print-check-examples demo plots install uninstall clean fuzz stability report report-full plots-report report-plots-if-gnuplot bench bench-step bench-search bench-isa tiny-size compile-cost isa-names
+.PHONY: all test check print-check-examples demo plots install uninstall clean fuzz stability report report-full plots-report report-plots-if-gnuplot report-flows plots-report-flows report-flows-plots-if-gnuplot bench bench-step bench-search bench-isa tiny-size compile-cost isa-names
 
 all: $(BUILD)/kernel_table $(BUILD)/kernel_plots $(BUILD)/quickstart
 
@@ -71,7 +72,7 @@ demo: $(BUILD)/kernel_table
 	./$(BUILD)/kernel_table
 
 # Data from studies/kernel_plots.c into build/plots, PNGs into docs/results/plots.
-plots: $(BUILD)/kernel_plots plots-dambreak plots-report plots-flows
+plots: $(BUILD)/kernel_plots plots-dambreak plots-report plots-report-flows plots-flows
 	@command -v gnuplot > /dev/null 2>&1 || { \
 	    echo "make plots: gnuplot is not installed (Debian/Ubuntu: apt-get install gnuplot-nox);"; \
 	    echo "            the PNGs in $(RESULTS)/plots were left as they are."; exit 1; }
@@ -138,6 +139,7 @@ report-full: $(BUILD)/error_vs_runtime
 	@mkdir -p $(RESULTS)/report
 	OMP_NUM_THREADS=1 ./$(BUILD)/error_vs_runtime --full --out $(RESULTS)
 	@$(MAKE) --no-print-directory report-plots-if-gnuplot
+	@$(MAKE) --no-print-directory report-flows
 
 report-plots-if-gnuplot:
 	@if command -v gnuplot > /dev/null 2>&1; then $(MAKE) --no-print-directory plots-report; else \
@@ -150,6 +152,34 @@ plots-report:
 	    echo "                   the PNGs in $(RESULTS)/report were left as they are."; exit 1; }
 	gnuplot -e "dir='$(RESULTS)/report'" studies/report.gp
 	@ls $(RESULTS)/report/*.png
+
+# Error against run time on flows (report-flows, plots-report-flows): studies/flows_vs_runtime.c
+# runs examples/gresho.c (n = 32, 64, 128) and examples/sod_shock.c (nx = 16, 24, 32) for every
+# kernel at two or three neighbour numbers, each run one process on one thread, the programs
+# built with -march=native as a user tuning for the machine builds them; it writes
+# $(RESULTS)/flows.md and $(RESULTS)/flows/*.csv, gnuplot the PNGs beside the CSVs. About 25
+# minutes of one core, so not part of make report (under a minute) nor of make test; make
+# report-full runs it after the long sweeps.
+FLOWS_BUILD  := $(BUILD)/native
+FLOWS_CFLAGS := $(CFLAGS) -march=native
+report-flows: $(BUILD)/flows_vs_runtime
+	@$(MAKE) --no-print-directory BUILD=$(FLOWS_BUILD) CFLAGS='$(FLOWS_CFLAGS)' \
+	    $(FLOWS_BUILD)/flows/gresho $(FLOWS_BUILD)/flows/sod_shock
+	./$(BUILD)/flows_vs_runtime --bin $(FLOWS_BUILD)/flows --out $(RESULTS) \
+	    --build "$(CC) $(FLOWS_CFLAGS) $(OPENMP), $$($(CC) --version | head -n 1)"
+	@$(MAKE) --no-print-directory report-flows-plots-if-gnuplot
+
+report-flows-plots-if-gnuplot:
+	@if command -v gnuplot > /dev/null 2>&1; then $(MAKE) --no-print-directory plots-report-flows; else \
+	    echo "make report-flows: gnuplot is not installed (Debian/Ubuntu: apt-get install gnuplot-nox);"; \
+	    echo "                   $(RESULTS)/flows.md and the CSVs are new, the PNGs in $(RESULTS)/flows were NOT redrawn."; fi
+
+plots-report-flows:
+	@command -v gnuplot > /dev/null 2>&1 || { \
+	    echo "make plots-report-flows: gnuplot is not installed (Debian/Ubuntu: apt-get install gnuplot-nox);"; \
+	    echo "                         the PNGs in $(RESULTS)/flows were left as they are."; exit 1; }
+	gnuplot -e "dir='$(RESULTS)/flows'" studies/flows_pareto.gp
+	@ls $(RESULTS)/flows/*.png
 
 # stability: builds studies/stability.c twice (double, and float for table 9) and
 # rewrites $(RESULTS)/stability.md with its measurements (about five minutes,
