@@ -11,8 +11,9 @@
  * 20 r + 4 ln(5 r) (0.2 <= r < 0.4), 3 + 4 ln 2 beyond. n x n equal-mass
  * particles on a square lattice (cell-centred), at rest in the lattice.
  *
- * The step is the one of examples/sod_shock.c (docs/smoothing_length.md,
- * "Shock tube"), in 2-D and without conductivity (the flow has no contact):
+ * The step is the one of docs/step.md (examples/step_recipe.c) in 2-D, with
+ * the viscosity switched as examples/sod_shock.c switches it (no
+ * conductivity: the flow has no contact):
  *   - symmetric lists at kappa (1 + skin) h, kept while sph_nsearch_skin says
  *     they still hold every pair within kappa max(h_i, h_j);
  *   - sph_h_solve: h_i = eta (m / rho_i)^(1/2) and rho_i together (H1)-(H4),
@@ -22,11 +23,12 @@
  *     (sph_batch_fill): the grad-h momentum and energy equations (H5), (H6),
  *     the signal-velocity viscosity (S3), (S4) (beta = 3) with the pair's
  *     alpha_ij of (S14), and the sums of div v and curl v;
- *   - the switch (--switch sphenix, the default): the Balsara factor (S13)
- *     and SPHENIX's alpha (S16), a Cullen & Dehnen (2010) style switch on
- *     d(div v)/dt, alpha in [0, 2]; --switch none keeps alpha = --alpha
- *     everywhere without the Balsara factor;
- *   - kick-drift-kick with dt = cfl h_min / v_sig,max.
+ *   - the switch (--switch sphenix, the default; sph_switch_update): the
+ *     Balsara factor (S13) and SPHENIX's alpha (S16), a Cullen & Dehnen
+ *     (2010) style switch on d(div v)/dt, alpha in [0, 2]; --switch none
+ *     keeps alpha = --alpha everywhere without the Balsara factor;
+ *   - kick-drift-kick with dt of sph_time_step: C_cfl = 0.5 on each
+ *     particle's h / v_sig (S9), and the force limit (S10).
  *
  * Error: L1 = (1/N) sum_i |v_phi,i - v_phi(r_i)| over every particle at
  * t_end, the velocity of each particle against the exact profile at its
@@ -61,7 +63,7 @@ typedef struct {
     sph_real kappa, m, eta, h_cap;
     sph_idx n;
     sph_box box;
-    sph_real *x, *v, *vp, *a, *u, *up, *du, *h, *rho, *om, *A, *cs, *alpha, *B, *divv, *div_prev, *curl;
+    sph_real *x, *v, *vp, *a, *u, *up, *du, *h, *rho, *om, *A, *cs, *vsig, *alpha, *B, *divv, *div_prev, *curl;
     sph_real *hl, *hle, *x0; /* list radii, the radii a kept list still serves, positions at the search */
     int *state, sphenix;
     void *work;
@@ -70,8 +72,7 @@ typedef struct {
     sph_idx *index, *p_idx;
     sph_neighbours kept, pairs; /* the searched list; its pairs within kappa max(h_i, h_j) */
     int listed;
-    double dt, vsig_max;
-    long steps;
+    double dt; /* the last step, for the switch's d(div v)/dt */
 } gr_sim;
 
 /* The exact solution. */
@@ -90,8 +91,8 @@ static double gr_cpu(void)
 
 static void gr_free(gr_sim *S)
 {
-    sph_real *f[] = {S->x, S->v, S->vp, S->a, S->u, S->up, S->du, S->h, S->rho, S->om, S->A, S->cs, S->alpha,
-                     S->B, S->divv, S->div_prev, S->curl, S->hl, S->hle, S->x0};
+    sph_real *f[] = {S->x, S->v, S->vp, S->a, S->u, S->up, S->du, S->h, S->rho, S->om, S->A, S->cs, S->vsig,
+                     S->alpha, S->B, S->divv, S->div_prev, S->curl, S->hl, S->hle, S->x0};
     size_t i;
     for (i = 0; i < sizeof f / sizeof f[0]; ++i) free(f[i]);
     free(S->state), free(S->work), free(S->offset), free(S->p_off), free(S->index), free(S->p_idx);
@@ -103,7 +104,7 @@ static int gr_setup(gr_sim *S)
     const int n = S->P.n;
     const double dx = 1.0 / n;
     sph_real **f[] = {&S->x, &S->v, &S->vp, &S->a, &S->x0};      /* two components */
-    sph_real **g[] = {&S->u, &S->up, &S->du, &S->h, &S->rho, &S->om, &S->A, &S->cs, &S->alpha, &S->B,
+    sph_real **g[] = {&S->u, &S->up, &S->du, &S->h, &S->rho, &S->om, &S->A, &S->cs, &S->vsig, &S->alpha, &S->B,
                       &S->divv, &S->div_prev, &S->curl, &S->hl, &S->hle}; /* one */
     size_t i;
     sph_idx p;
@@ -216,70 +217,64 @@ static int gr_density(gr_sim *S)
     return SPH_EINVAL;
 }
 
-/* Particle i's row of the pruned list, SPH_BATCH pairs at a time: (H5) + (S3)-(S4) into a, (H6) + (S4) into du, and
- * div v and |curl v| (Price 2012, with the grad-h factor) for the switch; returns the largest signal velocity. */
-static sph_real gr_row(gr_sim *S, const sph_batch_src *src, sph_idx i)
+/* The pair terms of particle i from batch b of its row, added to sum[5]: dv/dt (2), du/dt, sum_j m_j v_ij . x_ij F_i
+ * (div v) and sum_j m_j (v_ij x x_ij) F_i (curl v); the largest signal velocity of the pairs into *vs. The pressure
+ * terms take each side's F, the viscosity their mean (docs/step.md, "Which kernel width each term takes"). */
+static void gr_batch(const gr_sim *S, sph_idx i, const sph_batch *b, sph_real *vs, sph_real *sum)
 {
-    const sph_real m = S->m, Ai = S->A[i], ci = S->cs[i], rhoi = S->rho[i], ali = S->alpha[i], Bi = S->B[i];
-    const sph_real *vi = S->vp + 2 * i;
-    sph_real sum[5] = {0, 0, 0, 0, 0}, vs = 0; /* dv/dt (2), du/dt, sum m v_ij . x_ij F_i, sum m (v_ij x x_ij) F_i */
-    sph_off next = 0;
-    sph_batch b;
+    const sph_real m = S->m, beta = (sph_real)GR_BETA, Ai = S->A[i], ci = S->cs[i], rhoi = S->rho[i];
+    const sph_real ali = S->alpha[i], Bi = S->B[i], *vi = S->vp + 2 * i;
+    sph_real vj[2][SPH_BATCH], Aj[SPH_BATCH], cj[SPH_BATCH], rhoj[SPH_BATCH], alj[SPH_BATCH], Bj[SPH_BATCH];
+    sph_real t[5][SPH_BATCH], vsig[SPH_BATCH], vmax = *vs;
     int l, q;
-    while (sph_batch_fill(src, i, &next, &b) > 0) {
-        sph_real t[5][SPH_BATCH], vsig[SPH_BATCH];
-        for (l = 0; l < SPH_BATCH; ++l) {
-            const sph_idx j = b.j[l];
-            const sph_real dx = b.dx[0][l], dy = b.dx[1][l], Fi = b.F_i[l], Fj = b.F_j[l];
-            const sph_real dvx = vi[0] - S->vp[2 * j], dvy = vi[1] - S->vp[2 * j + 1], e = dvx * dx + dvy * dy;
-            const sph_real w = (e < 0 ? e : 0) / (b.r[l] > 0 ? b.r[l] : 1);          /* (S2) w_ij */
-            const sph_real v_sig = ci + S->cs[j] - (sph_real)GR_BETA * w;            /* (S2) */
-            const sph_real al = (ali + S->alpha[j]) / 2 * ((Bi + S->B[j]) / 2);      /* (S14) */
-            const sph_real Pi = -al / 2 * v_sig * w / ((rhoi + S->rho[j]) / 2);      /* (S3) */
-            const sph_real cav = m * Pi * (Fi + Fj) / 2;                             /* (S4) */
-            const sph_real cp = m * (Ai * Fi + S->A[j] * Fj) + cav;                  /* (H5) + (S4) */
-            t[0][l] = -cp * dx, t[1][l] = -cp * dy;
-            t[2][l] = m * Ai * Fi * e + cav * e / 2;                                 /* (H6) + (S4) */
-            t[3][l] = m * e * Fi, t[4][l] = m * (dvx * dy - dvy * dx) * Fi;
-            vsig[l] = j != i ? v_sig : 0; /* padding lanes hold j = i */
-        }
-        for (q = 0; q < 5; ++q)
-            for (l = 0; l < SPH_BATCH; ++l) sum[q] += t[q][l];
-        for (l = 0; l < SPH_BATCH; ++l) vs = vsig[l] > vs ? vsig[l] : vs;
+    for (l = 0; l < SPH_BATCH; ++l) { /* the partners' fields into lanes (padding lanes: j = i, x_ij = 0, F = 0) */
+        const sph_idx j = b->j[l];
+        vj[0][l] = S->vp[2 * j], vj[1][l] = S->vp[2 * j + 1];
+        Aj[l] = S->A[j], cj[l] = S->cs[j], rhoj[l] = S->rho[j], alj[l] = S->alpha[j], Bj[l] = S->B[j];
     }
-    S->a[2 * i] = sum[0], S->a[2 * i + 1] = sum[1], S->du[i] = sum[2];
-    S->divv[i] = -sum[3] / (S->om[i] * rhoi), S->curl[i] = (sph_real)fabs((double)sum[4]) / (S->om[i] * rhoi);
-    return vs;
+    for (l = 0; l < SPH_BATCH; ++l) { /* the arithmetic alone: the compiler vectorises it */
+        const sph_real dx = b->dx[0][l], dy = b->dx[1][l], r = b->r[l], Fi = b->F_i[l], Fj = b->F_j[l];
+        const sph_real dvx = vi[0] - vj[0][l], dvy = vi[1] - vj[1][l], e = dvx * dx + dvy * dy; /* v_ij . x_ij */
+        const sph_real w = (e < 0 ? e : 0) / (r > 0 ? r : 1);                        /* (S2) w_ij */
+        const sph_real v_sig = ci + cj[l] - beta * w;                                /* (S2) */
+        const sph_real al = sph_pair_av_alpha(ali, alj[l], Bi, Bj[l]);               /* (S14) */
+        const sph_real Pi = -al / 2 * v_sig * w / ((rhoi + rhoj[l]) / 2);            /* (S3) */
+        const sph_real cav = m * Pi * (Fi + Fj) / 2;                                 /* (S4) at the mean F */
+        const sph_real cp = m * (Ai * Fi + Aj[l] * Fj) + cav;                        /* (H5) + (S4) */
+        t[0][l] = -cp * dx, t[1][l] = -cp * dy;
+        t[2][l] = m * Ai * Fi * e + cav * e / 2;                                     /* (H6) + (S4) */
+        t[3][l] = m * e * Fi, t[4][l] = m * (dvx * dy - dvy * dx) * Fi;
+        vsig[l] = b->j[l] != i ? v_sig : 0;
+    }
+    for (q = 0; q < 5; ++q)
+        for (l = 0; l < SPH_BATCH; ++l) sum[q] += t[q][l];
+    for (l = 0; l < SPH_BATCH; ++l) vmax = vsig[l] > vmax ? vsig[l] : vmax;
+    *vs = vmax;
 }
 
-/* The switch of every particle from this evaluation's div v and |curl v| and the last's div v, dt apart: the
- * Balsara factor B (S13) and alpha by (S16), SPHENIX's parameters (alpha in [0, 2], decay length 0.25). */
+/* The switch of every particle from this evaluation's div v and |curl v| and the last's div v, dt apart
+ * (sph_switch_update with SPHENIX's parameters: alpha in [0, 2], decay length 0.25): B (S13) and alpha (S16). */
 static int gr_switch(gr_sim *S)
 {
-    const sph_real amax = 2, ell = (sph_real)0.25, dt = (sph_real)S->dt;
-    sph_idx i;
+    sph_switch_input in = sph_switch_input_init(S->kappa);
     if (!S->sphenix) return SPH_OK;
-    for (i = 0; i < S->n; ++i) {
-        const sph_real c = S->cs[i], h = S->h[i], H = S->kappa * h, dv = S->divv[i], ad = dv < 0 ? -dv : dv;
-        const sph_real rate = dt > 0 ? (dv - S->div_prev[i]) / dt : 0;
-        const sph_real src = dv < 0 && rate < 0 ? -H * H * rate : 0, loc = src > 0 ? amax * src / (c * c + src) : 0;
-        const sph_real r = dt * ell * c / H;
-        S->B[i] = ad / (ad + S->curl[i] + (sph_real)1e-4 * c / h);
-        S->alpha[i] = loc > S->alpha[i] ? loc : (S->alpha[i] + loc * r) / (1 + r);
-        S->div_prev[i] = dv;
-    }
-    return SPH_OK;
+    in.dt = (sph_real)S->dt;
+    in.div_v = sph_view_soa(S->divv, NULL, NULL), in.curl_v = sph_view_soa(S->curl, NULL, NULL);
+    in.c = sph_view_soa(S->cs, NULL, NULL), in.h = sph_view_soa(S->h, NULL, NULL);
+    return sph_switch_update(&in, S->n, sph_out_soa(S->alpha, NULL, NULL), sph_out_soa(S->div_prev, NULL, NULL),
+                             sph_out_soa(S->B, NULL, NULL), sph_out_soa(NULL, NULL, NULL));
 }
 
-/* Densities, then the rates of every particle at x, vp, up: a, du/dt, the switch and the largest signal velocity. */
+/* Densities, then the rates of every particle at x, vp, up: a, du/dt, div v, curl v, the signal velocity, and the
+ * switch. Each particle sums its own row of the pruned list: every pair is evaluated from both ends, its terms
+ * antisymmetric, so momentum and energy are conserved to round-off. */
 static int gr_forces(gr_sim *S)
 {
     sph_batch_src src;
     sph_idx i;
-    sph_real vmax = 0;
     int st;
     if ((st = gr_density(S)) != SPH_OK) return st;
-    for (i = 0; i < S->n; ++i) {
+    for (i = 0; i < S->n; ++i) { /* pressure, sound speed, A = P / (Omega rho^2) of (H5) */
         const sph_real p = (sph_real)(GR_GAMMA - 1) * S->rho[i] * S->up[i];
         S->cs[i] = (sph_real)sqrt(GR_GAMMA * p / S->rho[i]);
         S->A[i] = sph_gradh_factor(p, S->rho[i], S->om[i]);
@@ -287,13 +282,16 @@ static int gr_forces(gr_sim *S)
     st = sph_batch_source(&src, S->k, 2, &S->pairs, NULL, sph_view_interleaved(S->x, 2), sph_view_soa(S->h, NULL, NULL));
     if (st != SPH_OK || (st = sph_batch_select(&src, SPH_BATCH_F)) != SPH_OK) return st;
 #ifdef _OPENMP
-#pragma omp parallel for schedule(dynamic, 64) reduction(max : vmax)
+#pragma omp parallel for schedule(dynamic, 64)
 #endif
     for (i = 0; i < S->n; ++i) {
-        const sph_real vs = gr_row(S, &src, i);
-        vmax = vs > vmax ? vs : vmax;
+        sph_real sum[5] = {0, 0, 0, 0, 0}, vs = 0, orho = S->om[i] * S->rho[i];
+        sph_off next = 0;
+        sph_batch b;
+        while (sph_batch_fill(&src, i, &next, &b) > 0) gr_batch(S, i, &b, &vs, sum);
+        S->a[2 * i] = sum[0], S->a[2 * i + 1] = sum[1], S->du[i] = sum[2], S->vsig[i] = vs;
+        S->divv[i] = -sum[3] / orho, S->curl[i] = (sph_real)fabs((double)sum[4]) / orho; /* Price (2012) */
     }
-    S->vsig_max = vmax;
     return gr_switch(S); /* after the loop, which read the neighbours' alpha and B */
 }
 
@@ -316,7 +314,7 @@ static int gr_run(const gr_param *P, gr_result *R, FILE *csv)
 {
     gr_sim S;
     const double c0 = gr_cpu(), w0 = ex_now();
-    double t = 0, E0, px = 0, py = 0, pabs = 0;
+    double t = 0, E0 = 0, px = 0, py = 0, pabs = 0;
     ex_growth energy = {"relative total energy error |E - E0| / E0", "lower --cfl", 0, 1, 0.01};
     ex_progress prog = ex_progress_start();
     sph_idx i;
@@ -335,12 +333,14 @@ static int gr_run(const gr_param *P, gr_result *R, FILE *csv)
         st = gr_forces(&S);
     }
     while (st == SPH_OK && t < P->t_end * (1 - 1e-12)) {
-        sph_real hmin = S.h[0];
-        for (i = 1; i < S.n; ++i) hmin = S.h[i] < hmin ? S.h[i] : hmin;
-        S.dt = P->cfl * hmin / S.vsig_max;
-        if (t + S.dt > P->t_end) S.dt = P->t_end - t;
+        sph_dt_input in = sph_dt_input_init(0); /* (S9) on each particle's h / v_sig, and (S10) */
+        sph_real d;
+        in.h_particle = sph_view_soa(S.h, NULL, NULL), in.vsig = sph_view_soa(S.vsig, NULL, NULL);
+        in.coef.cfl = (sph_real)P->cfl, in.acc = sph_view_interleaved(S.a, 2);
+        if ((st = sph_time_step(&in, 2, S.n, &d, NULL, NULL)) != SPH_OK) break;
+        S.dt = t + d > P->t_end ? P->t_end - t : d;
+        d = (sph_real)S.dt;
         for (i = 0; i < S.n; ++i) { /* kick, drift (into the box), the predicted v and u, h's guess (H1) */
-            const sph_real d = (sph_real)S.dt;
             int a;
             for (a = 0; a < 2; ++a) {
                 S.v[2 * i + a] += d / 2 * S.a[2 * i + a];
@@ -350,7 +350,7 @@ static int gr_run(const gr_param *P, gr_result *R, FILE *csv)
             }
             S.u[i] += d / 2 * S.du[i];
             S.up[i] = S.u[i] + d / 2 * S.du[i];
-            S.h[i] *= 1 + d / 2 * S.divv[i];
+            S.h[i] *= 1 + d / 2 * S.divv[i]; /* dh/dt = (h / d) div v */
         }
         if ((st = gr_forces(&S)) != SPH_OK) break;
         for (i = 0; i < S.n; ++i) { /* kick */
@@ -393,7 +393,7 @@ int main(int argc, char **argv)
         {"neighbours", "neighbours in the kernel's support (h from sph_kernel_h_for_neighbours)", &P.neighbours, NULL,
          NULL, NULL, 4, 500, 0, NULL},
         {"t-end", "end time", &P.t_end, NULL, NULL, NULL, 0, 10, EX_OPEN_LO, NULL},
-        {"cfl", "dt = cfl h_min / v_sig,max", &P.cfl, NULL, NULL, NULL, 0, 0.5, EX_OPEN_LO, NULL},
+        {"cfl", "C_cfl of (S9) on the pair signal velocity (S2)", &P.cfl, NULL, NULL, NULL, 0, 1, EX_OPEN_LO, NULL},
         {"switch", "viscosity switch: sphenix (Balsara and SPHENIX's alpha) or none (alpha = --alpha)", NULL, NULL,
          &P.sw, NULL, 0, 0, 0, "sphenix|none"},
         {"alpha", "--switch none: the viscosity's alpha", &P.alpha, NULL, NULL, NULL, 0, 4, 0, NULL},
@@ -405,7 +405,7 @@ int main(int argc, char **argv)
         {"check", "n = 32, t = 1; exit 1 if the run misses its validation bounds", NULL, NULL, NULL, &check, 0, 0, 0,
          NULL},
     };
-    P.n = 64, P.kernel = "cubic", P.sw = "sphenix", P.neighbours = 18, P.t_end = 1, P.cfl = 0.3, P.alpha = 1;
+    P.n = 64, P.kernel = "cubic", P.sw = "sphenix", P.neighbours = 18, P.t_end = 1, P.cfl = 0.5, P.alpha = 1;
     P.skin = 0.1;
     st = ex_parse_args(argc, argv, "the Gresho-Chan vortex in 2-D with adaptive h, grad-h forces and a switched "
                        "viscosity; prints the L1 error of v_phi and the CPU time; " GR_BOUNDS,
@@ -444,9 +444,9 @@ int main(int argc, char **argv)
            "|P|/sum m|v| %.1e  cpu %.2f s  wall %.2f s\n",
            P.n, P.kernel, P.neighbours, P.sw, R.steps, R.l1, R.energy_drift, R.momentum, R.cpu, R.wall);
     if (check) {
-        /* L1 bound: 1.5 times the 0.123 of this run, a regression guard; the conservation bounds are the scheme's */
-        const int ok = R.l1 < 0.18 && R.energy_drift < 1e-3 && R.momentum < 1e-10;
-        printf("gresho --check: L1 v_phi %.4f (bound 0.18), energy drift %.1e (1e-3), momentum %.1e (1e-10): %s\n", R.l1,
+        /* L1 bound: 1.5 times the 0.130 of this run, a regression guard; the conservation bounds are the scheme's */
+        const int ok = R.l1 < 0.195 && R.energy_drift < 1e-3 && R.momentum < 1e-10;
+        printf("gresho --check: L1 v_phi %.4f (bound 0.195), energy drift %.1e (1e-3), momentum %.1e (1e-10): %s\n", R.l1,
                R.energy_drift, R.momentum, ok ? "pass" : "FAIL");
         return ok ? 0 : 1;
     }
