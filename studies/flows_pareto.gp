@@ -32,7 +32,7 @@ set format x "%g"
 set format y "%g"
 set xtics ()
 set ytics ()
-do for [e=-4:4] { set xtics add (1 * 10.0**e, 2 * 10.0**e, 5 * 10.0**e); set ytics add (1 * 10.0**e, 2 * 10.0**e, 5 * 10.0**e) }
+do for [e=-4:4] { set xtics add (1 * 10.0**e, 2 * 10.0**e, 5 * 10.0**e); set ytics add (1 * 10.0**e, 2 * 10.0**e, 3 * 10.0**e, 5 * 10.0**e) }
 set xlabel "CPU seconds of the run (one thread)"
 set key outside right top Left reverse samplen 1.5 spacing 1.1
 

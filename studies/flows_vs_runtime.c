@@ -162,7 +162,8 @@ static void write_matrix(FILE *md, const point *pts, int n, int flow)
     const int nq = flow == SOD ? 3 : 1;
     int i, r;
     fprintf(md, "| kernel | c | neighbours |");
-    for (r = 0; r < 3; ++r) fprintf(md, " %s = %d: L1 %s (CPU s) |", res_name(flow), res[flow][r], nq == 3 ? "rho, v_x, P" : "v_phi");
+    for (r = 0; r < 3; ++r)
+        fprintf(md, " %s = %d: L1 %s (CPU s) |", res_name(flow), res[flow][r], nq == 3 ? "rho, v_x, P" : "v_phi");
     fprintf(md, "\n|---|---|---|---|---|---|\n");
     for (i = 0; i < n; ++i) {
         const point *p = &pts[i];
@@ -225,15 +226,23 @@ static int write_report(const char *dir, const char *build, const double load[2]
             "resolution: kernel k at the h where its standard deviation sigma_k h equals c times the cubic "
             "spline's at h = 1.2 dx (`sph_kernel_sigma`; c = 1 is the cubic's 18.1 neighbours in 2-D and 57.9 in "
             "3-D), the neighbours in its support following from h (`sph_kernel_neighbours`).\n\n"
-            "- **Gresho-Chan vortex** ([examples/gresho.c](../../examples/gresho.c), docs/examples.md): 2-D, n x n "
-            "particles on a square lattice in the periodic unit box, adaptive h with grad-h forces, signal-velocity "
-            "viscosity with the Balsara factor and SPHENIX's switch, to t = 1; L1 = mean over all particles of "
-            "|v_phi - v_phi,exact(r)|. c = 1, 1.3, 1.6; n = 32, 64, 128.\n"
-            "- **Sod shock tube** ([examples/sod_shock.c](../../examples/sod_shock.c), docs/smoothing_length.md): 3-D, "
-            "two fcc lattices, the same step with SPHENIX's conductivity, to t = 0.2; L1 of rho, v_x and P over "
-            "|x| <= 0.5 against the exact Riemann solution. c = 1, 1.3 (a 3-D neighbour costs more); nx = 16, 24, 32 "
-            "fcc cells per unit length, the fewest cells across the tube that the kernel's reach allows (so a wider "
-            "kernel runs a wider tube: more particles).\n\n"
+            "- **Gresho-Chan vortex** ([examples/gresho.c](../../examples/gresho.c), "
+            "[docs/examples.md](../examples.md#gresho-chan-vortex), with the published figures found): 2-D, n x n "
+            "particles on a square lattice in the periodic unit box, the step of [docs/step.md](../step.md) "
+            "(adaptive h, grad-h forces, signal-velocity viscosity) with the Balsara factor and SPHENIX's switch, "
+            "to t = 1; L1 = mean over all particles of |v_phi - v_phi,exact(r)|. c = 1, 1.3, 1.6; n = 32, 64, 128; "
+            "dt from `sph_time_step` ((S9), C_cfl = 0.5 on h_i / v_sig,i, and (S10)).\n"
+            "- **Sod shock tube** ([examples/sod_shock.c](../../examples/sod_shock.c), "
+            "[docs/smoothing_length.md](../smoothing_length.md#shock-tube-examplessod_shockc)): 3-D, two fcc lattices, "
+            "the same step with SPHENIX's conductivity, to t = 0.2; L1 of rho, v_x and P over |x| <= 0.5 against the "
+            "exact Riemann solution. c = 1, 1.3 (a 3-D neighbour costs more); nx = 16, 24, 32 fcc cells per unit "
+            "length, the fewest cells across the tube that the kernel's reach allows (so a wider kernel runs a wider "
+            "tube: more particles); dt = 0.3 h_min / v_sig,max, the example's default.\n\n"
+            "Both time steps are in units of h as each kernel defines it, and a kernel's support is kappa h with "
+            "kappa = 1 (Lucy), 2.5 (quartic), 3 (quintic) or 2: at equal resolution a kernel of small kappa has the "
+            "larger h and takes the longer steps, and its CPU time includes that (the Lucy kernel's runs are the "
+            "cheapest for this reason). The errors of one point move by a few per cent with small changes of h "
+            "(docs/examples.md gives one case), so read neighbouring points on a front as ties.\n\n"
             "**Pareto front.** A point (CPU seconds, L1) is on the front when no point that cost at most as much has "
             "a smaller error: read a front table as *for this budget, this kernel at this neighbour number and "
             "resolution gives the least error*. Points off the front are never worth their time for that flow.\n\n",
