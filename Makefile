@@ -157,9 +157,9 @@ plots-report:
 # runs examples/gresho.c (n = 32, 64, 128) and examples/sod_shock.c (nx = 16, 24, 32) for every
 # kernel at two or three neighbour numbers, each run one process on one thread, the programs
 # built with -march=native as a user tuning for the machine builds them; it writes
-# $(RESULTS)/flows.md and $(RESULTS)/flows/*.csv, gnuplot the PNGs beside the CSVs. About 25
-# minutes of one core, so not part of make report (under a minute) nor of make test; make
-# report-full runs it after the long sweeps.
+# $(RESULTS)/flows.md and $(RESULTS)/flows/*.csv, gnuplot the PNGs beside the CSVs. About 15
+# minutes of one core (860 s for the table in docs/results), so not part of make report (under a
+# minute) nor of make test; make report-full runs it after the long sweeps.
 FLOWS_BUILD  := $(BUILD)/native
 FLOWS_CFLAGS := $(CFLAGS) -march=native
 report-flows: $(BUILD)/flows_vs_runtime

@@ -227,7 +227,7 @@ static int write_report(const char *dir, const char *build, const double load[2]
             "spline's at h = 1.2 dx (`sph_kernel_sigma`; c = 1 is the cubic's 18.1 neighbours in 2-D and 57.9 in "
             "3-D), the neighbours in its support following from h (`sph_kernel_neighbours`).\n\n"
             "- **Gresho-Chan vortex** ([examples/gresho.c](../../examples/gresho.c), "
-            "[docs/examples.md](../examples.md#gresho-chan-vortex), with the published figures found): 2-D, n x n "
+            "[docs/examples.md](../examples.md#gresho-chan-vortex), and what was found of published figures): 2-D, n x n "
             "particles on a square lattice in the periodic unit box, the step of [docs/step.md](../step.md) "
             "(adaptive h, grad-h forces, signal-velocity viscosity) with the Balsara factor and SPHENIX's switch, "
             "to t = 1; L1 = mean over all particles of |v_phi - v_phi,exact(r)|. c = 1, 1.3, 1.6; n = 32, 64, 128; "
