@@ -22,7 +22,7 @@ set linetype 4 lc rgb "#009e73" lw 1.5
 set linetype 5 lc rgb "#d55e00" lw 1.5
 set linetype 6 lc rgb "#cc79a7" lw 1.5
 set linetype 7 lc rgb "#0072b2" lw 1.5
-set linetype 8 lc rgb "#999999" lw 1.5
+set linetype 8 lc rgb "#a65628" lw 1.5
 set linetype 9 lc rgb "#f0e442" lw 1.5
 set linetype cycle 9
 
