@@ -187,9 +187,12 @@ static void gr_radii(gr_sim *S, int all)
 static int gr_density(gr_sim *S)
 {
     const sph_view xv = sph_view_interleaved(S->x, 2);
+    sph_hctx c = sph_hctx_init(S->k, 2, &S->kept, xv, sph_view_aos(&S->m, 1, 0), 0); /* one mass; the list's box */
+    sph_hreport rep;
     sph_idx stale = 1;
     sph_off pairs;
     int round, st;
+    c.eta = S->eta, c.h_list = sph_view_soa(S->hle, NULL, NULL), c.check_list = 0; /* the radii served; searched */
     if (S->listed && (st = sph_nsearch_skin(&S->kept, NULL, 2, xv, sph_view_interleaved(S->x0, 2),
                                             sph_view_soa(S->hl, NULL, NULL), S->kappa, sph_view_soa(S->h, NULL, NULL),
                                             sph_out_soa(S->hle, NULL, NULL), &stale)) != SPH_OK)
@@ -199,19 +202,13 @@ static int gr_density(gr_sim *S)
         if ((st = gr_search(S)) != SPH_OK) return st;
     }
     for (round = 0; round < 6; ++round) {
-        sph_hctx c = sph_hctx_init(S->k, 2, &S->kept, xv, sph_view_aos(&S->m, 1, 0), 0); /* one mass; the list's box */
-        sph_hreport rep;
-        c.eta = S->eta;
-        c.h_list = sph_view_soa(S->hle, NULL, NULL);
-        c.check_list = 0; /* the search's lists */
         st = sph_h_solve(&c, sph_out_soa(S->h, NULL, NULL), sph_out_soa(S->rho, NULL, NULL),
                          sph_out_soa(S->om, NULL, NULL), NULL, S->state, &rep);
-        if (st != SPH_OK) return st;
-        if (rep.n_not_converged > 0) return SPH_EINVAL;
+        if (st != SPH_OK || rep.n_not_converged > 0) return st != SPH_OK ? st : SPH_EINVAL;
         if (rep.n_beyond_list == 0)
             return sph_nsearch_prune(&S->kept, NULL, 2, xv, sph_view_soa(S->h, NULL, NULL), S->kappa,
                                      SPH_NSEARCH_SYMMETRIC, S->p_off, S->p_idx, S->cap, &pairs, &S->pairs);
-        gr_radii(S, 0);
+        gr_radii(S, 0); /* the particles beyond their list: wider radii, search again */
         if ((st = gr_search(S)) != SPH_OK) return st;
     }
     return SPH_EINVAL;
