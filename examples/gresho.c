@@ -365,7 +365,7 @@ static int gr_run(const gr_param *P, gr_result *R, FILE *csv)
             const double vx = S.v[2 * i], vy = S.v[2 * i + 1], vphi = r > 0 ? (x * vy - y * vx) / r : 0;
             R->l1 += fabs(vphi - gr_vphi(r));
             px += S.m * vx, py += S.m * vy, pabs += S.m * (fabs(vx) + fabs(vy));
-            if (csv != NULL) fprintf(csv, "%.6f,%.6f,%.6f\n", r, ex_csv_fixed(vphi, 6), gr_vphi(r));
+            if (csv != NULL) fprintf(csv, "%.6f,%.6f,%.6f\n", r, ex_csv_fixed(vphi, 6), ex_csv_fixed(gr_vphi(r), 6));
         }
         R->l1 /= (double)S.n;
         R->energy_drift = fabs(gr_energy(&S) - E0) / E0;
