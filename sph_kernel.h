@@ -2837,11 +2837,15 @@ SPH__INLINE sph__vd sph__nshape_vpick(const sph__nshape *s, const int G, sph__vd
 
 /* x_i - x_j on one axis for the lanes (positions p, x_i in xi), minus L times
  * the image floor(x_ij / L + 1/2): with L = 1/L = 0 on an axis without a
- * period that is x_ij exactly, so the loop has no branch per axis. */
-SPH__INLINE sph__vd sph__vdx(sph__vd xi, const sph_real *p, sph__vd L, sph__vd iL, sph__vm km, const ptrdiff_t *ox)
+ * period that is x_ij exactly, so the loop has no branch per axis. FUSED:
+ * in multiply-adds, else multiplied and added as sph__image_chunk (bit for
+ * bit). */
+SPH__INLINE sph__vd sph__vdx(sph__vd xi, const sph_real *p, sph__vd L, sph__vd iL, sph__vm km, const ptrdiff_t *ox,
+                             const int FUSED)
 {
-    const sph__vd d = SPH__V(sub)(xi, sph__vat(xi, km, p, ox));
-    return SPH__V(fnmadd)(L, sph__vfloor(SPH__V(fmadd)(d, iL, SPH__V(set1)(0.5))), d);
+    const sph__vd d = SPH__V(sub)(xi, sph__vat(xi, km, p, ox)), h = SPH__V(set1)(0.5);
+    if (FUSED) return SPH__V(fnmadd)(L, sph__vfloor(SPH__V(fmadd)(d, iL, h)), d);
+    return SPH__V(sub)(d, SPH__V(mul)(L, sph__vfloor(SPH__V(add)(SPH__V(mul)(d, iL), h))));
 }
 #endif /* SPH__OP_AVX512 || SPH__OP_AVX2 */
 
@@ -2889,10 +2893,10 @@ SPH__INLINE void sph__dgv_body(const sph__args *A, const sph__nshape *sh, const 
             for (k = 0; k < SPH__VW; ++k) om[k] = (ptrdiff_t)j[k] * sm, oV[k] = (ptrdiff_t)j[k] * sV, of[k] = (ptrdiff_t)j[k] * sf;
         if (!one && hv)
             for (k = 0; k < SPH__VW; ++k) oh[k] = (ptrdiff_t)j[k] * sh_;
-        d0 = sph__vdx(xi[0], px[0], L[0], iL[0], km, ox);
+        d0 = sph__vdx(xi[0], px[0], L[0], iL[0], km, ox, 1);
         r2 = SPH__V(mul)(d0, d0);
-        if (D > 1) d1 = sph__vdx(xi[1], px[1], L[1], iL[1], km, ox), r2 = SPH__V(fmadd)(d1, d1, r2);
-        if (D > 2) d2 = sph__vdx(xi[2], px[2], L[2], iL[2], km, ox), r2 = SPH__V(fmadd)(d2, d2, r2);
+        if (D > 1) d1 = sph__vdx(xi[1], px[1], L[1], iL[1], km, ox, 1), r2 = SPH__V(fmadd)(d1, d1, r2);
+        if (D > 2) d2 = sph__vdx(xi[2], px[2], L[2], iL[2], km, ox, 1), r2 = SPH__V(fmadd)(d2, d2, r2);
         r = sph__vsqrt(r2);
         q = SPH__V(mul)(r, hinv);
         in = sph__vand(sph__vlt(q, kap), km);
@@ -2994,10 +2998,10 @@ SPH__INLINE void sph__hsv_body(const sph__nshape *sh, const int D, sph_view x, s
         sph__vd d, r2, q, w, g, mj;
         sph__vm in;
         for (k = 0; k < SPH__VW; ++k) ox[k] = (ptrdiff_t)j[k] * sx, om[k] = (ptrdiff_t)j[k] * sm;
-        d = sph__vdx(xi[0], px[0], L[0], iL[0], km, ox);
+        d = sph__vdx(xi[0], px[0], L[0], iL[0], km, ox, 1);
         r2 = SPH__V(mul)(d, d);
-        if (D > 1) d = sph__vdx(xi[1], px[1], L[1], iL[1], km, ox), r2 = SPH__V(fmadd)(d, d, r2);
-        if (D > 2) d = sph__vdx(xi[2], px[2], L[2], iL[2], km, ox), r2 = SPH__V(fmadd)(d, d, r2);
+        if (D > 1) d = sph__vdx(xi[1], px[1], L[1], iL[1], km, ox, 1), r2 = SPH__V(fmadd)(d, d, r2);
+        if (D > 2) d = sph__vdx(xi[2], px[2], L[2], iL[2], km, ox, 1), r2 = SPH__V(fmadd)(d, d, r2);
         q = SPH__V(mul)(sph__vsqrt(r2), hinv);
         in = sph__vand(sph__vlt(q, kap), km);
         w = sph__vsel(in, sph__nshape_vpick(sh, 0, q, 1), zero);
@@ -8071,11 +8075,8 @@ SPH__INLINE void sph__batch_vec(const sph_batch_src *S, const sph_real *xi, sph_
                 SPH__V(storeu)(dxa, zero);
                 continue;
             }
-            e = SPH__V(sub)(SPH__V(set1)((double)xi[a]), sph__vat(zero, all, S->x.p[a], Ox + l));
-            if (S->P.L[a] != 0) { /* e - L floor(e / L + 1/2), 1/L given */
-                const sph__vd f = sph__vfloor(SPH__V(add)(SPH__V(mul)(e, SPH__V(set1)((double)S->P.invL[a])), SPH__V(set1)(0.5)));
-                e = SPH__V(sub)(e, SPH__V(mul)(SPH__V(set1)((double)S->P.L[a]), f));
-            }
+            e = sph__vdx(SPH__V(set1)((double)xi[a]), S->x.p[a], SPH__V(set1)((double)S->P.L[a]),
+                         SPH__V(set1)((double)S->P.invL[a]), all, Ox + l, 0);
             r2 = a > 0 ? SPH__V(add)(r2, SPH__V(mul)(e, e)) : SPH__V(mul)(e, e);
             SPH__V(storeu)(dxa, e);
         }
